@@ -1,0 +1,1 @@
+//! hopperflow's DEM engine.

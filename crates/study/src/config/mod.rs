@@ -1,0 +1,1 @@
+//! Case and sweep files: raw TOML structs, then validated domain types.

@@ -1,0 +1,1 @@
+//! Outlet measurements on particle snapshots (physics.md §7).

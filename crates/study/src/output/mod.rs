@@ -1,0 +1,1 @@
+//! Writers: atomic files, CSV, VTU/PVD, PNG/SVG plots and frames.
