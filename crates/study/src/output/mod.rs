@@ -1,1 +1,24 @@
 //! Writers: atomic files, CSV, VTU/PVD, PNG/SVG plots and frames.
+//!
+//! Every writer takes plain data (slices of `f64`, `[f64; 3]`, the small structs defined here),
+//! never engine types, and every file appears atomically (temporary file in the same
+//! directory, fsync, rename), so a crash or an error never leaves a half-written output.
+//!
+//! - [`write_atomic`], [`write_json_atomic`], [`AtomicFile`]: the atomic primitive.
+//! - [`write_csv_table`], [`write_csv_columns`]: tables of numbers and text.
+//! - [`write_particles_vtu`], [`write_walls_vtu`]: VTK XML unstructured grids for ParaView
+//!   (particles as vertices with id, radius, velocity, angular velocity and speed; walls as
+//!   polygons), and [`PvdCollection`], the time series that ties them together.
+//! - [`plot_png`], [`plot_svg`]: line/point plots with error bars from a [`Figure`];
+//!   [`discharge_rate_figure`], [`velocity_profile_figure`], [`area_fraction_profile_figure`]
+//!   build the study's standard figures.
+//! - [`render_frame`], [`write_frame_png`]: snapshots of the hopper, discs coloured by speed
+//!   with the [`viridis`] colour map.
+
+mod atomic;
+mod error;
+mod table;
+
+pub use atomic::{write_atomic, write_json_atomic, AtomicFile};
+pub use error::OutputError;
+pub use table::{write_csv_columns, write_csv_table, Cell};
