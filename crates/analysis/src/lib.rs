@@ -1,1 +1,16 @@
-//! analysis
+//! Pure numerics for granular discharge analysis (Fan et al. 2023, Powder Technology 429, 118964):
+//! steady-window detection, outlet profiles, least-squares fits, self-similar profile laws,
+//! flow-rate predictions, the 2D Beverloo law and the eccentric-outlet extension.
+//!
+//! Everything is SI at the API (m, kg, s, rad). The crate does not depend on the DEM engine,
+//! so saved series and tables can be re-analysed.
+
+mod error;
+mod estimate;
+pub mod fit;
+
+#[cfg(test)]
+mod test_support;
+
+pub use error::{AnalysisError, AnalysisResult};
+pub use estimate::{propagate, Estimate, Interval};
