@@ -17,8 +17,12 @@
 
 mod atomic;
 mod error;
+mod pvd;
 mod table;
+mod vtu;
 
 pub use atomic::{write_atomic, write_json_atomic, AtomicFile};
 pub use error::OutputError;
+pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
+pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};
