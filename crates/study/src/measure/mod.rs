@@ -1,1 +1,42 @@
-//! Outlet measurements on particle snapshots (physics.md §7).
+//! Outlet and bulk measurements on particle snapshots (physics.md §7; paper Secs. 2–4).
+//!
+//! Probes observe a plain [`FrameView`] and never touch the engine. Each probe stores a
+//! serialisable record (`*Record`) from which the window-dependent results are derived
+//! after the run, once the steady window is known:
+//!
+//! - [`CrossingProbe`] → [`CrossingRecord`]: W(t), the steady-window rate, the crossing
+//!   velocity profile v(x) (physics.md §7.1–7.2).
+//! - [`StripProbe`] → [`StripRecord`]: φ(x), ⟨φ v⟩(x) and the snapshot v(x) (§7.3–7.4).
+//! - [`OutletSummary`]: v_c, φ_c, φ_max and the flux check W = (2/3) ρ_p d ∫ φ v dx (§7.4).
+//! - [`VelocityFieldProbe`] → [`VelocityFieldRecord`]: coarse-grained velocity maps (Fig. 9).
+//! - [`BulkProbe`]: settled φ_B and bed height.
+//!
+//! Sign convention: v_z < 0 is downward; every reported speed is downward positive.
+
+mod bulk;
+mod crossing;
+mod disc_area;
+mod error;
+mod frame;
+mod geometry;
+mod strip;
+mod summary;
+mod velocity_field;
+
+pub use bulk::{sphere_volume_below, BulkMeasurement, BulkProbe, ContainerOutline, CrossSection};
+pub use crossing::{
+    CrossingEvent, CrossingProbe, CrossingRecord, CrossingTally, DischargeSeries, ProfileBin,
+    VelocityProfile, DEFAULT_DISCHARGE_BIN_WIDTH,
+};
+pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
+pub use error::MeasureError;
+pub use frame::{FrameView, TimeWindow};
+pub use geometry::{OutletBins, OutletGeometry, CENTRE_HALF_WIDTH};
+pub use strip::{
+    AreaFractionBin, AreaFractionProfile, StripConfig, StripFrame, StripProbe, StripRecord,
+};
+pub use summary::{flux_from_area_velocity, flux_from_profiles, OutletSummary};
+pub use velocity_field::{
+    FieldBlock, FieldCell, FieldGrid, Kernel, VelocityField, VelocityFieldProbe,
+    VelocityFieldRecord, DEFAULT_BLOCK_DURATION,
+};
