@@ -8,6 +8,7 @@
 mod error;
 mod estimate;
 pub mod fit;
+pub mod series;
 
 #[cfg(test)]
 mod test_support;
