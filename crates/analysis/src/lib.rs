@@ -8,6 +8,7 @@
 mod error;
 mod estimate;
 pub mod fit;
+pub mod profile;
 pub mod series;
 
 #[cfg(test)]
