@@ -1,1 +1,25 @@
-//! hopperflow's DEM engine.
+//! hopperflow's DEM engine: Hertz–Mindlin spheres with rolling friction, planar walls,
+//! a Verlet neighbour list and velocity-Verlet integration.
+//!
+//! The engine knows nothing of hoppers, files or fits. Its contract is in physics.md §1–6:
+//! contact laws (`contact`), materials and mixing (`material`), walls (`wall`), storage
+//! (`particles`), neighbour search (`neighbour`) and the integrator (`simulation`).
+
+pub mod contact;
+mod error;
+mod forces;
+pub mod material;
+pub mod neighbour;
+pub mod particles;
+mod simulation;
+pub mod timescale;
+pub mod wall;
+
+pub use contact::{ContactLaws, RollingLaw, TangentialLaw};
+pub use error::DemError;
+pub use forces::ContactCount;
+pub use glam::DVec3;
+pub use material::{Interaction, Material, WallMaterial};
+pub use particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, SimulationState};
+pub use wall::{Wall, WallId, WallShape};

@@ -1,0 +1,169 @@
+//! The contact model: geometry first, then the fixed pipeline
+//! normal → damping → tangential (history, Coulomb cap) → rolling (physics.md §1–4).
+//!
+//! Each stage is a pure function in its own file; this module only orders them.
+
+pub mod damping;
+pub mod normal;
+pub mod rolling;
+pub mod tangential;
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::material::PairCoefficients;
+pub use rolling::RollingLaw;
+pub use tangential::TangentialLaw;
+
+/// The choice of sub-models, fixed for a simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct ContactLaws {
+    /// Clamp the normal force to F_n ≥ 0 (off by default, as in the paper's Eq. 6 and LIGGGHTS;
+    /// switching it on raises the effective restitution, physics.md §2.3).
+    pub normal_clamp: bool,
+    /// Tangential law (§3).
+    pub tangential: TangentialLaw,
+    /// Rolling law (§4).
+    pub rolling: RollingLaw,
+}
+
+/// Geometry of one contact, computed before and apart from the force laws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactGeometry {
+    /// Unit normal from j (or the wall point) to i [-].
+    pub normal: DVec3,
+    /// Normal overlap δ_n > 0 [m].
+    pub overlap: f64,
+    /// Effective radius R* [m] (R_i for a wall).
+    pub r_eff: f64,
+    /// Effective mass m* [kg] (m_i for a wall).
+    pub m_eff: f64,
+    /// Lever from the centre of i to the contact point, a_i = R_i − δ/2 [m].
+    pub arm_i: f64,
+    /// Lever from the centre of j to the contact point, a_j = R_j − δ/2 [m] (0 for a wall).
+    pub arm_j: f64,
+    /// Reduced moment of inertia I_i I_j/(I_i + I_j) [kg m²] (I_i for a wall), for the limiter.
+    pub inertia_reduced: f64,
+    /// Rolling inertia I_r of LIGGGHTS' EPSD, 1.4 m_i R_i² m_j R_j²/(m_i R_i² + m_j R_j²) [kg m²].
+    pub rolling_inertia: f64,
+}
+
+/// Velocities of one body at the current (half) step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyMotion {
+    /// Centre velocity [m/s].
+    pub velocity: DVec3,
+    /// Angular velocity [rad/s].
+    pub omega: DVec3,
+}
+
+/// Per-contact memory, kept apart from the material parameters (MercuryDPM's split).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ContactHistory {
+    /// Accumulated tangential displacement ξ of i relative to j [m].
+    pub tangential: DVec3,
+    /// EPSD spring torque on i [N m].
+    pub rolling: DVec3,
+}
+
+impl ContactHistory {
+    /// True when the contact remembers nothing.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.tangential == DVec3::ZERO && self.rolling == DVec3::ZERO
+    }
+}
+
+/// The result of one contact: the force on i (on j it is −force) and the two torques.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactForce {
+    /// Force on i [N].
+    pub force: DVec3,
+    /// Torque on i [N m].
+    pub torque_i: DVec3,
+    /// Torque on j [N m].
+    pub torque_j: DVec3,
+}
+
+impl ContactLaws {
+    /// Evaluates one contact, updating its history (physics.md §1–4, in that order).
+    #[inline]
+    pub fn resolve(
+        &self,
+        g: &ContactGeometry,
+        i: &BodyMotion,
+        j: &BodyMotion,
+        c: &PairCoefficients,
+        history: &mut ContactHistory,
+        dt: f64,
+    ) -> ContactForce {
+        let n = g.normal;
+        // Contact-point relative velocity of i with respect to j (§1).
+        let v_rel = (i.velocity - j.velocity) - (g.arm_i * i.omega + g.arm_j * j.omega).cross(n);
+        let v_n = v_rel.dot(n);
+        let v_t = v_rel - v_n * n;
+
+        // Normal: Hertz (Eq. 6 elastic part) plus the restitution dashpot (§2.1).
+        let hertz = normal::hertz(c.e_star, g.r_eff, g.overlap);
+        let gamma_n = damping::dashpot(c.damping, hertz.stiffness, g.m_eff);
+        let mut f_n = hertz.force - gamma_n * v_n;
+        if self.normal_clamp && f_n < 0.0 {
+            f_n = 0.0;
+        }
+
+        // Tangential (§3): history rotated into the current tangent plane first.
+        let cap = c.friction * hertz.force;
+        history.tangential = tangential::rotate_into_plane(history.tangential, n);
+        let f_t = match self.tangential {
+            TangentialLaw::MindlinNoSlip => {
+                let s_t = 8.0 * c.g_star * hertz.contact_radius;
+                let gamma_t = damping::dashpot(c.damping, s_t, g.m_eff);
+                tangential::mindlin_no_slip(&mut history.tangential, v_t, dt, s_t, cap, gamma_t)
+            }
+            TangentialLaw::MindlinDeresiewicz => {
+                let slip = c.friction * g.overlap * c.e_star / (4.0 * c.g_star);
+                tangential::mindlin_deresiewicz(&mut history.tangential, v_t, dt, cap, slip, c.damping, g.m_eff)
+            }
+        };
+        let arm_n = -n;
+        let mut torque_i = (g.arm_i * arm_n).cross(f_t);
+        let mut torque_j = (g.arm_j * arm_n).cross(f_t);
+
+        // Rolling (§4), on the relative spin and the elastic normal force.
+        if c.rolling_friction > 0.0 {
+            let omega_rel = i.omega - j.omega;
+            match self.rolling {
+                RollingLaw::None => {}
+                RollingLaw::ConstantTorque { limiter } => {
+                    let limit = if limiter {
+                        g.inertia_reduced * omega_rel.length() / dt
+                    } else {
+                        f64::INFINITY
+                    };
+                    let m = c.rolling_friction * hertz.force;
+                    let (mi, mj) = rolling::constant_torque(omega_rel, m * g.arm_i, m * g.arm_j, limit);
+                    torque_i += mi;
+                    torque_j += mj;
+                }
+                RollingLaw::Epsd { viscous_damping } => {
+                    let omega_roll = omega_rel - omega_rel.dot(n) * n;
+                    history.rolling = tangential::rotate_into_plane(history.rolling, n);
+                    let k_n = hertz.force / g.overlap;
+                    let mu_r = c.rolling_friction;
+                    let k_r = 2.25 * k_n * mu_r * mu_r * g.r_eff * g.r_eff;
+                    let cap_r = mu_r * g.r_eff * hertz.force;
+                    let eta = viscous_damping * 2.0 * (g.rolling_inertia * k_r).sqrt();
+                    let m = rolling::epsd(&mut history.rolling, omega_roll, dt, k_r, cap_r, eta);
+                    torque_i += m;
+                    torque_j -= m;
+                }
+            }
+        }
+
+        ContactForce {
+            force: f_n * n + f_t,
+            torque_i,
+            torque_j,
+        }
+    }
+}

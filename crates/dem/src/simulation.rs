@@ -1,0 +1,594 @@
+//! The simulation: one owner of the whole state, advanced by velocity Verlet (physics.md §6.2).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::contact::{normal::hertz_energy, ContactLaws};
+use crate::error::DemError;
+use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
+use crate::material::{harmonic, Interaction, Material, PairCoefficients};
+use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
+use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+use crate::timescale::rayleigh_time;
+use crate::wall::{Wall, WallId};
+
+/// Settings fixed for a run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SimulationConfig {
+    /// Time step Δt [s]. The paper's base case uses 2.5e-6 s = 0.097 t_R (physics.md §6.1).
+    pub time_step: f64,
+    /// Gravitational acceleration [m/s²]; z is vertical, so (0, 0, −9.81) on Earth.
+    pub gravity: DVec3,
+    /// Contact sub-models.
+    pub laws: ContactLaws,
+    /// Verlet skin [m]; 0 picks 0.2 × the largest radius when the first list is built.
+    pub skin: f64,
+    /// Largest accepted Δt / t_R [-]. EDEM's guidance is 0.1–0.4; the paper stays below 0.1.
+    pub max_rayleigh_fraction: f64,
+    /// Largest accepted overlap as a fraction of the smaller radius [-]; beyond it the run stops.
+    pub max_overlap_fraction: f64,
+    /// Worker threads for force evaluation; 0 uses every core, 1 runs without a pool.
+    pub threads: usize,
+    /// Re-sort particles into cell order every this many list rebuilds (0: never).
+    pub resort_every: u32,
+}
+
+impl SimulationConfig {
+    /// Defaults around a time step `time_step` [s]: Earth gravity along −z, the paper's laws.
+    pub fn new(time_step: f64) -> Self {
+        Self {
+            time_step,
+            gravity: DVec3::new(0.0, 0.0, -9.81),
+            laws: ContactLaws::default(),
+            skin: 0.0,
+            // 0.25 t_R leaves room for verification runs at coarser steps while refusing the
+            // clearly unstable ones; production runs use 0.097.
+            max_rayleigh_fraction: 0.25,
+            // Hopper impacts at 3 m/s overlap by ≈ 3 % of the radius (physics.md §1.1); 10 % means
+            // something is wrong.
+            max_overlap_fraction: 0.1,
+            threads: 1,
+            resort_every: 16,
+        }
+    }
+}
+
+/// Everything that defines the state of a run; serialisable for checkpoints, so that a
+/// resumed run is bit-identical to an uninterrupted one.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SimulationState {
+    config: SimulationConfig,
+    materials: Vec<Material>,
+    interactions: Vec<Option<Interaction>>,
+    particles: ParticleSet,
+    walls: Vec<Option<Wall>>,
+    pairs: PairList,
+    wall_pairs: WallPairList,
+    /// Positions at the last list build [m].
+    reference: Vec<DVec3>,
+    /// Largest wall displacement since the last build [m].
+    wall_drift: f64,
+    skin: f64,
+    time: f64,
+    steps: u64,
+    rebuilds: u64,
+    needs_rebuild: bool,
+    indices_changed: bool,
+    contacts: ContactCount,
+}
+
+/// A DEM simulation of spheres and walls.
+pub struct Simulation {
+    state: SimulationState,
+    pool: Option<rayon::ThreadPool>,
+    grid: CellGrid,
+    buffers: ForceBuffers,
+    pair_coeffs: Vec<PairCoefficients>,
+    wall_coeffs: Vec<PairCoefficients>,
+    prepared: bool,
+}
+
+/// Energy budget of the system [J].
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Energy {
+    /// Σ ½ m v² [J].
+    pub translational: f64,
+    /// Σ ½ I ω² [J].
+    pub rotational: f64,
+    /// Σ −m g·x [J] (zero at the origin).
+    pub gravitational: f64,
+    /// Elastic energy of the normal Hertz springs, Σ (8/15) E* √R* δ^{5/2} [J].
+    pub elastic: f64,
+}
+
+impl Energy {
+    /// Total mechanical energy [J].
+    pub fn total(&self) -> f64 {
+        self.translational + self.rotational + self.gravitational + self.elastic
+    }
+}
+
+/// A particle taken out of the simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RemovedParticle {
+    /// Its tag.
+    pub tag: ParticleTag,
+    /// Position when removed [m].
+    pub position: DVec3,
+    /// Velocity when removed [m/s].
+    pub velocity: DVec3,
+    /// Mass [kg].
+    pub mass: f64,
+}
+
+fn make_pool(threads: usize) -> Result<Option<rayon::ThreadPool>, DemError> {
+    if threads == 1 {
+        return Ok(None);
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map(Some)
+        .map_err(|_| DemError::ThreadPool(threads))
+}
+
+impl Simulation {
+    /// An empty simulation.
+    pub fn new(config: SimulationConfig) -> Result<Self, DemError> {
+        if !(config.time_step.is_finite() && config.time_step > 0.0) {
+            return Err(DemError::InvalidInput(format!("time step must be positive and finite, got {}", config.time_step)));
+        }
+        if !config.gravity.is_finite() || !(config.skin >= 0.0) || !(config.max_overlap_fraction > 0.0) {
+            return Err(DemError::InvalidInput("gravity, skin and overlap limit must be finite and non-negative".into()));
+        }
+        let state = SimulationState {
+            config,
+            materials: Vec::new(),
+            interactions: Vec::new(),
+            particles: ParticleSet::default(),
+            walls: Vec::new(),
+            pairs: PairList::default(),
+            wall_pairs: WallPairList::default(),
+            reference: Vec::new(),
+            wall_drift: 0.0,
+            skin: config.skin,
+            time: 0.0,
+            steps: 0,
+            rebuilds: 0,
+            needs_rebuild: true,
+            indices_changed: false,
+            contacts: ContactCount::default(),
+        };
+        Self::from_state(state, config.threads)
+    }
+
+    /// Restores a saved state with `threads` worker threads (0 = every core).
+    pub fn from_state(state: SimulationState, threads: usize) -> Result<Self, DemError> {
+        Ok(Self {
+            pool: make_pool(threads)?,
+            state,
+            grid: CellGrid::default(),
+            buffers: ForceBuffers::default(),
+            pair_coeffs: Vec::new(),
+            wall_coeffs: Vec::new(),
+            prepared: false,
+        })
+    }
+
+    /// The complete state, for checkpoints.
+    pub fn state(&self) -> &SimulationState {
+        &self.state
+    }
+
+    /// Changes the number of worker threads (results do not depend on it).
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), DemError> {
+        self.pool = make_pool(threads)?;
+        self.state.config.threads = threads;
+        Ok(())
+    }
+
+    /// Registers a material and how it interacts with itself.
+    pub fn add_material(&mut self, material: Material, self_interaction: Interaction) -> Result<MaterialId, DemError> {
+        let ok = material.density > 0.0
+            && material.youngs_modulus > 0.0
+            && material.poisson_ratio > -1.0
+            && material.poisson_ratio < 0.5
+            && material.density.is_finite()
+            && material.youngs_modulus.is_finite();
+        if !ok {
+            return Err(DemError::InvalidInput(format!("unphysical material {material:?}")));
+        }
+        check_interaction(&self_interaction)?;
+        let s = &mut self.state;
+        let old = s.materials.len();
+        let n = old + 1;
+        let mut table = vec![None; n * n];
+        for a in 0..old {
+            for b in 0..old {
+                table[a * n + b] = s.interactions[a * old + b];
+            }
+        }
+        table[old * n + old] = Some(self_interaction);
+        s.materials.push(material);
+        s.interactions = table;
+        self.prepared = false;
+        Ok(MaterialId(old as u16))
+    }
+
+    /// Sets how two different materials interact.
+    pub fn set_interaction(&mut self, a: MaterialId, b: MaterialId, interaction: Interaction) -> Result<(), DemError> {
+        check_interaction(&interaction)?;
+        let n = self.state.materials.len();
+        if a.0 as usize >= n || b.0 as usize >= n {
+            return Err(DemError::InvalidInput("unknown material".into()));
+        }
+        self.state.interactions[a.0 as usize * n + b.0 as usize] = Some(interaction);
+        self.state.interactions[b.0 as usize * n + a.0 as usize] = Some(interaction);
+        self.prepared = false;
+        Ok(())
+    }
+
+    /// Adds a particle; its initial force is its weight.
+    pub fn add_particle(&mut self, init: ParticleInit) -> Result<ParticleTag, DemError> {
+        let Some(mat) = self.state.materials.get(init.material.0 as usize) else {
+            return Err(DemError::InvalidInput(format!("unknown material {}", init.material.0)));
+        };
+        if !(init.radius > 0.0 && init.radius.is_finite()) || !init.position.is_finite() || !init.velocity.is_finite() || !init.angular_velocity.is_finite() {
+            return Err(DemError::InvalidInput(format!("particle radius must be positive and the state finite: {init:?}")));
+        }
+        let density = mat.density;
+        let g = self.state.config.gravity;
+        let p = &mut self.state.particles;
+        let tag = p.push(&init, density);
+        let k = p.len() - 1;
+        p.force[k] = p.mass[k] * g;
+        self.state.needs_rebuild = true;
+        self.prepared = false;
+        Ok(tag)
+    }
+
+    /// Removes every particle for which `remove(index, particles)` is true and returns them.
+    pub fn remove_particles(&mut self, mut remove: impl FnMut(usize, &ParticleSet) -> bool) -> Vec<RemovedParticle> {
+        let p = &self.state.particles;
+        let keep: Vec<bool> = (0..p.len()).map(|k| !remove(k, p)).collect();
+        if keep.iter().all(|&k| k) {
+            return Vec::new();
+        }
+        let removed = (0..p.len())
+            .filter(|&k| !keep[k])
+            .map(|k| RemovedParticle {
+                tag: p.tag[k],
+                position: p.position[k],
+                velocity: p.velocity[k],
+                mass: p.mass[k],
+            })
+            .collect();
+        // Carry the survivors' contact memory by tag across the change of indices.
+        let tagged = TaggedHistory::collect(&self.state.particles, &self.state.pairs, &self.state.wall_pairs);
+        self.state.particles.retain_mask(&keep);
+        self.rebuild(Some(&tagged));
+        removed
+    }
+
+    /// Adds a wall; returns its handle.
+    pub fn add_wall(&mut self, wall: Wall) -> WallId {
+        self.state.walls.push(Some(wall));
+        self.state.needs_rebuild = true;
+        self.prepared = false;
+        WallId(self.state.walls.len() as u32 - 1)
+    }
+
+    /// Removes a wall (a hopper's gate, say).
+    pub fn remove_wall(&mut self, id: WallId) -> Result<Wall, DemError> {
+        let slot = self.state.walls.get_mut(id.0 as usize).ok_or(DemError::UnknownWall(id.0))?;
+        let wall = slot.take().ok_or(DemError::UnknownWall(id.0))?;
+        self.state.needs_rebuild = true;
+        Ok(wall)
+    }
+
+    /// Moves a wall rigidly by `offset` [m].
+    pub fn translate_wall(&mut self, id: WallId, offset: DVec3) -> Result<(), DemError> {
+        let wall = self.state.walls.get_mut(id.0 as usize).and_then(Option::as_mut).ok_or(DemError::UnknownWall(id.0))?;
+        wall.translate(offset);
+        self.state.wall_drift += offset.length();
+        Ok(())
+    }
+
+    /// Sets the velocity a wall shows to the contact law [m/s] (it does not move it).
+    pub fn set_wall_velocity(&mut self, id: WallId, velocity: DVec3) -> Result<(), DemError> {
+        let wall = self.state.walls.get_mut(id.0 as usize).and_then(Option::as_mut).ok_or(DemError::UnknownWall(id.0))?;
+        wall.velocity = velocity;
+        Ok(())
+    }
+
+    /// A wall by handle.
+    pub fn wall(&self, id: WallId) -> Option<&Wall> {
+        self.state.walls.get(id.0 as usize).and_then(Option::as_ref)
+    }
+
+    /// The particles (read-only; probes observe, never mutate).
+    pub fn particles(&self) -> &ParticleSet {
+        &self.state.particles
+    }
+
+    /// Sets the velocity and spin of particle `index` (test set-ups).
+    pub fn set_particle_motion(&mut self, index: usize, velocity: DVec3, angular_velocity: DVec3) {
+        self.state.particles.velocity[index] = velocity;
+        self.state.particles.omega[index] = angular_velocity;
+    }
+
+    /// Sets the flags of particle `index` (`FLAG_*`).
+    pub fn set_particle_flags(&mut self, index: usize, flags: u8) {
+        self.state.particles.flags[index] = flags;
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SimulationConfig {
+        &self.state.config
+    }
+
+    /// Simulated time [s].
+    pub fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.state.steps
+    }
+
+    /// Neighbour-list builds so far.
+    pub fn rebuilds(&self) -> u64 {
+        self.state.rebuilds
+    }
+
+    /// Contacts that carried force in the last step.
+    pub fn contacts(&self) -> ContactCount {
+        self.state.contacts
+    }
+
+    /// The smallest Rayleigh time of the particles present [s] (paper Eq. 9).
+    pub fn rayleigh_time(&self) -> Option<f64> {
+        let p = &self.state.particles;
+        (0..p.len())
+            .map(|k| rayleigh_time(&self.state.materials[p.material[k] as usize], p.radius[k]))
+            .min_by(f64::total_cmp)
+    }
+
+    /// Mixes coefficients and checks Δt; runs before a step whenever the set-up changed.
+    fn prepare(&mut self) -> Result<(), DemError> {
+        let s = &self.state;
+        let n = s.materials.len();
+        self.pair_coeffs.clear();
+        for a in 0..n {
+            for b in 0..n {
+                let c = match s.interactions[a * n + b] {
+                    Some(i) => PairCoefficients::new(&s.materials[a], Some(&s.materials[b]), &i),
+                    // Never read unless the two materials meet; checked below.
+                    None => PairCoefficients::new(&s.materials[a], None, &Interaction::fan2023()),
+                };
+                self.pair_coeffs.push(c);
+            }
+        }
+        let mut present = vec![false; n];
+        for &m in &s.particles.material {
+            present[m as usize] = true;
+        }
+        for a in 0..n {
+            for b in 0..n {
+                if present[a] && present[b] && s.interactions[a * n + b].is_none() {
+                    return Err(DemError::MissingInteraction(a as u16, b as u16));
+                }
+            }
+        }
+        self.wall_coeffs.clear();
+        for w in &s.walls {
+            for m in &s.materials {
+                self.wall_coeffs.push(match w {
+                    Some(w) => PairCoefficients::with_wall(m, &w.material, &w.interaction),
+                    None => PairCoefficients::new(m, None, &Interaction::fan2023()),
+                });
+            }
+        }
+        if let Some(t_r) = self.rayleigh_time() {
+            let fraction = s.config.time_step / t_r;
+            if fraction > s.config.max_rayleigh_fraction {
+                return Err(DemError::TimeStepTooLarge {
+                    time_step: s.config.time_step,
+                    rayleigh_time: t_r,
+                    fraction,
+                    max_fraction: s.config.max_rayleigh_fraction,
+                });
+            }
+        }
+        self.prepared = true;
+        Ok(())
+    }
+
+    /// Rebuilds the neighbour lists, carrying contact history over.
+    fn rebuild(&mut self, tagged: Option<&TaggedHistory>) {
+        let s = &mut self.state;
+        if s.skin == 0.0 {
+            let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
+            s.skin = 0.2 * r_max;
+        }
+        let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
+        let cell = 2.0 * r_max + s.skin;
+        let resort = s.config.resort_every > 0 && s.rebuilds % s.config.resort_every as u64 == 0;
+        let mut owned = None;
+        let mut carry = tagged;
+        if resort && carry.is_none() {
+            owned = Some(TaggedHistory::collect(&s.particles, &s.pairs, &s.wall_pairs));
+            carry = owned.as_ref();
+        }
+        if resort {
+            self.grid.rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+            let order = self.grid.cell_order().to_vec();
+            s.particles.permute(&order);
+        }
+        self.grid.rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+        let old_pairs = std::mem::take(&mut s.pairs);
+        let old_walls = std::mem::take(&mut s.wall_pairs);
+        build_lists(&self.grid, &s.particles, &s.walls, s.skin, &old_pairs, &old_walls, carry, &mut s.pairs, &mut s.wall_pairs);
+        drop(owned);
+        s.reference.clear();
+        s.reference.extend_from_slice(&s.particles.position);
+        s.wall_drift = 0.0;
+        s.rebuilds += 1;
+        s.needs_rebuild = false;
+    }
+
+    /// Advances one step of velocity Verlet (physics.md §6.2).
+    pub fn step(&mut self) -> Result<(), DemError> {
+        if !self.prepared {
+            self.prepare()?;
+        }
+        let dt = self.state.config.time_step;
+        let half = 0.5 * dt;
+        let p = &mut self.state.particles;
+
+        // First half kick and drift, tracking the largest displacement since the last build.
+        let mut max_disp2: f64 = 0.0;
+        let mut finite = true;
+        for k in 0..p.len() {
+            let flags = p.flags[k];
+            if flags & FLAG_FROZEN != 0 {
+                continue;
+            }
+            p.velocity[k] += (half / p.mass[k]) * p.force[k];
+            if flags & FLAG_ROTATION_LOCKED == 0 {
+                p.omega[k] += (half / p.inertia[k]) * p.torque[k];
+            }
+            p.position[k] += dt * p.velocity[k];
+            let disp = p.position[k] - self.state.reference.get(k).copied().unwrap_or(p.position[k]);
+            max_disp2 = max_disp2.max(disp.length_squared());
+            finite &= p.position[k].is_finite();
+        }
+        if !finite {
+            let k = p.position.iter().position(|x| !x.is_finite()).unwrap_or(0);
+            return Err(DemError::NonFinite {
+                tag: p.tag[k],
+                position: p.position[k],
+                quantity: "position",
+                time: self.state.time,
+            });
+        }
+        let half_skin = 0.5 * self.state.skin;
+        if self.state.needs_rebuild || max_disp2.sqrt() + self.state.wall_drift > half_skin || self.state.reference.len() != self.state.particles.len() {
+            self.rebuild(None);
+        }
+
+        // Forces at the drifted positions with half-step velocities.
+        let s = &mut self.state;
+        let input = KernelInput {
+            particles: &s.particles,
+            laws: &s.config.laws,
+            pair_coeffs: &self.pair_coeffs,
+            materials: s.materials.len(),
+            walls: &s.walls,
+            wall_coeffs: &self.wall_coeffs,
+            dt,
+        };
+        let (worst_pp, worst_pw) = forces::kernel(&input, &mut s.pairs, &mut s.wall_pairs, &mut self.buffers, self.pool.as_ref());
+        let limit = s.config.max_overlap_fraction;
+        if worst_pp.fraction > limit {
+            let (i, j) = (s.pairs.i[worst_pp.index] as usize, s.pairs.j[worst_pp.index] as usize);
+            return Err(overlap_error(&s.particles, i, format!("particle {}", s.particles.tag[j]), worst_pp, limit, s.time));
+        }
+        if worst_pw.fraction > limit {
+            let i = s.wall_pairs.particle[worst_pw.index] as usize;
+            return Err(overlap_error(&s.particles, i, format!("wall {}", s.wall_pairs.wall[worst_pw.index]), worst_pw, limit, s.time));
+        }
+        s.contacts = forces::scatter(&mut s.particles, &s.pairs, &s.wall_pairs, s.config.gravity, &self.buffers);
+
+        // Second half kick.
+        let p = &mut s.particles;
+        let mut finite = true;
+        for k in 0..p.len() {
+            let flags = p.flags[k];
+            if flags & FLAG_FROZEN != 0 {
+                continue;
+            }
+            p.velocity[k] += (half / p.mass[k]) * p.force[k];
+            if flags & FLAG_ROTATION_LOCKED == 0 {
+                p.omega[k] += (half / p.inertia[k]) * p.torque[k];
+            }
+            finite &= p.velocity[k].is_finite() && p.omega[k].is_finite();
+        }
+        if !finite {
+            let k = (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite())).unwrap_or(0);
+            return Err(DemError::NonFinite {
+                tag: p.tag[k],
+                position: p.position[k],
+                quantity: "velocity",
+                time: s.time,
+            });
+        }
+        s.steps += 1;
+        s.time = s.steps as f64 * dt;
+        Ok(())
+    }
+
+    /// Takes `n` steps.
+    pub fn run(&mut self, n: u64) -> Result<(), DemError> {
+        for _ in 0..n {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// The energy budget at the current positions and (full-step) velocities.
+    pub fn energy(&self) -> Energy {
+        let s = &self.state;
+        let p = &s.particles;
+        let mut e = Energy::default();
+        for k in 0..p.len() {
+            e.translational += 0.5 * p.mass[k] * p.velocity[k].length_squared();
+            e.rotational += 0.5 * p.inertia[k] * p.omega[k].length_squared();
+            e.gravitational -= p.mass[k] * s.config.gravity.dot(p.position[k]);
+        }
+        let n = s.materials.len();
+        let coeffs = |a: u16, b: u16| match s.interactions.get(a as usize * n + b as usize).copied().flatten() {
+            Some(i) => PairCoefficients::new(&s.materials[a as usize], Some(&s.materials[b as usize]), &i).e_star,
+            None => 0.0,
+        };
+        for k in 0..s.pairs.len() {
+            let (i, j) = (s.pairs.i[k] as usize, s.pairs.j[k] as usize);
+            let overlap = p.radius[i] + p.radius[j] - p.position[i].distance(p.position[j]);
+            if overlap > 0.0 {
+                e.elastic += hertz_energy(coeffs(p.material[i], p.material[j]), harmonic(p.radius[i], p.radius[j]), overlap);
+            }
+        }
+        for k in 0..s.wall_pairs.particle.len() {
+            let i = s.wall_pairs.particle[k] as usize;
+            if let Some(w) = &s.walls[s.wall_pairs.wall[k] as usize] {
+                let overlap = p.radius[i] - w.closest_point(p.position[i]).1;
+                if overlap > 0.0 {
+                    let c = PairCoefficients::with_wall(&s.materials[p.material[i] as usize], &w.material, &w.interaction);
+                    e.elastic += hertz_energy(c.e_star, p.radius[i], overlap);
+                }
+            }
+        }
+        e
+    }
+}
+
+fn check_interaction(i: &Interaction) -> Result<(), DemError> {
+    let ok = i.friction >= 0.0 && i.rolling_friction >= 0.0 && i.restitution > 0.0 && i.restitution <= 1.0 && i.friction.is_finite() && i.rolling_friction.is_finite();
+    if ok {
+        Ok(())
+    } else {
+        Err(DemError::InvalidInput(format!("friction ≥ 0, rolling friction ≥ 0 and restitution in (0, 1] required, got {i:?}")))
+    }
+}
+
+fn overlap_error(p: &ParticleSet, i: usize, other: String, worst: WorstOverlap, limit: f64, time: f64) -> DemError {
+    DemError::ExcessiveOverlap {
+        tag: p.tag[i],
+        other,
+        position: p.position[i],
+        fraction: worst.fraction,
+        limit,
+        time,
+    }
+}
