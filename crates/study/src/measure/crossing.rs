@@ -212,7 +212,8 @@ impl CrossingRecord {
             (Some(s), Some(e)) => (s, e),
             _ => (0.0, 0.0),
         };
-        let count = (((end - start) / bin_width).ceil() as usize).max(1);
+        // A span that is a whole number of bins up to round-off gets no extra empty bin.
+        let count = (((end - start) / bin_width - 1e-9).ceil() as usize).max(1);
         let mut mass = vec![0.0; count];
         for e in &self.events {
             let k = (((e.time - start) / bin_width).floor().max(0.0) as usize).min(count - 1);
