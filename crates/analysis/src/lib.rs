@@ -9,6 +9,7 @@ mod error;
 mod estimate;
 pub mod fit;
 pub mod profile;
+pub mod selfsimilar;
 pub mod series;
 
 #[cfg(test)]
