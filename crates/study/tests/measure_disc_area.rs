@@ -174,3 +174,24 @@ fn section_radius_is_pythagorean_and_zero_beyond_the_sphere() {
     let r = section_radius(1.5e-3, 15e-6);
     assert!((1.5e-3 - r) / 1.5e-3 < 1e-4);
 }
+
+#[test]
+fn rectangle_edges_within_an_ulp_of_the_disc_sides_do_not_inflate_the_area() {
+    // Regression: with asin(x/r) in the primitive, an edge at x = r(1 − 1e-16) (as produced by
+    // bin edges computed from a different origin than the disc centre) gave ≈ 1e-10 π r² too
+    // much area, since asin has an infinite slope at 1. The inscribing rectangle must give π r²
+    // to round-off.
+    let d = Disc {
+        x: -2.499_999_999_999_998_3e-3,
+        z: 0.04,
+        radius: R,
+    };
+    let rectangle = Rectangle {
+        x_min: -3.999_999_999_999_998e-3,
+        x_max: -9.999_999_999_999_992e-4,
+        z_min: 0.04 - R,
+        z_max: 0.04 + R,
+    };
+    let area = overlap_area(d, rectangle);
+    assert!((area / (PI * R * R) - 1.0).abs() < EXACT, "{area}");
+}
