@@ -8,6 +8,7 @@
 mod error;
 mod estimate;
 pub mod fit;
+pub mod flowrate;
 pub mod profile;
 pub mod selfsimilar;
 pub mod series;
