@@ -5,6 +5,7 @@
 //! Everything is SI at the API (m, kg, s, rad). The crate does not depend on the DEM engine,
 //! so saved series and tables can be re-analysed.
 
+pub mod beverloo;
 mod error;
 mod estimate;
 pub mod fit;
