@@ -1,0 +1,251 @@
+//! The validated case: every choice of one hopper run, in SI units, with the paper's
+//! defaults (Fan et al. 2023, Table 1 and the base case α = 90°, D = 30 mm, centred).
+
+use serde::{Deserialize, Serialize};
+
+use super::geometry::HopperGeometry;
+use super::particles::{Material, ParticleSpec};
+
+/// Version of the case-file format this code reads and writes.
+pub const CASE_FORMAT_VERSION: i64 = 1;
+
+/// Largest time step allowed, as a fraction of the Rayleigh time.
+///
+/// EDEM's guidance is 20 % of t_R for dense packings (coordination number ≥ 4), which a
+/// filled hopper is; the paper itself uses < 10 % (physics spec §6.1).
+pub const MAX_RAYLEIGH_FRACTION: f64 = 0.2;
+
+/// Largest 2D area fraction a monolayer of discs is assumed to reach: the paper's static
+/// packing φ_B = 0.59 (3D), which is 0.885 as an area fraction (physics spec §7.3).
+pub const MONOLAYER_AREA_FRACTION: f64 = 0.885;
+
+/// Largest volume fraction assumed in a thick slab: random close packing of spheres.
+pub const BULK_VOLUME_FRACTION: f64 = 0.64;
+
+/// Slab thickness (in largest diameters) from which two layers of spheres fit side by
+/// side, so the fit check switches from disc area to sphere volume.
+pub const THICK_SLAB_DIAMETERS: f64 = 2.0;
+
+/// Sliding friction, rolling friction and restitution of one pair type.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Interaction {
+    /// Sliding friction coefficient μ_s [-].
+    pub friction: f64,
+    /// Rolling friction coefficient μ_r [-].
+    pub rolling_friction: f64,
+    /// Coefficient of restitution e [-], in (0, 1].
+    pub restitution: f64,
+}
+
+impl Interaction {
+    /// Table 1, both particle–particle and particle–wall: μ = 0.5, μ_r = 0.01, e = 0.2.
+    pub fn paper() -> Self {
+        Self {
+            friction: 0.5,
+            rolling_friction: 0.01,
+            restitution: 0.2,
+        }
+    }
+}
+
+/// Wall material (the paper does not give it; physics spec §5).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallMaterial {
+    /// Walls of the particle material (default): E*_pw = E*_pp.
+    SameAsParticle,
+    /// Rigid walls: infinite stiffness, so only the particle's compliance counts.
+    Rigid,
+    /// Walls of a given material.
+    Custom(Material),
+}
+
+/// Walls of the hopper (side walls, bottom plates and the front/back slab walls).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WallSpec {
+    /// Wall material.
+    pub material: WallMaterial,
+    /// Particle–wall friction, rolling friction and restitution.
+    pub interaction: Interaction,
+}
+
+/// Tangential contact law (physics spec §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TangentialLaw {
+    /// EDEM/LIGGGHTS Hertz–Mindlin (no slip): linear spring on the accumulated
+    /// displacement, Coulomb-capped (default, §3.1).
+    MindlinNoSlip,
+    /// The paper's Eq. 7 with its typo corrected (§3.3).
+    MindlinDeresiewicz,
+}
+
+/// Rolling resistance law (physics spec §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RollingLaw {
+    /// Constant directional torque, the paper's Eq. 8 (EDEM type A, LIGGGHTS cdt).
+    ConstantTorque,
+    /// Elastic–plastic spring–dashpot (EDEM type C, LIGGGHTS epsd).
+    Epsd,
+}
+
+/// Contact-law choices and particle–particle coefficients.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactSpec {
+    /// Particle–particle friction, rolling friction and restitution.
+    pub particle: Interaction,
+    /// Tangential law.
+    pub tangential: TangentialLaw,
+    /// Rolling law.
+    pub rolling: RollingLaw,
+    /// Clamp the normal force to F_n ≥ 0 (off: the paper's Eq. 6 has no clamp, §2).
+    pub normal_clamp: bool,
+}
+
+/// Filling, discharge and stopping rules of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Protocol {
+    /// The fill counts as settled when the mean kinetic energy per particle is below
+    /// this [J].
+    pub settle_kinetic_energy: f64,
+    /// Longest simulated time allowed for the fill to settle [s].
+    pub max_settle_time: f64,
+    /// Bottom of the region particles are inserted in, above the outlet plane [m].
+    pub fill_bottom: f64,
+    /// Top of the region particles are inserted in, above the outlet plane [m].
+    pub fill_top: f64,
+    /// Particles this far below the outlet plane are deleted [m] (physics spec §5: 5 d).
+    pub deletion_depth: f64,
+    /// The outlet counts as clogged when no particle leaves for this long [s].
+    pub clog_timeout: f64,
+    /// Longest simulated discharge time after the gate opens [s].
+    pub time_limit: f64,
+}
+
+/// Measurement settings (physics spec §7).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeasureSpec {
+    /// Width of the time bins of the discharge rate W(t) [s] (§7: 0.02–0.05 s).
+    pub rate_bin_width: f64,
+    /// Width of the x-bins of the outlet profiles [m] (§7.2: d/2).
+    pub x_bin_width: f64,
+    /// Height h of the strip around the outlet line for φ(x) [m] (§7.3: h = d).
+    pub strip_height: f64,
+    /// Simulated time between snapshot frames for φ(x) and the flux check [s].
+    pub frame_interval: f64,
+    /// Steps between checks for particles crossing the outlet line (§7.2: ≤ 100).
+    pub crossing_check_interval: u32,
+    /// Start of the steady window, as a fraction of the particles discharged (§7).
+    pub steady_start_fraction: f64,
+    /// End of the steady window, as a fraction of the particles discharged (§7).
+    pub steady_end_fraction: f64,
+}
+
+/// What a run writes besides its measurements.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OutputSpec {
+    /// Simulated time between VTU particle snapshots [s]; 0 writes none.
+    pub vtu_interval: f64,
+    /// Simulated time between checkpoints [s]; 0 writes none.
+    pub checkpoint_interval: f64,
+    /// Whether to draw the per-case plots.
+    pub plots: bool,
+}
+
+/// One validated hopper case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Case {
+    /// Seed of the random fill (≤ i64::MAX so that it can be written as a TOML integer).
+    pub seed: u64,
+    pub geometry: HopperGeometry,
+    pub particles: ParticleSpec,
+    pub wall: WallSpec,
+    pub contact: ContactSpec,
+    /// Integration time step Δt [s] (physics spec §6.1: 2.5e-6 s = 0.097 t_R).
+    pub time_step: f64,
+    pub protocol: Protocol,
+    pub measure: MeasureSpec,
+    pub output: OutputSpec,
+}
+
+impl Case {
+    /// The paper's base case: Table 1, α = 90°, D = 30 mm, centred outlet, 3000 spheres.
+    pub fn paper_base() -> Self {
+        let d = 3.0e-3;
+        let geometry = HopperGeometry::paper();
+        Self {
+            seed: 1,
+            protocol: Protocol {
+                settle_kinetic_energy: 1.0e-9,
+                max_settle_time: 3.0,
+                fill_bottom: 0.0,
+                fill_top: geometry.height,
+                deletion_depth: 5.0 * d,
+                clog_timeout: 1.0,
+                time_limit: 20.0,
+            },
+            geometry,
+            particles: ParticleSpec::paper(),
+            wall: WallSpec {
+                material: WallMaterial::SameAsParticle,
+                interaction: Interaction::paper(),
+            },
+            contact: ContactSpec {
+                particle: Interaction::paper(),
+                tangential: TangentialLaw::MindlinNoSlip,
+                rolling: RollingLaw::ConstantTorque,
+                normal_clamp: false,
+            },
+            time_step: 2.5e-6,
+            measure: MeasureSpec {
+                rate_bin_width: 0.02,
+                x_bin_width: 0.5 * d,
+                strip_height: d,
+                frame_interval: 1.0e-3,
+                crossing_check_interval: 10,
+                steady_start_fraction: 0.15,
+                steady_end_fraction: 0.70,
+            },
+            output: OutputSpec {
+                vtu_interval: 0.0,
+                checkpoint_interval: 1.0,
+                plots: true,
+            },
+        }
+    }
+
+    /// Time step as a fraction of the Rayleigh time of the smallest particle [-].
+    pub fn rayleigh_fraction(&self) -> f64 {
+        self.time_step / self.particles.rayleigh_time()
+    }
+
+    /// Whether the slab is thick enough for two layers of spheres (then the case is a 3D
+    /// rectangular hopper and packing is judged by volume).
+    pub fn is_thick_slab(&self) -> bool {
+        self.geometry.thickness >= THICK_SLAB_DIAMETERS * self.particles.size.max_diameter()
+    }
+
+    /// In-plane container area the particles need at the densest assumed packing [m²].
+    ///
+    /// Quasi-2D slab: disc area / `MONOLAYER_AREA_FRACTION`. Thick slab: sphere volume /
+    /// (`BULK_VOLUME_FRACTION` · Z).
+    pub fn packed_area(&self) -> f64 {
+        if self.is_thick_slab() {
+            self.particles.total_volume() / (BULK_VOLUME_FRACTION * self.geometry.thickness)
+        } else {
+            self.particles.total_disc_area() / MONOLAYER_AREA_FRACTION
+        }
+    }
+
+    /// Estimated height of the settled fill above the outlet plane [m], or `None` when
+    /// the particles cannot fit below H at the densest assumed packing.
+    pub fn fill_height(&self) -> Option<f64> {
+        self.geometry.height_holding(self.packed_area())
+    }
+
+    /// Whether N particles fit in the container below H (see [`Case::packed_area`]).
+    pub fn particles_fit(&self) -> bool {
+        self.fill_height().is_some()
+    }
+}

@@ -1,0 +1,655 @@
+//! Turns a located case document into a validated [`Case`], collecting every error.
+//!
+//! Reading order matters only for defaults: the particle diameters come first because
+//! several defaults (deletion depth 5 d, bin width d/2, strip height d) and checks
+//! (D ≥ 3 d, Z ≥ d) are stated in particle diameters.
+
+use std::sync::Arc;
+
+use super::case::{
+    Case, ContactSpec, Interaction, RollingLaw, TangentialLaw, WallMaterial, WallSpec,
+    CASE_FORMAT_VERSION,
+};
+use super::document::{NodeValue, Table};
+use super::error::{number, ConfigError, ConfigErrors, ErrorKind};
+use super::geometry::HopperGeometry;
+use super::particles::{Material, ParticleSpec, SizeDistribution};
+use super::reader::{Located, Section};
+use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
+
+/// Pairs of keys that are alternatives: giving one through `--set` or a sweep axis
+/// removes the other, and giving both in a file is an error.
+pub(crate) const ALTERNATIVE_KEYS: &[(&str, &str)] = &[
+    ("geometry.outlet_gap", "geometry.outlet_offset"),
+    ("time.time_step", "time.rayleigh_fraction"),
+    ("particles.diameter", "particles.size_distribution"),
+];
+
+/// Largest particle count accepted; a guard against typos that would exhaust memory.
+pub(crate) const MAX_PARTICLE_COUNT: i64 = 10_000_000;
+
+/// Smallest outlet width in largest particle diameters (the issue's rule: D ≥ 3 d).
+pub(crate) const MIN_OUTLET_DIAMETERS: f64 = 3.0;
+
+const TOP_KEYS: &[&str] = &[
+    "version",
+    "seed",
+    "geometry",
+    "particles",
+    "wall",
+    "contact",
+    "time",
+    "protocol",
+    "measure",
+    "output",
+];
+
+/// Validates a whole case document.
+pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, ConfigErrors> {
+    let mut errors = Vec::new();
+    let mut root = Section::root(document, source);
+    let base = Case::paper_base();
+
+    let version = root.integer_or("version", CASE_FORMAT_VERSION, &mut errors);
+    if version.value != CASE_FORMAT_VERSION {
+        errors.push(version.error(
+            ErrorKind::Invalid,
+            format!("this hopperflow reads format version {CASE_FORMAT_VERSION} only"),
+        ));
+    }
+    let seed = root.integer_or("seed", base.seed as i64, &mut errors);
+    if seed.value < 0 {
+        errors.push(seed.error(ErrorKind::Invalid, "must be an integer ≥ 0"));
+    }
+
+    let particles = read_particles(&mut root.section("particles", &mut errors), &mut errors);
+    // Diameter-based defaults and checks fall back to the paper's 3 mm when the particle
+    // table itself is invalid; its own errors are already recorded.
+    let d_max = particles.as_ref().map_or(3.0e-3, |p| p.size.max_diameter());
+    let geometry = read_geometry(
+        &mut root.section("geometry", &mut errors),
+        particles.as_ref().map(|p| p.size.max_diameter()),
+        &mut errors,
+    );
+    let wall = read_wall(&mut root.section("wall", &mut errors), &mut errors);
+    let contact = read_contact(&mut root.section("contact", &mut errors), &mut errors);
+    let time_step = read_time_step(
+        &mut root.section("time", &mut errors),
+        particles.as_ref(),
+        &mut errors,
+    );
+    let height = geometry.as_ref().map(|g| g.height);
+    let protocol = read_protocol(
+        &mut root.section("protocol", &mut errors),
+        d_max,
+        height,
+        &mut errors,
+    );
+    let measure = read_measure(
+        &mut root.section("measure", &mut errors),
+        d_max,
+        geometry.as_ref().map(|g| g.outlet_width),
+        time_step,
+        &mut errors,
+    );
+    let output = read_output(&mut root.section("output", &mut errors), &mut errors);
+    root.finish(TOP_KEYS, &mut errors);
+
+    let case = match (
+        geometry, particles, wall, contact, time_step, protocol, measure, output,
+    ) {
+        (Some(g), Some(p), Some(w), Some(c), Some(dt), Some(pr), Some(m), Some(o))
+            if seed.value >= 0 =>
+        {
+            Some(Case {
+                seed: seed.value as u64,
+                geometry: g,
+                particles: p,
+                wall: w,
+                contact: c,
+                time_step: dt,
+                protocol: pr,
+                measure: m,
+                output: o,
+            })
+        }
+        _ => None,
+    };
+    if let Some(case) = &case {
+        check_particles_fit(case, document, source, &mut errors);
+    }
+    match case {
+        Some(case) if errors.is_empty() => Ok(case),
+        _ => {
+            // Document order: errors with a line first, by line; stable for the rest.
+            errors.sort_by_key(|e| (e.location.line.unwrap_or(usize::MAX), e.location.column));
+            Err(ConfigErrors { errors })
+        }
+    }
+}
+
+/// Reads a material table (density, shear modulus, Poisson's ratio).
+pub(crate) fn read_material(
+    section: &mut Section<'_>,
+    default: Material,
+    errors: &mut Vec<ConfigError>,
+) -> Option<Material> {
+    let density = section.float_or("density", "kg/m³", default.density, errors);
+    let shear = section.float_or("shear_modulus", "Pa", default.shear_modulus, errors);
+    let poisson = section.float_or("poisson_ratio", "", default.poisson_ratio, errors);
+    let mut ok = density.require_positive(errors) & shear.require_positive(errors);
+    // A stable isotropic solid has −1 < ν < 0.5; ν = 0.5 would make the bulk modulus infinite.
+    if !(poisson.value > -1.0 && poisson.value < 0.5) {
+        errors.push(poisson.error(ErrorKind::Invalid, "must lie in (−1, 0.5)"));
+        ok = false;
+    }
+    section.finish(&["density", "shear_modulus", "poisson_ratio"], errors);
+    ok.then_some(Material {
+        density: density.value,
+        shear_modulus: shear.value,
+        poisson_ratio: poisson.value,
+    })
+}
+
+/// Reads friction, rolling friction and restitution of one pair type.
+fn read_interaction(
+    section: &mut Section<'_>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<Interaction> {
+    let paper = Interaction::paper();
+    let friction = section.float_or("friction", "", paper.friction, errors);
+    let rolling = section.float_or("rolling_friction", "", paper.rolling_friction, errors);
+    let restitution = section.float_or("restitution", "", paper.restitution, errors);
+    let mut ok = friction.require_non_negative(errors) & rolling.require_non_negative(errors);
+    // e = 0 makes the damping ratio β = ln e / √(ln² e + π²) undefined (physics spec §2).
+    if !(restitution.value > 0.0 && restitution.value <= 1.0) {
+        errors.push(restitution.error(ErrorKind::Invalid, "must lie in (0, 1]"));
+        ok = false;
+    }
+    ok.then_some(Interaction {
+        friction: friction.value,
+        rolling_friction: rolling.value,
+        restitution: restitution.value,
+    })
+}
+
+fn read_particles(
+    section: &mut Section<'_>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<ParticleSpec> {
+    let paper = ParticleSpec::paper();
+    let count = section.integer_or("count", paper.count as i64, errors);
+    let mut ok = true;
+    if !(1..=MAX_PARTICLE_COUNT).contains(&count.value) {
+        errors.push(count.error(
+            ErrorKind::Invalid,
+            format!("must be an integer in [1, {MAX_PARTICLE_COUNT}]"),
+        ));
+        ok = false;
+    }
+    let size = if section.has("diameter") && section.has("size_distribution") {
+        let entry = section.entry("size_distribution");
+        section.entry("diameter");
+        errors.push(ConfigError::new(
+            ErrorKind::Conflict,
+            entry.map_or_else(
+                || section.default_location().clone(),
+                |e| e.key_location.clone(),
+            ),
+            section.key("size_distribution"),
+            None,
+            format!(
+                "give either {} (monodisperse) or a size distribution, not both",
+                section.key("diameter")
+            ),
+        ));
+        None
+    } else if section.has("size_distribution") {
+        read_distribution(&mut section.section("size_distribution", errors), errors)
+    } else {
+        let d = section.float_or("diameter", "m", 3.0e-3, errors);
+        d.require_positive(errors)
+            .then_some(SizeDistribution::Monodisperse { diameter: d.value })
+    };
+    let material = read_material(
+        &mut section.section("material", errors),
+        paper.material,
+        errors,
+    );
+    section.finish(
+        &["count", "diameter", "size_distribution", "material"],
+        errors,
+    );
+    match (ok, size, material) {
+        (true, Some(size), Some(material)) => Some(ParticleSpec {
+            count: count.value as usize,
+            size,
+            material,
+        }),
+        _ => None,
+    }
+}
+
+fn read_distribution(
+    section: &mut Section<'_>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<SizeDistribution> {
+    let kinds = [
+        ("monodisperse", 0u8),
+        ("uniform", 1),
+        ("normal", 2),
+        ("discrete", 3),
+    ];
+    if !section.has("kind") {
+        errors.push(missing(
+            section,
+            "kind",
+            "required: \"monodisperse\", \"uniform\", \"normal\" or \"discrete\"",
+        ));
+        section.finish(&["kind"], errors);
+        return None;
+    }
+    let kind = section.choice("kind", &kinds, u8::MAX, errors);
+    match kind {
+        0 => {
+            let d = required(section, "diameter", errors);
+            section.finish(&["kind", "diameter"], errors);
+            let d = d?;
+            d.require_positive(errors)
+                .then_some(SizeDistribution::Monodisperse { diameter: d.value })
+        }
+        1 => {
+            let min = required(section, "min", errors);
+            let max = required(section, "max", errors);
+            section.finish(&["kind", "min", "max"], errors);
+            let (min, max) = (min?, max?);
+            let ok = min.require_positive(errors) & max.require_positive(errors);
+            if ok && max.value <= min.value {
+                errors.push(max.error(
+                    ErrorKind::Invalid,
+                    format!("must be > {} ({} m)", min.key, number(min.value)),
+                ));
+                return None;
+            }
+            ok.then_some(SizeDistribution::Uniform {
+                min: min.value,
+                max: max.value,
+            })
+        }
+        2 => read_normal(section, errors),
+        3 => read_discrete(section, errors),
+        _ => {
+            section.finish(&[], errors);
+            None
+        }
+    }
+}
+
+fn read_normal(
+    section: &mut Section<'_>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<SizeDistribution> {
+    let mean = required(section, "mean", errors);
+    let std_dev = required(section, "std_dev", errors);
+    let min = section.float("min", "m", errors);
+    let max = section.float("max", "m", errors);
+    section.finish(&["kind", "mean", "std_dev", "min", "max"], errors);
+    let (mean, std_dev) = (mean?, std_dev?);
+    if !(mean.require_positive(errors) & std_dev.require_positive(errors)) {
+        return None;
+    }
+    // Truncation defaults to mean ± 3σ, which keeps 99.7 % of a normal distribution.
+    let min = min.unwrap_or_else(|| mean.with_value(mean.value - 3.0 * std_dev.value));
+    let max = max.unwrap_or_else(|| mean.with_value(mean.value + 3.0 * std_dev.value));
+    let mut ok = true;
+    if !(min.value > 0.0 && min.value <= mean.value) {
+        errors.push(min.error(
+            ErrorKind::Invalid,
+            "the smallest diameter (default mean − 3 std_dev) must be > 0 and ≤ mean; set min",
+        ));
+        ok = false;
+    }
+    if !(max.value.is_finite() && max.value >= mean.value && max.value > min.value) {
+        errors.push(max.error(ErrorKind::Invalid, "must be ≥ mean and > min"));
+        ok = false;
+    }
+    ok.then_some(SizeDistribution::Normal {
+        mean: mean.value,
+        std_dev: std_dev.value,
+        min: min.value,
+        max: max.value,
+    })
+}
+
+fn read_discrete(
+    section: &mut Section<'_>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<SizeDistribution> {
+    let diameters = section.float_array("diameters", "m", errors);
+    let fractions = section.float_array("fractions", "", errors);
+    for (key, present) in [
+        ("diameters", diameters.is_some()),
+        ("fractions", fractions.is_some()),
+    ] {
+        if !present && !section.has(key) {
+            errors.push(missing(section, key, "required for kind = \"discrete\""));
+        }
+    }
+    section.finish(&["kind", "diameters", "fractions"], errors);
+    let (diameters, fractions) = (diameters?, fractions?);
+    let mut ok = true;
+    if diameters.is_empty() || diameters.len() != fractions.len() {
+        errors.push(missing(
+            section,
+            "fractions",
+            "diameters and fractions must be non-empty and of equal length",
+        ));
+        return None;
+    }
+    for d in &diameters {
+        ok &= d.require_positive(errors);
+    }
+    for f in &fractions {
+        ok &= f.require_non_negative(errors);
+    }
+    let sum: f64 = fractions.iter().map(|f| f.value).sum();
+    // Fractions are written by hand; 1e-6 forgives rounding in the last printed digit.
+    if ok && (sum - 1.0).abs() > 1e-6 {
+        errors.push(fractions[0].error(
+            ErrorKind::Invalid,
+            format!(
+                "number fractions must sum to 1 (they sum to {})",
+                number(sum)
+            ),
+        ));
+        ok = false;
+    }
+    ok.then(|| SizeDistribution::Discrete {
+        diameters: diameters.iter().map(|d| d.value).collect(),
+        fractions: fractions.iter().map(|f| f.value).collect(),
+    })
+}
+
+fn read_geometry(
+    section: &mut Section<'_>,
+    d_max: Option<f64>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<HopperGeometry> {
+    let paper = HopperGeometry::paper();
+    let width = section.float_or("width", "m", paper.width, errors);
+    let height = section.float_or("height", "m", paper.height, errors);
+    let thickness = section.float_or("thickness", "m", paper.thickness, errors);
+    let outlet = section.float_or("outlet_width", "m", paper.outlet_width, errors);
+    let angle = section.float_or("hopper_angle_deg", "°", paper.hopper_angle_deg, errors);
+    let gap = section.float("outlet_gap", "m", errors);
+    let offset = section.float("outlet_offset", "m", errors);
+    section.finish(
+        &[
+            "width",
+            "height",
+            "thickness",
+            "outlet_width",
+            "hopper_angle_deg",
+            "outlet_gap",
+            "outlet_offset",
+        ],
+        errors,
+    );
+    let mut ok = width.require_positive(errors)
+        & height.require_positive(errors)
+        & thickness.require_positive(errors)
+        & outlet.require_positive(errors);
+    if !(angle.value > 0.0 && angle.value <= 90.0) {
+        errors.push(angle.error(
+            ErrorKind::Invalid,
+            "must lie in (0°, 90°]: the angle of the bottom plates from the vertical, 90° = flat bottom",
+        ));
+        ok = false;
+    }
+    if let (Some(gap), Some(offset)) = (&gap, &offset) {
+        errors.push(offset.error(
+            ErrorKind::Conflict,
+            format!(
+                "give either {} (s) or {} (e), not both",
+                gap.key, offset.key
+            ),
+        ));
+        return None;
+    }
+    if !ok {
+        return None;
+    }
+    let (l, d) = (width.value, outlet.value);
+    if d >= l {
+        errors.push(outlet.error(
+            ErrorKind::DoesNotFit,
+            format!("must be < {} ({} m)", width.key, number(l)),
+        ));
+        ok = false;
+    }
+    if let Some(d_max) = d_max {
+        let smallest = MIN_OUTLET_DIAMETERS * d_max;
+        if d < smallest {
+            errors.push(outlet.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m)",
+                    number(smallest)
+                ),
+            ));
+            ok = false;
+        }
+        if thickness.value < d_max {
+            errors.push(thickness.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be ≥ the largest particle diameter ({} m); the paper uses 1.01 d",
+                    number(d_max)
+                ),
+            ));
+            ok = false;
+        }
+    }
+    if !ok {
+        return None;
+    }
+    let half_free = 0.5 * (l - d);
+    let gap_value = match (gap, offset) {
+        (Some(s), None) => {
+            if s.value < 0.0 || !s.value.is_finite() {
+                errors.push(s.error(
+                    ErrorKind::Invalid,
+                    "must be ≥ 0 (the gap from the left wall)",
+                ));
+                return None;
+            }
+            if s.value + d > l {
+                errors.push(s.error(
+                    ErrorKind::DoesNotFit,
+                    format!(
+                        "the outlet does not fit: s + D = {} m exceeds {} ({} m); s must be ≤ L − D = {} m",
+                        number(s.value + d),
+                        width.key,
+                        number(l),
+                        number(l - d)
+                    ),
+                ));
+                return None;
+            }
+            s.value
+        }
+        (None, Some(e)) => {
+            if !(e.value.is_finite() && e.value.abs() <= half_free) {
+                errors.push(e.error(
+                    ErrorKind::DoesNotFit,
+                    format!(
+                        "the outlet does not fit: |e| must be ≤ (L − D)/2 = {} m",
+                        number(half_free)
+                    ),
+                ));
+                return None;
+            }
+            half_free - e.value
+        }
+        _ => half_free,
+    };
+    let geometry = HopperGeometry {
+        width: l,
+        height: height.value,
+        thickness: thickness.value,
+        outlet_width: d,
+        hopper_angle_deg: angle.value,
+        outlet_gap: gap_value,
+    };
+    let funnel = geometry.funnel_height();
+    if funnel >= geometry.height {
+        errors.push(angle.error(
+            ErrorKind::DoesNotFit,
+            format!(
+                "the bottom plates would rise {} m, above {} ({} m)",
+                number(funnel),
+                height.key,
+                number(geometry.height)
+            ),
+        ));
+        return None;
+    }
+    Some(geometry)
+}
+
+/// N particles at the densest assumed packing must fit below H (see `Case::packed_area`).
+fn check_particles_fit(
+    case: &Case,
+    document: &Table,
+    source: &Arc<str>,
+    errors: &mut Vec<ConfigError>,
+) {
+    if case.particles_fit() {
+        return;
+    }
+    let mut root = Section::root(document, source);
+    let mut particles = root.section("particles", &mut Vec::new());
+    let count = particles
+        .integer("count", &mut Vec::new())
+        .unwrap_or_else(|| particles.default_value("count", case.particles.count as i64, ""));
+    let (what, packing) = if case.is_thick_slab() {
+        (
+            "sphere volume",
+            format!("volume fraction {}", super::case::BULK_VOLUME_FRACTION),
+        )
+    } else {
+        (
+            "disc area",
+            format!("area fraction {}", super::case::MONOLAYER_AREA_FRACTION),
+        )
+    };
+    errors.push(count.error(
+        ErrorKind::DoesNotFit,
+        format!(
+            "the particles cannot fit: their {what} needs {} m² of the hopper's cross-section at {packing}, \
+             but the hopper below H holds {} m²; lower the count or enlarge the hopper",
+            number(case.packed_area()),
+            number(case.geometry.cross_section_area()),
+        ),
+    ));
+}
+
+fn read_wall(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option<WallSpec> {
+    let is_table = section
+        .entry("material")
+        .is_some_and(|e| matches!(e.node.value, NodeValue::Table(_)));
+    let material = if is_table {
+        read_material(
+            &mut section.section("material", errors),
+            Material::paper(),
+            errors,
+        )
+        .map(WallMaterial::Custom)
+    } else {
+        let options = [
+            ("same", WallMaterial::SameAsParticle),
+            ("rigid", WallMaterial::Rigid),
+        ];
+        let before = errors.len();
+        let material = section.choice("material", &options, WallMaterial::SameAsParticle, errors);
+        if let Some(last) = errors.get_mut(before..).and_then(|e| e.last_mut()) {
+            last.message
+                .push_str(", or a table with density, shear_modulus, poisson_ratio");
+        }
+        (errors.len() == before).then_some(material)
+    };
+    let interaction = read_interaction(section, errors);
+    section.finish(
+        &["material", "friction", "rolling_friction", "restitution"],
+        errors,
+    );
+    Some(WallSpec {
+        material: material?,
+        interaction: interaction?,
+    })
+}
+
+fn read_contact(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option<ContactSpec> {
+    let before = errors.len();
+    let interaction = read_interaction(section, errors);
+    let tangential = section.choice(
+        "tangential",
+        &[
+            ("mindlin_no_slip", TangentialLaw::MindlinNoSlip),
+            ("mindlin_deresiewicz", TangentialLaw::MindlinDeresiewicz),
+        ],
+        TangentialLaw::MindlinNoSlip,
+        errors,
+    );
+    let rolling = section.choice(
+        "rolling",
+        &[
+            ("constant_torque", RollingLaw::ConstantTorque),
+            ("epsd", RollingLaw::Epsd),
+        ],
+        RollingLaw::ConstantTorque,
+        errors,
+    );
+    let normal_clamp = section.boolean_or("normal_clamp", false, errors);
+    section.finish(
+        &[
+            "friction",
+            "rolling_friction",
+            "restitution",
+            "tangential",
+            "rolling",
+            "normal_clamp",
+        ],
+        errors,
+    );
+    let particle = interaction?;
+    (errors.len() == before).then_some(ContactSpec {
+        particle,
+        tangential,
+        rolling,
+        normal_clamp,
+    })
+}
+
+/// A number that must be present.
+fn required(
+    section: &mut Section<'_>,
+    key: &str,
+    errors: &mut Vec<ConfigError>,
+) -> Option<Located<f64>> {
+    if !section.has(key) {
+        errors.push(missing(section, key, "required"));
+        return None;
+    }
+    section.float(key, "m", errors)
+}
+
+fn missing(section: &Section<'_>, key: &str, message: &str) -> ConfigError {
+    ConfigError::new(
+        ErrorKind::Missing,
+        section.location().clone(),
+        section.key(key),
+        None,
+        message,
+    )
+}

@@ -1,0 +1,254 @@
+//! Validation of the run settings of a case: time step, protocol, measurement, output.
+
+use super::case::{Case, MeasureSpec, OutputSpec, Protocol, MAX_RAYLEIGH_FRACTION};
+use super::error::{number, ConfigError, ErrorKind};
+use super::particles::ParticleSpec;
+use super::reader::Section;
+
+/// Largest number of steps between outlet-crossing checks: a particle moves < 4 µm per
+/// step, so 100 steps keep the linear interpolation of the crossing well below d/2
+/// (physics spec §7.2).
+pub(crate) const MAX_CROSSING_CHECK_INTERVAL: i64 = 100;
+
+/// Reads `[time]`: either `time_step` [s] or `rayleigh_fraction` [-], not both.
+pub(crate) fn read_time_step(
+    section: &mut Section<'_>,
+    particles: Option<&ParticleSpec>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<f64> {
+    let step = section.float("time_step", "s", errors);
+    let fraction = section.float("rayleigh_fraction", "", errors);
+    section.finish(&["time_step", "rayleigh_fraction"], errors);
+    let rayleigh = particles.map(ParticleSpec::rayleigh_time);
+    match (step, fraction) {
+        (Some(_), Some(fraction)) => {
+            errors.push(fraction.error(
+                ErrorKind::Conflict,
+                "give either time.time_step or time.rayleigh_fraction, not both",
+            ));
+            None
+        }
+        (None, Some(fraction)) => {
+            if !(fraction.value > 0.0 && fraction.value <= MAX_RAYLEIGH_FRACTION) {
+                errors.push(fraction.error(
+                    ErrorKind::Invalid,
+                    format!(
+                        "must lie in (0, {MAX_RAYLEIGH_FRACTION}] (fraction of the Rayleigh time)"
+                    ),
+                ));
+                return None;
+            }
+            rayleigh.map(|t| fraction.value * t)
+        }
+        (step, None) => {
+            let step = step.unwrap_or_else(|| {
+                section.default_value("time_step", Case::paper_base().time_step, "s")
+            });
+            if !step.require_positive(errors) {
+                return None;
+            }
+            let t_r = rayleigh?;
+            if step.value > MAX_RAYLEIGH_FRACTION * t_r {
+                errors.push(step.error(
+                    ErrorKind::Invalid,
+                    format!(
+                        "must be ≤ {MAX_RAYLEIGH_FRACTION} Rayleigh times ({} s for the smallest particle); \
+                         the paper uses < 0.1 t_R",
+                        number(MAX_RAYLEIGH_FRACTION * t_r)
+                    ),
+                ));
+                return None;
+            }
+            Some(step.value)
+        }
+    }
+}
+
+/// Reads `[protocol]`; `d_max` [m] and the hopper height [m] set defaults and limits.
+pub(crate) fn read_protocol(
+    section: &mut Section<'_>,
+    d_max: f64,
+    height: Option<f64>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<Protocol> {
+    let base = Case::paper_base().protocol;
+    let energy = section.float_or(
+        "settle_kinetic_energy",
+        "J",
+        base.settle_kinetic_energy,
+        errors,
+    );
+    let settle = section.float_or("max_settle_time", "s", base.max_settle_time, errors);
+    let bottom = section.float_or("fill_bottom", "m", base.fill_bottom, errors);
+    let top = section.float_or("fill_top", "m", height.unwrap_or(base.fill_top), errors);
+    let depth = section.float_or("deletion_depth", "m", 5.0 * d_max, errors);
+    let clog = section.float_or("clog_timeout", "s", base.clog_timeout, errors);
+    let limit = section.float_or("time_limit", "s", base.time_limit, errors);
+    section.finish(
+        &[
+            "settle_kinetic_energy",
+            "max_settle_time",
+            "fill_bottom",
+            "fill_top",
+            "deletion_depth",
+            "clog_timeout",
+            "time_limit",
+        ],
+        errors,
+    );
+    let mut ok = energy.require_positive(errors)
+        & settle.require_positive(errors)
+        & bottom.require_non_negative(errors)
+        & top.require_positive(errors)
+        & clog.require_positive(errors)
+        & limit.require_positive(errors);
+    if ok && bottom.value >= top.value {
+        errors.push(top.error(
+            ErrorKind::Invalid,
+            format!("must be > {} ({} m)", bottom.key, number(bottom.value)),
+        ));
+        ok = false;
+    }
+    if let Some(h) = height {
+        if top.value > h {
+            errors.push(top.error(
+                ErrorKind::Invalid,
+                format!("must be ≤ geometry.height ({} m)", number(h)),
+            ));
+            ok = false;
+        }
+    }
+    // Particles must be wholly below the outlet line before they vanish, or the
+    // crossing and strip measurements would lose them (physics spec §5: about 5 d).
+    if !(depth.value.is_finite() && depth.value >= d_max) {
+        errors.push(depth.error(
+            ErrorKind::Invalid,
+            format!(
+                "must be ≥ the largest particle diameter ({} m)",
+                number(d_max)
+            ),
+        ));
+        ok = false;
+    }
+    ok.then_some(Protocol {
+        settle_kinetic_energy: energy.value,
+        max_settle_time: settle.value,
+        fill_bottom: bottom.value,
+        fill_top: top.value,
+        deletion_depth: depth.value,
+        clog_timeout: clog.value,
+        time_limit: limit.value,
+    })
+}
+
+/// Reads `[measure]`; diameters, outlet width [m] and time step [s] set defaults and limits.
+pub(crate) fn read_measure(
+    section: &mut Section<'_>,
+    d_max: f64,
+    outlet_width: Option<f64>,
+    time_step: Option<f64>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<MeasureSpec> {
+    let base = Case::paper_base().measure;
+    let rate_bin = section.float_or("rate_bin_width", "s", base.rate_bin_width, errors);
+    let x_bin = section.float_or("x_bin_width", "m", 0.5 * d_max, errors);
+    let strip = section.float_or("strip_height", "m", d_max, errors);
+    let frame = section.float_or("frame_interval", "s", base.frame_interval, errors);
+    let crossing = section.integer_or(
+        "crossing_check_interval",
+        i64::from(base.crossing_check_interval),
+        errors,
+    );
+    let start = section.float_or(
+        "steady_start_fraction",
+        "",
+        base.steady_start_fraction,
+        errors,
+    );
+    let end = section.float_or("steady_end_fraction", "", base.steady_end_fraction, errors);
+    section.finish(
+        &[
+            "rate_bin_width",
+            "x_bin_width",
+            "strip_height",
+            "frame_interval",
+            "crossing_check_interval",
+            "steady_start_fraction",
+            "steady_end_fraction",
+        ],
+        errors,
+    );
+    let mut ok = rate_bin.require_positive(errors)
+        & x_bin.require_positive(errors)
+        & strip.require_positive(errors)
+        & frame.require_positive(errors);
+    if let Some(dt) = time_step {
+        for interval in [&rate_bin, &frame] {
+            if interval.value < dt {
+                errors.push(interval.error(
+                    ErrorKind::Invalid,
+                    format!("must be ≥ the time step ({} s)", number(dt)),
+                ));
+                ok = false;
+            }
+        }
+    }
+    if let Some(d) = outlet_width {
+        if x_bin.value > d {
+            errors.push(x_bin.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be ≤ geometry.outlet_width ({} m) to resolve a profile",
+                    number(d)
+                ),
+            ));
+            ok = false;
+        }
+    }
+    if !(1..=MAX_CROSSING_CHECK_INTERVAL).contains(&crossing.value) {
+        errors.push(crossing.error(
+            ErrorKind::Invalid,
+            format!("must be an integer number of steps in [1, {MAX_CROSSING_CHECK_INTERVAL}]"),
+        ));
+        ok = false;
+    }
+    if !(start.value >= 0.0 && start.value < end.value && end.value <= 1.0) {
+        errors.push(end.error(
+            ErrorKind::Invalid,
+            format!(
+                "need 0 ≤ {} ({}) < {} ≤ 1",
+                start.key,
+                number(start.value),
+                end.key
+            ),
+        ));
+        ok = false;
+    }
+    ok.then_some(MeasureSpec {
+        rate_bin_width: rate_bin.value,
+        x_bin_width: x_bin.value,
+        strip_height: strip.value,
+        frame_interval: frame.value,
+        crossing_check_interval: crossing.value as u32,
+        steady_start_fraction: start.value,
+        steady_end_fraction: end.value,
+    })
+}
+
+/// Reads `[output]`.
+pub(crate) fn read_output(
+    section: &mut Section<'_>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<OutputSpec> {
+    let base = Case::paper_base().output;
+    let vtu = section.float_or("vtu_interval", "s", base.vtu_interval, errors);
+    let checkpoint = section.float_or("checkpoint_interval", "s", base.checkpoint_interval, errors);
+    let plots = section.boolean_or("plots", base.plots, errors);
+    section.finish(&["vtu_interval", "checkpoint_interval", "plots"], errors);
+    let ok = vtu.require_non_negative(errors) & checkpoint.require_non_negative(errors);
+    ok.then_some(OutputSpec {
+        vtu_interval: vtu.value,
+        checkpoint_interval: checkpoint.value,
+        plots,
+    })
+}

@@ -1,0 +1,90 @@
+//! The commented case file that `hopperflow init` writes: every key, its unit, its default.
+
+/// A case file holding the paper's base case with every key explained.
+///
+/// Keys whose default depends on another key (on the particle diameter or the hopper
+/// height) and keys that are alternatives to another key are shown commented out, so
+/// that the template reads back to exactly [`super::Case::paper_base`] and stays right
+/// when the user changes the diameter.
+pub const CASE_TEMPLATE: &str = r#"# hopperflow case file.
+#
+# Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
+# carry `_deg` in their key. The values below are the defaults: the base case of
+# Fan et al. (2023), Powder Technology 429, 118964, Table 1 (flat bottom, D = 30 mm,
+# centred outlet, 3000 spheres of 3 mm). Delete any key to use its default.
+# Check a file with `hopperflow check FILE`; override a key on the command line with
+# `hopperflow run FILE --set geometry.outlet_width=0.045`.
+
+version = 1    # case-file format version
+seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+
+[geometry]
+# Coordinates: x from the hopper axis, z up from the outlet plane, y across the slab.
+width = 0.1              # L [m], distance between the side walls
+height = 0.4             # H [m], height of the side walls above the outlet plane
+thickness = 0.00303      # Z [m], slab thickness; 1.01 d is quasi-2D, several d is a 3D hopper
+outlet_width = 0.03      # D [m], must be < L and ≥ 3 particle diameters
+hopper_angle_deg = 90.0  # α [°], bottom plates from the vertical, in (0, 90]; 90 = flat bottom
+# Outlet position: give at most one of the two; without either the outlet is centred.
+# With e + s = (L − D)/2 the outlet centre is at x_c = −e (toward the left wall for e > 0).
+# outlet_gap = 0.035     # s [m], gap between the left wall and the outlet's left edge, 0 ≤ s ≤ L − D
+# outlet_offset = 0.0    # e [m], offset of the outlet centre from the axis, |e| ≤ (L − D)/2
+
+[particles]
+count = 3000             # N, number of particles; they must fit below H (area fraction ≤ 0.885)
+diameter = 0.003         # d [m], monodisperse diameter
+# Instead of `diameter`, a size distribution (number-weighted), one of:
+# [particles.size_distribution]
+# kind = "uniform"       # min [m], max [m]
+# min = 0.0027
+# max = 0.0033
+# kind = "normal"        # mean [m], std_dev [m], optional min/max [m] (default mean ± 3 std_dev)
+# kind = "discrete"      # diameters = [m, ...], fractions = [number fractions summing to 1]
+
+[particles.material]
+density = 2500.0         # ρ_p [kg/m³]
+shear_modulus = 1.0e8    # G [Pa]
+poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
+
+[wall]
+material = "same"        # "same" (particle material), "rigid", or a [wall.material] table
+                         # with density [kg/m³], shear_modulus [Pa], poisson_ratio [-]
+friction = 0.5           # μ_s particle–wall [-], ≥ 0 (applies to front and back walls too)
+rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
+restitution = 0.2        # e particle–wall [-], in (0, 1]
+
+[contact]
+friction = 0.5           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
+restitution = 0.2        # e particle–particle [-], in (0, 1]
+tangential = "mindlin_no_slip"   # "mindlin_no_slip" (EDEM/LIGGGHTS) or "mindlin_deresiewicz" (paper Eq. 7, corrected)
+rolling = "constant_torque"      # "constant_torque" (paper Eq. 8) or "epsd"
+normal_clamp = false     # clamp the normal force to ≥ 0 (the paper's Eq. 6 does not)
+
+[time]
+time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; 2.5e-6 s = 0.097 t_R for Table 1
+# rayleigh_fraction = 0.097  # alternative to time_step: Δt as a fraction of the Rayleigh time, in (0, 0.2]
+
+[protocol]
+settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
+max_settle_time = 3.0    # [s], longest simulated settling time
+fill_bottom = 0.0        # [m], bottom of the insertion region above the outlet plane
+# fill_top = 0.4         # [m], top of the insertion region; default H
+# deletion_depth = 0.015 # [m], particles this far below the outlet are removed; default 5 d, ≥ d
+clog_timeout = 1.0       # [s], no particle leaving for this long means a clog
+time_limit = 20.0        # [s], longest simulated discharge after the gate opens
+
+[measure]
+rate_bin_width = 0.02    # [s], time bins of the discharge rate W(t), ≥ Δt
+# x_bin_width = 0.0015   # [m], x-bins of v(x) and φ(x); default d/2, ≤ D
+# strip_height = 0.003   # [m], height h of the outlet strip for φ(x); default d
+frame_interval = 0.001   # [s], time between snapshot frames, ≥ Δt
+crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
+steady_start_fraction = 0.15  # [-], steady window starts when this fraction has left
+steady_end_fraction = 0.7     # [-], and ends at this fraction; 0 ≤ start < end ≤ 1
+
+[output]
+vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+checkpoint_interval = 1.0  # [s], simulated time between checkpoints; 0 writes none
+plots = true             # draw the per-case plots
+"#;
