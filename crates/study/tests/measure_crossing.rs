@@ -252,7 +252,8 @@ fn frames_out_of_order_or_inconsistent_are_rejected() {
 #[test]
 fn record_survives_a_json_round_trip_and_gives_the_same_profile() {
     // Windows are chosen after the run, possibly from a saved record: the reloaded record
-    // must reproduce the profile bit for bit (serde_json round-trips f64 exactly).
+    // must reproduce the profile. serde_json's default float parser may be off by one ulp,
+    // hence 1e-15 relative rather than bit equality.
     let g = geometry();
     let bins = OutletBins::across(&g, 5).unwrap();
     let particles = [
@@ -266,10 +267,20 @@ fn record_survives_a_json_round_trip_and_gives_the_same_profile() {
     let record = probe.into_record();
     let text = serde_json::to_string(&record).unwrap();
     let reloaded: study::measure::CrossingRecord = serde_json::from_str(&text).unwrap();
-    assert_eq!(reloaded, record);
+    assert_eq!(reloaded.events.len(), 2);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * a.abs().max(b.abs());
+    for (a, b) in reloaded.events.iter().zip(&record.events) {
+        assert!(close(a.time, b.time) && close(a.x, b.x) && close(a.velocity_z, b.velocity_z));
+        assert!(close(a.mass, b.mass) && a.inside_outlet == b.inside_outlet);
+    }
     let window = TimeWindow::new(0.0, 1.0).unwrap();
-    assert_eq!(
-        reloaded.velocity_profile(window, &bins),
-        record.velocity_profile(window, &bins)
-    );
+    let before = record.velocity_profile(window, &bins);
+    let after = reloaded.velocity_profile(window, &bins);
+    for (a, b) in after.entries.iter().zip(&before.entries) {
+        assert_eq!(a.count, b.count);
+        match (a.mean_speed, b.mean_speed) {
+            (Some(x), Some(y)) => assert!(close(x, y)),
+            (x, y) => assert_eq!(x, y),
+        }
+    }
 }
