@@ -1,15 +1,15 @@
 //! A parsed TOML document that remembers the file and line of every key and value.
 //!
-//! The `toml` crate reports spans through `toml::Spanned`; this module deserializes a
-//! whole document into a tree of spanned nodes once, so that every later check (unknown
-//! keys, wrong types, ranges) can name the line it is about, and so that `--set`
-//! overrides and sweep axes can replace nodes before anything is validated.
+//! The text is parsed once with `toml_edit`, whose immutable documents keep the byte span
+//! of every key and value, into a tree of located nodes. Every later check (unknown
+//! keys, wrong types, ranges) can then name the line it is about, and `--set` overrides
+//! and sweep axes replace nodes of the tree before anything is validated.
 
 use std::fmt;
+use std::ops::Range;
 use std::sync::Arc;
 
-use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
-use toml::Spanned;
+use toml_edit::{ImDocument, Item, Value};
 
 use super::error::{ConfigError, ConfigErrors, ErrorKind, Location};
 
@@ -167,9 +167,9 @@ pub(crate) fn join_key(a: &str, b: &str) -> String {
     }
 }
 
-/// Parses TOML text into a located tree; the error names the line of the syntax error.
+/// Parses TOML text into a located tree; errors name the line of every problem.
 pub(crate) fn parse_document(text: &str, source: &Arc<str>) -> Result<Table, ConfigErrors> {
-    let raw: RawValue = toml::from_str(text).map_err(|e| {
+    let document = ImDocument::parse(text).map_err(|e| {
         let location = match e.span() {
             Some(span) => Location::at_offset(source, text, span.start),
             None => Location::whole(source),
@@ -179,30 +179,21 @@ pub(crate) fn parse_document(text: &str, source: &Arc<str>) -> Result<Table, Con
             location,
             "",
             None,
-            syntax_message(e.message()),
+            format!("invalid TOML: {}", e.message().trim()),
         ))
     })?;
-    let located = locate(raw.0, &Location::whole(source), source, text);
-    match located {
-        NodeValue::Table(t) => Ok(t),
-        // The top level of a TOML document is always a table.
-        other => Err(ConfigErrors::single(ConfigError::new(
-            ErrorKind::Syntax,
-            Location::whole(source),
-            "",
-            Some(other.to_string()),
-            "a document must be a TOML table",
-        ))),
-    }
-}
-
-/// Rewrites parser messages that leak serde internals into plain words.
-fn syntax_message(message: &str) -> String {
-    let message = message.trim();
-    if message.contains("$__toml_private_datetime") || message.contains("spanned value") {
-        "date-time values are not accepted in hopperflow files".to_string()
+    let context = Context { source, text };
+    let mut errors = Vec::new();
+    let table = context.table(
+        document.as_table(),
+        &Location::whole(source),
+        "",
+        &mut errors,
+    );
+    if errors.is_empty() {
+        Ok(table)
     } else {
-        format!("invalid TOML: {message}")
+        Err(ConfigErrors { errors })
     }
 }
 
@@ -214,26 +205,164 @@ pub(crate) fn parse_value(text: &str, location: &Location) -> Result<Node, Strin
     if text.contains('\n') || text.contains('\r') {
         return Err("a value must be on one line".to_string());
     }
-    let wrapped = format!("value = {text}\n");
-    let parsed: Result<RawValue, _> = toml::from_str(&wrapped);
-    let source = Arc::clone(&location.source);
-    match parsed {
-        Ok(raw) => match locate(raw.0, location, &source, "") {
-            NodeValue::Table(mut t) if t.entries.len() == 1 && t.entries[0].key == "value" => {
-                let mut node = t.entries.remove(0).node;
-                relocate(&mut node, location);
-                Ok(node)
-            }
-            _ => Err(format!("`{text}` is not a single TOML value")),
-        },
-        Err(_) if is_bare_word(text) => Ok(Node {
+    if text.parse::<Value>().is_err() && is_bare_word(text) {
+        return Ok(Node {
             value: NodeValue::String(text.to_string()),
             location: location.clone(),
-        }),
-        Err(e) => Err(format!(
-            "`{text}` is not a TOML value: {}",
-            e.message().trim()
-        )),
+        });
+    }
+    let value: Value = text.parse().map_err(|e: toml_edit::TomlError| {
+        format!("`{text}` is not a TOML value: {}", e.message().trim())
+    })?;
+    // Everything from the command line is located at `--set` itself.
+    let context = Context {
+        source: &location.source,
+        text: "",
+    };
+    let mut errors = Vec::new();
+    let node = context.value(&value, location, "", &mut errors);
+    match errors.first() {
+        None => Ok(node),
+        Some(error) => Err(error.message.clone()),
+    }
+}
+
+/// Source text and name, to turn byte spans into locations.
+struct Context<'a> {
+    source: &'a Arc<str>,
+    text: &'a str,
+}
+
+impl Context<'_> {
+    /// The location of a span, or `fallback` when the parser kept none (implicit tables,
+    /// values from the command line).
+    fn at(&self, span: Option<Range<usize>>, fallback: &Location) -> Location {
+        match span {
+            Some(span) if !self.text.is_empty() => {
+                Location::at_offset(self.source, self.text, span.start)
+            }
+            _ => fallback.clone(),
+        }
+    }
+
+    fn table(
+        &self,
+        table: &toml_edit::Table,
+        location: &Location,
+        path: &str,
+        errors: &mut Vec<ConfigError>,
+    ) -> Table {
+        let mut entries = Vec::new();
+        for (key, _) in table.iter() {
+            let Some((key, item)) = table.get_key_value(key) else {
+                continue;
+            };
+            let key_location = self.at(key.span(), location);
+            let key_path = join_key(path, key.get());
+            if let Some(node) = self.item(item, &key_location, &key_path, errors) {
+                entries.push(Entry {
+                    key: key.get().to_string(),
+                    key_location,
+                    node,
+                });
+            }
+        }
+        Table { entries }
+    }
+
+    fn item(
+        &self,
+        item: &Item,
+        key_location: &Location,
+        path: &str,
+        errors: &mut Vec<ConfigError>,
+    ) -> Option<Node> {
+        match item {
+            Item::None => None,
+            Item::Value(value) => Some(self.value(value, key_location, path, errors)),
+            Item::Table(table) => {
+                let location = self.at(table.span(), key_location);
+                Some(Node {
+                    value: NodeValue::Table(self.table(table, key_location, path, errors)),
+                    location,
+                })
+            }
+            Item::ArrayOfTables(tables) => {
+                let items = tables
+                    .iter()
+                    .enumerate()
+                    .map(|(i, table)| {
+                        let location = self.at(table.span(), key_location);
+                        let item_path = format!("{path}[{i}]");
+                        Node {
+                            value: NodeValue::Table(
+                                self.table(table, &location, &item_path, errors),
+                            ),
+                            location,
+                        }
+                    })
+                    .collect();
+                Some(Node {
+                    value: NodeValue::Array(items),
+                    location: self.at(tables.span(), key_location),
+                })
+            }
+        }
+    }
+
+    fn value(
+        &self,
+        value: &Value,
+        fallback: &Location,
+        path: &str,
+        errors: &mut Vec<ConfigError>,
+    ) -> Node {
+        let location = self.at(value.span(), fallback);
+        let node_value = match value {
+            Value::String(s) => NodeValue::String(s.value().clone()),
+            Value::Integer(i) => NodeValue::Integer(*i.value()),
+            Value::Float(x) => NodeValue::Float(*x.value()),
+            Value::Boolean(b) => NodeValue::Boolean(*b.value()),
+            Value::Datetime(d) => {
+                errors.push(ConfigError::new(
+                    ErrorKind::WrongType,
+                    location.clone(),
+                    path,
+                    Some(d.value().to_string()),
+                    "date-time values are not accepted in hopperflow files",
+                ));
+                NodeValue::String(d.value().to_string())
+            }
+            Value::Array(array) => NodeValue::Array(
+                array
+                    .iter()
+                    .enumerate()
+                    .map(|(i, item)| self.value(item, &location, &format!("{path}[{i}]"), errors))
+                    .collect(),
+            ),
+            Value::InlineTable(table) => {
+                let mut entries = Vec::new();
+                for (key, _) in table.iter() {
+                    let Some((key, item)) = table.get_key_value(key) else {
+                        continue;
+                    };
+                    let key_location = self.at(key.span(), &location);
+                    let key_path = join_key(path, key.get());
+                    if let Some(node) = self.item(item, &key_location, &key_path, errors) {
+                        entries.push(Entry {
+                            key: key.get().to_string(),
+                            key_location,
+                            node,
+                        });
+                    }
+                }
+                NodeValue::Table(Table { entries })
+            }
+        };
+        Node {
+            value: node_value,
+            location,
+        }
     }
 }
 
@@ -241,21 +370,6 @@ fn is_bare_word(text: &str) -> bool {
     let mut chars = text.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-}
-
-/// Gives every node of a tree the same location (values from the command line).
-fn relocate(node: &mut Node, location: &Location) {
-    node.location = location.clone();
-    match &mut node.value {
-        NodeValue::Array(items) => items.iter_mut().for_each(|n| relocate(n, location)),
-        NodeValue::Table(t) => {
-            for entry in &mut t.entries {
-                entry.key_location = location.clone();
-                relocate(&mut entry.node, location);
-            }
-        }
-        _ => {}
-    }
 }
 
 /// Splits and checks a dotted key such as `geometry.outlet_width`.
@@ -279,120 +393,4 @@ pub(crate) fn split_key(key: &str) -> Result<Vec<String>, String> {
             }
         })
         .collect()
-}
-
-fn locate(raw: RawKind, location: &Location, source: &Arc<str>, text: &str) -> NodeValue {
-    let at = |start: usize| {
-        if text.is_empty() {
-            location.clone()
-        } else {
-            Location::at_offset(source, text, start)
-        }
-    };
-    match raw {
-        RawKind::String(s) => NodeValue::String(s),
-        RawKind::Integer(i) => NodeValue::Integer(i),
-        RawKind::Float(x) => NodeValue::Float(x),
-        RawKind::Boolean(b) => NodeValue::Boolean(b),
-        RawKind::Array(items) => NodeValue::Array(
-            items
-                .into_iter()
-                .map(|item| {
-                    let item_location = at(item.span().start);
-                    Node {
-                        value: locate(item.into_inner().0, &item_location, source, text),
-                        location: item_location,
-                    }
-                })
-                .collect(),
-        ),
-        RawKind::Table(entries) => NodeValue::Table(Table {
-            entries: entries
-                .into_iter()
-                .map(|(key, value)| {
-                    let key_location = at(key.span().start);
-                    let value_location = at(value.span().start);
-                    Entry {
-                        key: key.into_inner(),
-                        key_location,
-                        node: Node {
-                            value: locate(value.into_inner().0, &value_location, source, text),
-                            location: value_location,
-                        },
-                    }
-                })
-                .collect(),
-        }),
-    }
-}
-
-/// Serde target mirroring a TOML value, with spans on keys and values.
-struct RawValue(RawKind);
-
-enum RawKind {
-    String(String),
-    Integer(i64),
-    Float(f64),
-    Boolean(bool),
-    Array(Vec<Spanned<RawValue>>),
-    Table(Vec<(Spanned<String>, Spanned<RawValue>)>),
-}
-
-impl<'de> Deserialize<'de> for RawValue {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_any(RawVisitor)
-    }
-}
-
-struct RawVisitor;
-
-impl<'de> Visitor<'de> for RawVisitor {
-    type Value = RawValue;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "a TOML value")
-    }
-
-    fn visit_bool<E: de::Error>(self, v: bool) -> Result<RawValue, E> {
-        Ok(RawValue(RawKind::Boolean(v)))
-    }
-
-    fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawValue, E> {
-        Ok(RawValue(RawKind::Integer(v)))
-    }
-
-    fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawValue, E> {
-        i64::try_from(v)
-            .map(|i| RawValue(RawKind::Integer(i)))
-            .map_err(|_| E::custom("integer out of range"))
-    }
-
-    fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawValue, E> {
-        Ok(RawValue(RawKind::Float(v)))
-    }
-
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<RawValue, E> {
-        Ok(RawValue(RawKind::String(v.to_string())))
-    }
-
-    fn visit_string<E: de::Error>(self, v: String) -> Result<RawValue, E> {
-        Ok(RawValue(RawKind::String(v)))
-    }
-
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawValue, A::Error> {
-        let mut items = Vec::new();
-        while let Some(item) = seq.next_element::<Spanned<RawValue>>()? {
-            items.push(item);
-        }
-        Ok(RawValue(RawKind::Array(items)))
-    }
-
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<RawValue, A::Error> {
-        let mut entries = Vec::new();
-        while let Some(key) = map.next_key::<Spanned<String>>()? {
-            let value = map.next_value::<Spanned<RawValue>>()?;
-            entries.push((key, value));
-        }
-        Ok(RawValue(RawKind::Table(entries)))
-    }
 }

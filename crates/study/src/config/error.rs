@@ -174,3 +174,10 @@ pub(crate) fn number(value: f64) -> String {
         format!("{value:e}")
     }
 }
+
+/// Formats a derived number (a product or a sum) to 4 significant digits, so messages do
+/// not show floating-point noise such as 0.009000000000000001.
+pub(crate) fn rounded(value: f64) -> String {
+    let four_digits: f64 = format!("{value:.3e}").parse().unwrap_or(value);
+    number(four_digits)
+}

@@ -36,9 +36,14 @@ impl Located<f64> {
     /// The value with its unit, marked `(default)` when the user did not write it.
     pub fn shown(&self) -> String {
         let mut text = number(self.value);
-        if !self.unit.is_empty() {
-            text.push(' ');
-            text.push_str(self.unit);
+        match self.unit {
+            "" => {}
+            // Degrees sit on the number; other units follow a space (SI style).
+            "°" => text.push('°'),
+            unit => {
+                text.push(' ');
+                text.push_str(unit);
+            }
         }
         if !self.given {
             text.push_str(" (default)");

@@ -11,7 +11,7 @@ use super::case::{
     CASE_FORMAT_VERSION,
 };
 use super::document::{NodeValue, Table};
-use super::error::{number, ConfigError, ConfigErrors, ErrorKind};
+use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
 use super::geometry::HopperGeometry;
 use super::particles::{Material, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
@@ -359,7 +359,7 @@ fn read_discrete(
             ErrorKind::Invalid,
             format!(
                 "number fractions must sum to 1 (they sum to {})",
-                number(sum)
+                rounded(sum)
             ),
         ));
         ok = false;
@@ -434,7 +434,7 @@ fn read_geometry(
                 ErrorKind::Invalid,
                 format!(
                     "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m)",
-                    number(smallest)
+                    rounded(smallest)
                 ),
             ));
             ok = false;
@@ -468,10 +468,10 @@ fn read_geometry(
                     ErrorKind::DoesNotFit,
                     format!(
                         "the outlet does not fit: s + D = {} m exceeds {} ({} m); s must be ≤ L − D = {} m",
-                        number(s.value + d),
+                        rounded(s.value + d),
                         width.key,
                         number(l),
-                        number(l - d)
+                        rounded(l - d)
                     ),
                 ));
                 return None;
@@ -484,7 +484,7 @@ fn read_geometry(
                     ErrorKind::DoesNotFit,
                     format!(
                         "the outlet does not fit: |e| must be ≤ (L − D)/2 = {} m",
-                        number(half_free)
+                        rounded(half_free)
                     ),
                 ));
                 return None;
@@ -507,7 +507,7 @@ fn read_geometry(
             ErrorKind::DoesNotFit,
             format!(
                 "the bottom plates would rise {} m, above {} ({} m)",
-                number(funnel),
+                rounded(funnel),
                 height.key,
                 number(geometry.height)
             ),
@@ -548,8 +548,8 @@ fn check_particles_fit(
         format!(
             "the particles cannot fit: their {what} needs {} m² of the hopper's cross-section at {packing}, \
              but the hopper below H holds {} m²; lower the count or enlarge the hopper",
-            number(case.packed_area()),
-            number(case.geometry.cross_section_area()),
+            rounded(case.packed_area()),
+            rounded(case.geometry.cross_section_area()),
         ),
     ));
 }

@@ -1,7 +1,7 @@
 //! Validation of the run settings of a case: time step, protocol, measurement, output.
 
 use super::case::{Case, MeasureSpec, OutputSpec, Protocol, MAX_RAYLEIGH_FRACTION};
-use super::error::{number, ConfigError, ErrorKind};
+use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::particles::ParticleSpec;
 use super::reader::Section;
 
@@ -54,7 +54,7 @@ pub(crate) fn read_time_step(
                     format!(
                         "must be ≤ {MAX_RAYLEIGH_FRACTION} Rayleigh times ({} s for the smallest particle); \
                          the paper uses < 0.1 t_R",
-                        number(MAX_RAYLEIGH_FRACTION * t_r)
+                        rounded(MAX_RAYLEIGH_FRACTION * t_r)
                     ),
                 ));
                 return None;
@@ -187,7 +187,7 @@ pub(crate) fn read_measure(
             if interval.value < dt {
                 errors.push(interval.error(
                     ErrorKind::Invalid,
-                    format!("must be ≥ the time step ({} s)", number(dt)),
+                    format!("must be ≥ the time step ({} s)", rounded(dt)),
                 ));
                 ok = false;
             }
