@@ -6,6 +6,7 @@
 //! so saved series and tables can be re-analysed.
 
 pub mod beverloo;
+pub mod eccentric;
 mod error;
 mod estimate;
 pub mod fit;

@@ -33,6 +33,15 @@ pub(crate) struct ProfilePoint {
     pub standard_error: f64,
 }
 
+/// The bin errors as fit weights when every point has a finite positive one; otherwise
+/// `None`, so the fit weights all bins equally rather than mixing weighted and unweighted bins.
+pub(crate) fn known_errors(points: &[ProfilePoint]) -> Option<Vec<f64>> {
+    points
+        .iter()
+        .all(|p| p.standard_error.is_finite() && p.standard_error > 0.0)
+        .then(|| points.iter().map(|p| p.standard_error).collect())
+}
+
 impl BinnedProfile {
     /// Validates and builds a profile: equal lengths, finite centres, finite values in
     /// populated bins.

@@ -162,12 +162,17 @@ where
         if let Some(hi) = b.upper {
             *p = p.min(hi);
         }
-        // rmpfit checks a fixed parameter against its limits even when they are not
-        // enabled, so a held parameter gets limits equal to its value.
+        // rmpfit compares parameters with their limits even when the limits are disabled:
+        // a fixed parameter must lie within them, and a free parameter equal to a disabled
+        // limit (0 by default) is treated as pegged and never moves. So a held parameter
+        // gets limits equal to its value, and a disabled limit is set to ±∞.
         let (limit_low, limit_up) = if b.fixed {
             (*p, *p)
         } else {
-            (b.lower.unwrap_or(0.0), b.upper.unwrap_or(0.0))
+            (
+                b.lower.unwrap_or(f64::NEG_INFINITY),
+                b.upper.unwrap_or(f64::INFINITY),
+            )
         };
         settings.push(MPPar {
             fixed: b.fixed,
@@ -279,6 +284,33 @@ mod tests {
         assert_eq!(fit.degrees_of_freedom, 9);
         // Slope with intercept fixed at the truth: only the 0.01 ripple perturbs it.
         assert!((fit.parameters[0].value - 2.0).abs() < 1e-2);
+    }
+
+    #[test]
+    fn a_free_parameter_starting_at_zero_is_not_treated_as_pegged() {
+        // Regression: rmpfit treats a free parameter equal to a disabled limit as pegged at
+        // that limit. With disabled limits left at 0, a slope started at 0 never moved while
+        // another parameter was bounded. Exact data: the fit must reach the truth.
+        let x: Vec<f64> = (0..12).map(|i| -1.0 + i as f64 * 0.18).collect();
+        let y: Vec<f64> = x.iter().map(|v| -0.3 * v + 1.2 * (-v * v).exp()).collect();
+        let fit = fit_curve(
+            |v, p| p[0] * v + p[1] * (-v * v / p[2]).exp(),
+            CurveData {
+                x: &x,
+                y: &y,
+                sigma: None,
+            },
+            &[0.0, 1.0, 0.8],
+            Some(&[
+                ParameterBounds::free(),
+                ParameterBounds::free(),
+                ParameterBounds::between(0.1, 10.0),
+            ]),
+        )
+        .unwrap();
+        // Noise-free data: convergence tolerance (1e-10 relative) bounds the error.
+        assert!((fit.parameters[0].value + 0.3).abs() < 1e-6, "{fit:?}");
+        assert!((fit.parameters[2].value - 1.0).abs() < 1e-6, "{fit:?}");
     }
 
     #[test]

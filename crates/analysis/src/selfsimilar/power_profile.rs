@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{AnalysisError, AnalysisResult};
 use crate::estimate::Estimate;
 use crate::fit::{fit_curve, CurveData, ParameterBounds};
-use crate::profile::{BinnedProfile, ProfilePoint};
+use crate::profile::{known_errors, BinnedProfile, ProfilePoint};
 
 /// Bins with |x*| above this are left out of profile fits: the edge bins are biased by the
 /// finite particle size (physics spec §7.5).
@@ -40,21 +40,13 @@ pub fn power_profile(x_star: f64, amplitude: f64, exponent: f64) -> f64 {
     }
 }
 
-/// Weights from bin errors when every bin has one; otherwise equal weights.
-pub(crate) fn sigma_if_known(points: &[ProfilePoint]) -> Option<Vec<f64>> {
-    points
-        .iter()
-        .all(|p| p.standard_error.is_finite() && p.standard_error > 0.0)
-        .then(|| points.iter().map(|p| p.standard_error).collect())
-}
-
 fn fit_points(
     points: &[ProfilePoint],
     amplitude_held_at_one: bool,
 ) -> AnalysisResult<PowerProfileFit> {
     let x: Vec<f64> = points.iter().map(|p| p.x_star).collect();
     let y: Vec<f64> = points.iter().map(|p| p.value).collect();
-    let sigma = sigma_if_known(points);
+    let sigma = known_errors(points);
     let peak = y.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     if !(peak > 0.0) {
         return Err(AnalysisError::Degenerate {
