@@ -78,4 +78,21 @@ impl OutputError {
             reason: error.to_string(),
         }
     }
+
+    /// Names `path` in an error raised before the target was known (rendering in memory).
+    pub(crate) fn for_path(self, path: &std::path::Path) -> Self {
+        match self {
+            Self::InvalidData { path: old, reason } if old.as_os_str().is_empty() => {
+                Self::InvalidData {
+                    path: path.to_path_buf(),
+                    reason,
+                }
+            }
+            Self::Drawing { path: old, reason } if old.as_os_str().is_empty() => Self::Drawing {
+                path: path.to_path_buf(),
+                reason,
+            },
+            other => other,
+        }
+    }
 }

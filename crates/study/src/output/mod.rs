@@ -16,13 +16,29 @@
 //!   with the [`viridis`] colour map.
 
 mod atomic;
+mod colormap;
 mod error;
+mod figures;
+mod font;
+mod frame;
+mod image;
+mod plot;
 mod pvd;
 mod table;
 mod vtu;
 
 pub use atomic::{write_atomic, write_json_atomic, AtomicFile};
+pub use colormap::viridis;
 pub use error::OutputError;
+pub use figures::{
+    area_fraction_profile_figure, discharge_rate_figure, velocity_profile_figure, FittedCurve,
+    Profile,
+};
+pub use frame::{
+    render_frame, write_frame_png, FrameLayout, FrameParticle, FrameView, WallSegment,
+};
+pub use image::RgbImage;
+pub use plot::{plot_png, plot_svg, render_plot, Axis, Figure, Series, SeriesStyle, ShadedRange};
 pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
 pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};

@@ -103,7 +103,7 @@ pub fn write_particles_vtu(
         &mut xml,
         (0..count).map(|i| i.to_string()),
         (1..=count).map(|i| i.to_string()),
-        std::iter::repeat(VTK_VERTEX).take(count),
+        (0..count).map(|_| VTK_VERTEX),
     );
     close_grid(&mut xml);
     write_atomic(path, xml.as_bytes())
@@ -159,7 +159,7 @@ pub fn write_walls_vtu<P: AsRef<[[f64; 3]]>>(
         &mut xml,
         (0..point_count).map(|i| i.to_string()),
         offsets.iter().map(|end| end.to_string()),
-        std::iter::repeat(VTK_POLYGON).take(polygons.len()),
+        (0..polygons.len()).map(|_| VTK_POLYGON),
     );
     close_grid(&mut xml);
     write_atomic(path, xml.as_bytes())
