@@ -6,6 +6,9 @@ use study::measure::{
     OutletSummary, StripConfig, StripProbe, TimeWindow,
 };
 
+/// Owned frame arrays: ids, positions [m], velocities [m/s], radii [m].
+type Arrays = (Vec<u64>, Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>);
+
 const D: f64 = 3.0e-3;
 const RHO: f64 = 2500.0;
 /// Square-lattice spacing a = 1.1 d (a dilute monolayer, φ = π d²/(4a²) = 0.649).
@@ -25,7 +28,7 @@ fn geometry() -> OutletGeometry {
 
 /// A square lattice falling rigidly at `SPEED`: columns centred in the a-wide cells across
 /// the orifice (and two beyond each side), rows a apart; at t = 0 a row sits a/2 above z_o.
-fn lattice_at(t: f64) -> (Vec<u64>, Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>) {
+fn lattice_at(t: f64) -> Arrays {
     let g = geometry();
     let (mut ids, mut positions) = (Vec::new(), Vec::new());
     for j in 0..80i64 {

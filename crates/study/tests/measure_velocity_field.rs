@@ -6,6 +6,9 @@ use study::measure::{
     DEFAULT_BLOCK_DURATION,
 };
 
+/// Owned frame arrays: ids, positions [m], velocities [m/s], radii [m].
+type Arrays = (Vec<u64>, Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>);
+
 const D: f64 = 3.0e-3;
 const RHO: f64 = 2500.0;
 
@@ -14,7 +17,7 @@ fn mass() -> f64 {
 }
 
 /// A square lattice of spacing `spacing` filling [−0.02, 0.02] × [0, 0.04] m, all at `velocity`.
-fn lattice(spacing: f64, velocity: [f64; 3]) -> (Vec<u64>, Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>) {
+fn lattice(spacing: f64, velocity: [f64; 3]) -> Arrays {
     let n = (0.04 / spacing).round() as usize;
     let mut positions = Vec::new();
     for j in 0..n {

@@ -150,10 +150,11 @@ impl OutletBins {
         if !inner.is_empty() {
             return inner;
         }
-        if self.count % 2 == 0 {
-            vec![self.count / 2 - 1, self.count / 2]
+        let middle = self.count / 2;
+        if 2 * middle == self.count {
+            vec![middle - 1, middle]
         } else {
-            vec![self.count / 2]
+            vec![middle]
         }
     }
 

@@ -13,6 +13,10 @@
 //!
 //! Sign convention: v_z < 0 is downward; every reported speed is downward positive.
 
+// Validation is written as `!(x > 0.0)` on purpose: NaN must fail it, and `x <= 0.0` would let
+// NaN through.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod bulk;
 mod crossing;
 mod disc_area;

@@ -299,7 +299,8 @@ impl VelocityFieldProbe {
                 momentum_z: vec![0.0; grid.len()],
             });
         }
-        let block = self.record.blocks.last_mut().expect("block pushed above");
+        let last = self.record.blocks.len() - 1;
+        let block = &mut self.record.blocks[last];
         block.frames += 1;
         let h = grid.cell_size;
         for i in 0..frame.len() {
