@@ -3,8 +3,8 @@
 //!
 //! Viridis was designed by van der Walt, Smith and Firing for matplotlib (2015, released to
 //! the public domain). It is reproduced here from eleven evenly spaced reference colours with
-//! linear interpolation in sRGB; between references the error against the full 256-entry map
-//! is below two levels per channel, invisible in a frame.
+//! linear interpolation in sRGB, which keeps the map's monotonic lightness (tested) and is
+//! visually indistinguishable from the full 256-entry table at frame scale.
 
 /// Reference colours at t = 0, 0.1, …, 1 (sRGB, 8 bits per channel).
 const VIRIDIS: [[u8; 3]; 11] = [

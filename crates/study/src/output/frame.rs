@@ -188,6 +188,9 @@ fn colour(rgb: [u8; 3]) -> RGBColor {
 }
 
 /// Renders one frame at time `time` [s] into memory.
+///
+/// Fails on a bad view, non-finite particle or wall data, or a negative radius; errors carry
+/// an empty path, since no file is involved.
 pub fn render_frame(
     view: &FrameView,
     particles: &[FrameParticle],

@@ -9,11 +9,16 @@
 //! - [`write_particles_vtu`], [`write_walls_vtu`]: VTK XML unstructured grids for ParaView
 //!   (particles as vertices with id, radius, velocity, angular velocity and speed; walls as
 //!   polygons), and [`PvdCollection`], the time series that ties them together.
-//! - [`plot_png`], [`plot_svg`]: line/point plots with error bars from a [`Figure`];
-//!   [`discharge_rate_figure`], [`velocity_profile_figure`], [`area_fraction_profile_figure`]
-//!   build the study's standard figures.
-//! - [`render_frame`], [`write_frame_png`]: snapshots of the hopper, discs coloured by speed
-//!   with the [`viridis`] colour map.
+//! - [`plot_png`], [`plot_svg`], [`render_plot`]: line/point plots with error bars and shaded
+//!   x bands from a [`Figure`]; [`discharge_rate_figure`], [`velocity_profile_figure`] and
+//!   [`area_fraction_profile_figure`] build the study's standard figures.
+//! - [`render_frame`], [`write_frame_png`]: snapshots of the hopper in the x–z plane, discs
+//!   coloured by speed with the [`viridis`] colour map, walls, colour bar and time label.
+//! - [`RgbImage`]: the in-memory picture behind both PNG writers, readable pixel by pixel.
+//!
+//! Text uses the embedded DejaVu Sans font, so images look the same on every machine.
+//! Functions that render in memory report errors with an empty path; the file writers fill
+//! in their target.
 
 mod atomic;
 mod colormap;
