@@ -5,6 +5,10 @@
 //! Everything is SI at the API (m, kg, s, rad). The crate does not depend on the DEM engine,
 //! so saved series and tables can be re-analysed.
 
+// Units are written in brackets, e.g. `[m]`, as the project style asks; rustdoc would
+// otherwise read them as links.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 pub mod beverloo;
 pub mod eccentric;
 mod error;

@@ -52,7 +52,7 @@ pub fn fit_exponential_approach(
         let Ok(line) = fit_line(&basis, values, 0.95) else {
             continue;
         };
-        if best.map_or(true, |b| line.chi_squared < b.0) {
+        if !matches!(best, Some(b) if b.0 <= line.chi_squared) {
             best = Some((
                 line.chi_squared,
                 line.intercept.value,

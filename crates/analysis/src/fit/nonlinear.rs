@@ -149,7 +149,7 @@ where
     let mut settings = Vec::with_capacity(bounds.len());
     for (p, b) in parameters.iter_mut().zip(bounds) {
         if let (Some(lo), Some(hi)) = (b.lower, b.upper) {
-            if !(lo < hi) {
+            if lo.is_nan() || hi.is_nan() || lo >= hi {
                 return Err(AnalysisError::InvalidArgument {
                     context: CONTEXT,
                     reason: format!("lower bound {lo} is not below upper bound {hi}"),

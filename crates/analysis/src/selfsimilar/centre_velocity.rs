@@ -54,7 +54,7 @@ pub fn fit_centre_velocity(
     let free_fall: Vec<f64> = radii.iter().map(|r| (2.0 * gravity * r).sqrt()).collect();
     let line = fit_proportional(&free_fall, centre_velocities, sigma, 0.95)?;
     let k = line.slope;
-    if !(k.value > 0.0) {
+    if k.value.is_nan() || k.value <= 0.0 {
         return Err(AnalysisError::Degenerate {
             context: CONTEXT,
             reason: "centre velocities are not positive".into(),

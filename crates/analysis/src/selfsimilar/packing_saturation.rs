@@ -80,11 +80,11 @@ pub fn fit_packing_saturation(
             continue;
         };
         let phi = line.intercept.value;
-        if !(phi > 0.0) {
+        if phi.is_nan() || phi <= 0.0 {
             continue;
         }
         let tau1 = -line.slope.value / phi;
-        if best.map_or(true, |b| line.chi_squared < b.0) {
+        if !matches!(best, Some(b) if b.0 <= line.chi_squared) {
             best = Some((line.chi_squared, phi, tau1, tau2));
         }
     }

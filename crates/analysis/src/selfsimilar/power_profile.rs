@@ -48,7 +48,7 @@ fn fit_points(
     let y: Vec<f64> = points.iter().map(|p| p.value).collect();
     let sigma = known_errors(points);
     let peak = y.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    if !(peak > 0.0) {
+    if peak.is_nan() || peak <= 0.0 {
         return Err(AnalysisError::Degenerate {
             context: "power-profile fit",
             reason: "profile has no positive values (use speeds, not signed velocities)".into(),

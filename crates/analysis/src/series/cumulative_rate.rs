@@ -33,7 +33,7 @@ pub fn rate_from_cumulative_mass(
     ensure_same_length(CONTEXT, times.len(), masses.len())?;
     ensure_finite(CONTEXT, times)?;
     ensure_finite(CONTEXT, masses)?;
-    if !(start_time < end_time) {
+    if start_time >= end_time {
         return Err(AnalysisError::InvalidArgument {
             context: CONTEXT,
             reason: format!("start time {start_time} is not before end time {end_time}"),

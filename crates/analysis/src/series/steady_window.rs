@@ -109,7 +109,7 @@ pub fn find_steady_window(
         });
     }
     let total = series.total_mass();
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Err(AnalysisError::Degenerate {
             context: CONTEXT,
             reason: format!("total discharged mass is {total} kg"),
