@@ -1,5 +1,10 @@
-//! Force evaluation: the contact kernel over candidate pairs, in parallel, then a
-//! sequential scatter in pair order so that sums are bit-identical at any thread count.
+//! Force evaluation: the contact kernel over candidate pairs, then accumulation in pair
+//! order, so that sums are bit-identical at any thread count.
+//!
+//! One thread: each contact force is added to its two bodies as soon as it is computed.
+//! Several threads: contacts are computed in parallel into buffers, then added by one
+//! thread in the same order. Both paths run the same kernel and the same sequence of
+//! floating-point additions (gravity, pairs in list order, walls in list order).
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -33,6 +38,13 @@ pub(crate) struct WorstOverlap {
 }
 
 impl WorstOverlap {
+    #[inline]
+    fn see(&mut self, fraction: f64, index: usize) {
+        if fraction > self.fraction {
+            *self = Self { fraction, index };
+        }
+    }
+
     /// Deterministic merge: larger fraction wins, ties go to the lower index.
     fn merge(self, other: Self) -> Self {
         if other.fraction > self.fraction || (other.fraction == self.fraction && other.index < self.index) {
@@ -43,11 +55,15 @@ impl WorstOverlap {
     }
 }
 
-/// Reusable output buffers.
+/// Reusable buffers.
 #[derive(Debug, Default)]
 pub(crate) struct ForceBuffers {
-    pairs: Vec<Option<ContactForce>>,
-    walls: Vec<Option<ContactForce>>,
+    pairs: Vec<ContactForce>,
+    active: Vec<bool>,
+    /// Accumulated forces [N], swapped into the particle set after evaluation.
+    pub force: Vec<DVec3>,
+    /// Accumulated torques [N m].
+    pub torque: Vec<DVec3>,
 }
 
 /// Counts of contacts that carried force in the last evaluation.
@@ -59,121 +75,133 @@ pub struct ContactCount {
     pub particle_wall: usize,
 }
 
-/// Evaluates every candidate contact into the buffers, updating histories.
-/// Returns the worst particle–particle and particle–wall overlaps.
-pub(crate) fn kernel(
+/// What one evaluation found.
+pub(crate) struct Evaluation {
+    pub count: ContactCount,
+    pub worst_pair: WorstOverlap,
+    pub worst_wall: WorstOverlap,
+}
+
+/// Evaluates all contacts, updating histories, and leaves gravity plus contact forces and
+/// torques in `buffers.force` and `buffers.torque`.
+pub(crate) fn evaluate(
     input: &KernelInput,
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
+    gravity: DVec3,
     buffers: &mut ForceBuffers,
     pool: Option<&rayon::ThreadPool>,
-) -> (WorstOverlap, WorstOverlap) {
-    buffers.pairs.resize(pairs.len(), None);
-    buffers.walls.resize(wall_pairs.particle.len(), None);
-
-    let pair_ids = (&pairs.i[..], &pairs.j[..]);
-    let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
-    let mut run = || {
-        let worst_pp = match pool {
-            Some(_) => pairs
-                .history
-                .par_chunks_mut(CHUNK)
-                .zip(buffers.pairs.par_chunks_mut(CHUNK))
-                .enumerate()
-                .map(|(c, (h, o))| pair_chunk(input, pair_ids, c * CHUNK, h, o))
-                .reduce(WorstOverlap::default, WorstOverlap::merge),
-            None => pairs
-                .history
-                .chunks_mut(CHUNK)
-                .zip(buffers.pairs.chunks_mut(CHUNK))
-                .enumerate()
-                .map(|(c, (h, o))| pair_chunk(input, pair_ids, c * CHUNK, h, o))
-                .fold(WorstOverlap::default(), WorstOverlap::merge),
-        };
-        // Few wall candidates: one sequential pass is cheaper than a parallel one.
-        let worst_pw = wall_chunk(input, wall_ids, &mut wall_pairs.history, &mut buffers.walls);
-        (worst_pp, worst_pw)
-    };
-    match pool {
-        Some(p) => p.install(run),
-        None => run(),
-    }
-}
-
-/// Accumulates gravity and the buffered contact forces, in a fixed order (gravity, pairs in
-/// list order, walls in list order), so the sums do not depend on the thread count.
-pub(crate) fn scatter(
-    particles: &mut ParticleSet,
-    pairs: &PairList,
-    wall_pairs: &WallPairList,
-    gravity: DVec3,
-    buffers: &ForceBuffers,
-) -> ContactCount {
-    let (force, torque) = (&mut particles.force, &mut particles.torque);
-    for k in 0..force.len() {
-        force[k] = particles.mass[k] * gravity;
-        torque[k] = DVec3::ZERO;
-    }
+) -> Evaluation {
+    let p = input.particles;
+    let n = p.len();
+    buffers.force.clear();
+    buffers.force.extend(p.mass.iter().map(|&m| m * gravity));
+    buffers.torque.clear();
+    buffers.torque.resize(n, DVec3::ZERO);
     let mut count = ContactCount::default();
-    for (k, out) in buffers.pairs.iter().enumerate() {
-        if let Some(cf) = out {
-            let (i, j) = (pairs.i[k] as usize, pairs.j[k] as usize);
-            force[i] += cf.force;
-            force[j] -= cf.force;
-            torque[i] += cf.torque_i;
-            torque[j] += cf.torque_j;
-            count.particle_particle += 1;
+    let ids = (&pairs.i[..], &pairs.j[..]);
+
+    let worst_pair = match pool {
+        None => {
+            let (force, torque) = (&mut buffers.force, &mut buffers.torque);
+            pair_loop(input, ids, 0, &mut pairs.history, |_, i, j, cf| {
+                force[i] += cf.force;
+                force[j] -= cf.force;
+                torque[i] += cf.torque_i;
+                torque[j] += cf.torque_j;
+                count.particle_particle += 1;
+            })
         }
-    }
-    for (k, out) in buffers.walls.iter().enumerate() {
-        if let Some(cf) = out {
-            let i = wall_pairs.particle[k] as usize;
-            force[i] += cf.force;
-            torque[i] += cf.torque_i;
-            count.particle_wall += 1;
+        Some(pool) => {
+            buffers.pairs.resize(pairs.len(), ContactForce::default());
+            buffers.active.clear();
+            buffers.active.resize(pairs.len(), false);
+            let worst = pool.install(|| {
+                pairs
+                    .history
+                    .par_chunks_mut(CHUNK)
+                    .zip(buffers.pairs.par_chunks_mut(CHUNK))
+                    .zip(buffers.active.par_chunks_mut(CHUNK))
+                    .enumerate()
+                    .map(|(c, ((h, out), act))| {
+                        let base = c * CHUNK;
+                        pair_loop(input, ids, base, h, |k, _, _, cf| {
+                            out[k - base] = *cf;
+                            act[k - base] = true;
+                        })
+                    })
+                    .reduce(WorstOverlap::default, WorstOverlap::merge)
+            });
+            let (force, torque) = (&mut buffers.force, &mut buffers.torque);
+            for k in 0..pairs.len() {
+                if buffers.active[k] {
+                    let cf = &buffers.pairs[k];
+                    let (i, j) = (pairs.i[k] as usize, pairs.j[k] as usize);
+                    force[i] += cf.force;
+                    force[j] -= cf.force;
+                    torque[i] += cf.torque_i;
+                    torque[j] += cf.torque_j;
+                    count.particle_particle += 1;
+                }
+            }
+            worst
         }
+    };
+
+    // Few wall candidates: one sequential pass, accumulating directly, on every path.
+    let (force, torque) = (&mut buffers.force, &mut buffers.torque);
+    let worst_wall = wall_loop(input, (&wall_pairs.particle, &wall_pairs.wall), &mut wall_pairs.history, |i, cf| {
+        force[i] += cf.force;
+        torque[i] += cf.torque_i;
+        count.particle_wall += 1;
+    });
+    Evaluation {
+        count,
+        worst_pair,
+        worst_wall,
     }
-    count
 }
 
-fn pair_chunk(
+/// Runs the kernel over pairs `base..base + history.len()`, calling `sink(k, i, j, force)` for
+/// each pair in contact, in order.
+#[inline(always)]
+fn pair_loop(
     input: &KernelInput,
     (pi, pj): (&[u32], &[u32]),
     base: usize,
     history: &mut [ContactHistory],
-    out: &mut [Option<ContactForce>],
+    mut sink: impl FnMut(usize, usize, usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
-    for k in 0..history.len() {
-        let (i, j) = (pi[base + k] as usize, pj[base + k] as usize);
+    let pi = &pi[base..base + history.len()];
+    let pj = &pj[base..base + history.len()];
+    for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
+        let (i, j) = (i as usize, j as usize);
         let d = p.position[i] - p.position[j];
         let (ri, rj) = (p.radius[i], p.radius[j]);
         let sum = ri + rj;
         let dist2 = d.length_squared();
         if dist2 >= sum * sum {
             // Separated: the contact forgets its history (physics.md §3.1).
-            history[k] = ContactHistory::default();
-            out[k] = None;
+            if !h.is_empty() {
+                *h = ContactHistory::default();
+            }
             continue;
         }
         let dist = dist2.sqrt();
         let overlap = sum - dist;
-        let fraction = overlap / ri.min(rj);
-        if fraction > worst.fraction {
-            worst = WorstOverlap { fraction, index: base + k };
-        }
+        worst.see(overlap / ri.min(rj), base + k);
         let (mi, mj) = (p.mass[i], p.mass[j]);
-        let (ii, ij) = (p.inertia[i], p.inertia[j]);
         let g = ContactGeometry {
-            normal: d / dist,
+            normal: d * (1.0 / dist),
             overlap,
             r_eff: harmonic(ri, rj),
             m_eff: harmonic(mi, mj),
             arm_i: ri - 0.5 * overlap,
             arm_j: rj - 0.5 * overlap,
-            inertia_reduced: harmonic(ii, ij),
-            rolling_inertia: 1.4 * harmonic(mi * ri * ri, mj * rj * rj),
+            inertia: [p.inertia[i], p.inertia[j]],
+            mass_radius2: [mi * ri * ri, mj * rj * rj],
         };
         let c = &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
         let bi = BodyMotion {
@@ -184,39 +212,39 @@ fn pair_chunk(
             velocity: p.velocity[j],
             omega: p.omega[j],
         };
-        out[k] = Some(input.laws.resolve(&g, &bi, &bj, c, &mut history[k], input.dt));
+        let cf = input.laws.resolve(&g, &bi, &bj, c, h, input.dt);
+        sink(base + k, i, j, &cf);
     }
     worst
 }
 
-fn wall_chunk(
+/// Runs the kernel over the particle–wall candidates, calling `sink(i, force)` per contact.
+#[inline(always)]
+fn wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
     history: &mut [ContactHistory],
-    out: &mut [Option<ContactForce>],
+    mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
-    for k in 0..history.len() {
-        let (i, w) = (pi[k] as usize, pw[k] as usize);
+    for (k, ((&i, &w), h)) in pi.iter().zip(pw).zip(history.iter_mut()).enumerate() {
+        let (i, w) = (i as usize, w as usize);
         let Some(wall) = &input.walls[w] else {
-            history[k] = ContactHistory::default();
-            out[k] = None;
+            *h = ContactHistory::default();
             continue;
         };
         let x = p.position[i];
         let ri = p.radius[i];
         let (cp, dist) = wall.closest_point(x);
         if dist >= ri {
-            history[k] = ContactHistory::default();
-            out[k] = None;
+            if !h.is_empty() {
+                *h = ContactHistory::default();
+            }
             continue;
         }
         let overlap = ri - dist;
-        let fraction = overlap / ri;
-        if fraction > worst.fraction {
-            worst = WorstOverlap { fraction, index: k };
-        }
+        worst.see(overlap / ri, k);
         // A wall has infinite radius and mass: R* = R_i, m* = m_i (physics.md §5).
         let g = ContactGeometry {
             normal: wall.contact_normal(x, cp, dist),
@@ -225,8 +253,8 @@ fn wall_chunk(
             m_eff: p.mass[i],
             arm_i: ri - 0.5 * overlap,
             arm_j: 0.0,
-            inertia_reduced: p.inertia[i],
-            rolling_inertia: 1.4 * p.mass[i] * ri * ri,
+            inertia: [p.inertia[i], f64::INFINITY],
+            mass_radius2: [p.mass[i] * ri * ri, f64::INFINITY],
         };
         let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
         let bi = BodyMotion {
@@ -237,7 +265,8 @@ fn wall_chunk(
             velocity: wall.velocity,
             omega: DVec3::ZERO,
         };
-        out[k] = Some(input.laws.resolve(&g, &bi, &bw, c, &mut history[k], input.dt));
+        let cf = input.laws.resolve(&g, &bi, &bw, c, h, input.dt);
+        sink(i, &cf);
     }
     worst
 }

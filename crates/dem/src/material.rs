@@ -109,14 +109,19 @@ pub struct PairCoefficients {
     pub restitution: f64,
     /// Dashpot prefactor 2√(5/6)|β(e)| [-] (physics.md §2.1).
     pub damping: f64,
+    /// √(S_t/S_n) = √(4G*/E*) [-], relating the tangential and normal dashpots.
+    pub stiffness_ratio_sqrt: f64,
 }
 
 impl PairCoefficients {
     /// Mix two materials (or a material and a wall) with the given interaction.
     pub fn new(a: &Material, b: Option<&Material>, interaction: &Interaction) -> Self {
+        let e_star = effective_youngs_modulus(a, b);
+        let g_star = effective_shear_modulus(a, b);
         Self {
-            e_star: effective_youngs_modulus(a, b),
-            g_star: effective_shear_modulus(a, b),
+            e_star,
+            g_star,
+            stiffness_ratio_sqrt: (4.0 * g_star / e_star).sqrt(),
             friction: interaction.friction,
             rolling_friction: interaction.rolling_friction,
             restitution: interaction.restitution,

@@ -59,6 +59,9 @@ pub struct ParticleSet {
     pub(crate) radius: Vec<f64>,
     pub(crate) mass: Vec<f64>,
     pub(crate) inertia: Vec<f64>,
+    /// Δt-free reciprocals, so the kicks multiply instead of divide.
+    pub(crate) inv_mass: Vec<f64>,
+    pub(crate) inv_inertia: Vec<f64>,
     pub(crate) material: Vec<u16>,
     pub(crate) flags: Vec<u8>,
     pub(crate) next_tag: ParticleTag,
@@ -133,6 +136,8 @@ impl ParticleSet {
         self.mass.push(mass);
         // Solid sphere, I = (2/5) m r² (physics.md §6.2).
         self.inertia.push(0.4 * mass * r * r);
+        self.inv_mass.push(1.0 / mass);
+        self.inv_inertia.push(1.0 / (0.4 * mass * r * r));
         self.material.push(init.material.0);
         self.flags.push(init.flags);
         tag
@@ -156,6 +161,8 @@ impl ParticleSet {
         filter(&mut self.radius, keep);
         filter(&mut self.mass, keep);
         filter(&mut self.inertia, keep);
+        filter(&mut self.inv_mass, keep);
+        filter(&mut self.inv_inertia, keep);
         filter(&mut self.material, keep);
         filter(&mut self.flags, keep);
     }
@@ -175,6 +182,8 @@ impl ParticleSet {
         apply(&mut self.radius, order);
         apply(&mut self.mass, order);
         apply(&mut self.inertia, order);
+        apply(&mut self.inv_mass, order);
+        apply(&mut self.inv_inertia, order);
         apply(&mut self.material, order);
         apply(&mut self.flags, order);
     }

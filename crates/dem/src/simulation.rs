@@ -450,18 +450,20 @@ impl Simulation {
         // First half kick and drift, tracking the largest displacement since the last build.
         let mut max_disp2: f64 = 0.0;
         let mut finite = true;
+        let reference_valid = self.state.reference.len() == p.len();
         for k in 0..p.len() {
             let flags = p.flags[k];
             if flags & FLAG_FROZEN != 0 {
                 continue;
             }
-            p.velocity[k] += (half / p.mass[k]) * p.force[k];
+            p.velocity[k] += (half * p.inv_mass[k]) * p.force[k];
             if flags & FLAG_ROTATION_LOCKED == 0 {
-                p.omega[k] += (half / p.inertia[k]) * p.torque[k];
+                p.omega[k] += (half * p.inv_inertia[k]) * p.torque[k];
             }
             p.position[k] += dt * p.velocity[k];
-            let disp = p.position[k] - self.state.reference.get(k).copied().unwrap_or(p.position[k]);
-            max_disp2 = max_disp2.max(disp.length_squared());
+            if reference_valid {
+                max_disp2 = max_disp2.max((p.position[k] - self.state.reference[k]).length_squared());
+            }
             finite &= p.position[k].is_finite();
         }
         if !finite {
@@ -474,7 +476,7 @@ impl Simulation {
             });
         }
         let half_skin = 0.5 * self.state.skin;
-        if self.state.needs_rebuild || max_disp2.sqrt() + self.state.wall_drift > half_skin || self.state.reference.len() != self.state.particles.len() {
+        if self.state.needs_rebuild || !reference_valid || max_disp2.sqrt() + self.state.wall_drift > half_skin {
             self.rebuild(None);
         }
 
@@ -489,17 +491,21 @@ impl Simulation {
             wall_coeffs: &self.wall_coeffs,
             dt,
         };
-        let (worst_pp, worst_pw) = forces::kernel(&input, &mut s.pairs, &mut s.wall_pairs, &mut self.buffers, self.pool.as_ref());
+        let eval = forces::evaluate(&input, &mut s.pairs, &mut s.wall_pairs, s.config.gravity, &mut self.buffers, self.pool.as_ref());
         let limit = s.config.max_overlap_fraction;
-        if worst_pp.fraction > limit {
-            let (i, j) = (s.pairs.i[worst_pp.index] as usize, s.pairs.j[worst_pp.index] as usize);
-            return Err(overlap_error(&s.particles, i, format!("particle {}", s.particles.tag[j]), worst_pp, limit, s.time));
+        if eval.worst_pair.fraction > limit {
+            let w = eval.worst_pair;
+            let (i, j) = (s.pairs.i[w.index] as usize, s.pairs.j[w.index] as usize);
+            return Err(overlap_error(&s.particles, i, format!("particle {}", s.particles.tag[j]), w, limit, s.time));
         }
-        if worst_pw.fraction > limit {
-            let i = s.wall_pairs.particle[worst_pw.index] as usize;
-            return Err(overlap_error(&s.particles, i, format!("wall {}", s.wall_pairs.wall[worst_pw.index]), worst_pw, limit, s.time));
+        if eval.worst_wall.fraction > limit {
+            let w = eval.worst_wall;
+            let i = s.wall_pairs.particle[w.index] as usize;
+            return Err(overlap_error(&s.particles, i, format!("wall {}", s.wall_pairs.wall[w.index]), w, limit, s.time));
         }
-        s.contacts = forces::scatter(&mut s.particles, &s.pairs, &s.wall_pairs, s.config.gravity, &self.buffers);
+        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+        s.contacts = eval.count;
 
         // Second half kick.
         let p = &mut s.particles;
@@ -509,9 +515,9 @@ impl Simulation {
             if flags & FLAG_FROZEN != 0 {
                 continue;
             }
-            p.velocity[k] += (half / p.mass[k]) * p.force[k];
+            p.velocity[k] += (half * p.inv_mass[k]) * p.force[k];
             if flags & FLAG_ROTATION_LOCKED == 0 {
-                p.omega[k] += (half / p.inertia[k]) * p.torque[k];
+                p.omega[k] += (half * p.inv_inertia[k]) * p.torque[k];
             }
             finite &= p.velocity[k].is_finite() && p.omega[k].is_finite();
         }

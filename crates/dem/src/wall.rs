@@ -136,7 +136,7 @@ impl Wall {
     ///
     /// For a plane the distance is signed along its normal (the solid side is behind it).
     /// For a polygon it is the Euclidean distance to the face, an edge or a corner.
-    #[inline]
+    #[inline(always)]
     pub fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
         match &self.shape {
             WallShape::Plane { point, normal } => {
@@ -172,7 +172,7 @@ impl Wall {
 
     /// Contact normal (wall to particle) for a particle at `x` whose closest wall point is `p`
     /// at distance `dist`.
-    #[inline]
+    #[inline(always)]
     pub fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
         match &self.shape {
             WallShape::Plane { normal, .. } => *normal,

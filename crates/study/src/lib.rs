@@ -3,6 +3,8 @@
 //! The engine (`dem`) knows nothing of hoppers or files; the analysis (`analysis`) knows
 //! nothing of the engine. This crate wires the two for the hopper problem.
 
+pub mod bench;
 pub mod config;
+pub mod hopper;
 pub mod measure;
 pub mod output;

@@ -42,10 +42,26 @@ pub struct ContactGeometry {
     pub arm_i: f64,
     /// Lever from the centre of j to the contact point, a_j = R_j − δ/2 [m] (0 for a wall).
     pub arm_j: f64,
-    /// Reduced moment of inertia I_i I_j/(I_i + I_j) [kg m²] (I_i for a wall), for the limiter.
-    pub inertia_reduced: f64,
-    /// Rolling inertia I_r of LIGGGHTS' EPSD, 1.4 m_i R_i² m_j R_j²/(m_i R_i² + m_j R_j²) [kg m²].
-    pub rolling_inertia: f64,
+    /// Moments of inertia of i and j [kg m²] (j: infinite for a wall). Only the limiter and
+    /// EPSD need them, so the reduced forms are derived there, not for every contact.
+    pub inertia: [f64; 2],
+    /// m R² of i and j [kg m²] (j: infinite for a wall), for EPSD's rolling inertia.
+    pub mass_radius2: [f64; 2],
+}
+
+impl ContactGeometry {
+    /// Reduced moment of inertia I_i I_j/(I_i + I_j) [kg m²] (I_i for a wall).
+    #[inline]
+    pub fn inertia_reduced(&self) -> f64 {
+        1.0 / (1.0 / self.inertia[0] + 1.0 / self.inertia[1])
+    }
+
+    /// LIGGGHTS' EPSD rolling inertia 1.4 m_i R_i² m_j R_j²/(m_i R_i² + m_j R_j²) [kg m²]
+    /// (1.4 m_i R_i² for a wall).
+    #[inline]
+    pub fn rolling_inertia(&self) -> f64 {
+        1.4 / (1.0 / self.mass_radius2[0] + 1.0 / self.mass_radius2[1])
+    }
 }
 
 /// Velocities of one body at the current (half) step.
@@ -87,7 +103,7 @@ pub struct ContactForce {
 
 impl ContactLaws {
     /// Evaluates one contact, updating its history (physics.md §1–4, in that order).
-    #[inline]
+    #[inline(always)]
     pub fn resolve(
         &self,
         g: &ContactGeometry,
@@ -117,7 +133,9 @@ impl ContactLaws {
         let f_t = match self.tangential {
             TangentialLaw::MindlinNoSlip => {
                 let s_t = 8.0 * c.g_star * hertz.contact_radius;
-                let gamma_t = damping::dashpot(c.damping, s_t, g.m_eff);
+                // γ_t = prefactor √(S_t m*) = γ_n √(S_t/S_n), and S_t/S_n = 4G*/E* is fixed
+                // per pair of materials: one square root saved per contact.
+                let gamma_t = gamma_n * c.stiffness_ratio_sqrt;
                 tangential::mindlin_no_slip(&mut history.tangential, v_t, dt, s_t, cap, gamma_t)
             }
             TangentialLaw::MindlinDeresiewicz => {
@@ -136,7 +154,7 @@ impl ContactLaws {
                 RollingLaw::None => {}
                 RollingLaw::ConstantTorque { limiter } => {
                     let limit = if limiter {
-                        g.inertia_reduced * omega_rel.length() / dt
+                        g.inertia_reduced() * omega_rel.length() / dt
                     } else {
                         f64::INFINITY
                     };
@@ -152,7 +170,7 @@ impl ContactLaws {
                     let mu_r = c.rolling_friction;
                     let k_r = 2.25 * k_n * mu_r * mu_r * g.r_eff * g.r_eff;
                     let cap_r = mu_r * g.r_eff * hertz.force;
-                    let eta = viscous_damping * 2.0 * (g.rolling_inertia * k_r).sqrt();
+                    let eta = viscous_damping * 2.0 * (g.rolling_inertia() * k_r).sqrt();
                     let m = rolling::epsd(&mut history.rolling, omega_roll, dt, k_r, cap_r, eta);
                     torque_i += m;
                     torque_j -= m;

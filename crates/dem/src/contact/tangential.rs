@@ -47,10 +47,10 @@ pub fn mindlin_no_slip(
     dashpot: f64,
 ) -> DVec3 {
     *xi += slip_velocity * dt;
-    let spring = stiffness * xi.length();
-    if spring > cap {
+    let spring2 = stiffness * stiffness * xi.length_squared();
+    if spring2 > cap * cap {
         // Gross sliding: truncate the spring to the Coulomb limit; no dashpot while sliding.
-        *xi *= cap / spring;
+        *xi *= cap / spring2.sqrt();
         -stiffness * *xi
     } else {
         -stiffness * *xi - dashpot * slip_velocity

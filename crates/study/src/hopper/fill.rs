@@ -1,0 +1,91 @@
+//! Filling the hopper: random non-overlapping insertion in the upper part, in batches that
+//! fall under gravity (physics.md §10.8: the paper does not describe its fill).
+
+use dem::{DVec3, MaterialId, ParticleInit, Simulation};
+use rand::Rng;
+
+use crate::config::HopperGeometry;
+
+/// Whether a disc of radius `r` [m] centred at (x, z) lies inside the hopper's in-plane
+/// outline with clearance `gap` [m].
+pub fn inside_hopper(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64) -> bool {
+    let half = 0.5 * geometry.width;
+    let c = r + gap;
+    if x - c < -half || x + c > half || z - c < 0.0 || z + c > geometry.height {
+        return false;
+    }
+    if geometry.hopper_angle_deg >= 90.0 {
+        return true;
+    }
+    // Distance to each inclined plate's line must exceed the clearance. The plates rise from
+    // the outlet edges outward at angle α from the vertical.
+    let (xl, xr) = geometry.outlet_edges();
+    let a = geometry.hopper_angle();
+    let (sa, ca) = (a.sin(), a.cos());
+    // Left plate line through (xl, 0) with direction (−sin α, cos α); inner normal (cos α, sin α).
+    let left = (x - xl) * ca + z * sa;
+    let right = (xr - x) * ca + z * sa;
+    left >= c && right >= c
+}
+
+/// Random sequential insertion of up to `count` particles of radius drawn by `radius` into
+/// the band z ∈ [z_low, z_high] [m], avoiding every particle already in `sim`.
+/// Returns how many were inserted. Each starts at the slab mid-plane with velocity `v0` [m/s].
+#[allow(clippy::too_many_arguments)]
+pub fn insert_batch(
+    sim: &mut Simulation,
+    geometry: &HopperGeometry,
+    rng: &mut impl Rng,
+    count: usize,
+    mut radius: impl FnMut(&mut dyn rand::RngCore) -> f64,
+    material: MaterialId,
+    band: (f64, f64),
+    v0: DVec3,
+    max_attempts: usize,
+) -> Result<usize, dem::DemError> {
+    let half = 0.5 * geometry.width;
+    let y_mid = 0.5 * geometry.thickness;
+    // Existing particles in or near the band, for the overlap test.
+    let p = sim.particles();
+    let mut placed: Vec<(DVec3, f64)> = p
+        .positions()
+        .iter()
+        .zip(p.radii())
+        .filter(|(x, r)| x.z + **r > band.0 - 0.01 && x.z - **r < band.1 + 0.01)
+        .map(|(x, r)| (*x, *r))
+        .collect();
+    let mut inserted = 0;
+    let mut attempts = 0;
+    let gap = 1.0e-5;
+    while inserted < count && attempts < max_attempts {
+        attempts += 1;
+        let r = radius(rng);
+        let x = rng.gen_range(-half + r..half - r);
+        let z = rng.gen_range(band.0..band.1);
+        // Quasi-2D slab: start on the mid-plane (physics.md §5). A thick slab (room for half
+        // a diameter of play or more) gets a random depth.
+        let y = if geometry.thickness >= 3.0 * r {
+            rng.gen_range(r..geometry.thickness - r)
+        } else {
+            y_mid
+        };
+        if !inside_hopper(geometry, x, z, r, gap) {
+            continue;
+        }
+        let c = DVec3::new(x, y, z);
+        if placed.iter().any(|(q, rq)| q.distance_squared(c) < (r + rq + gap) * (r + rq + gap)) {
+            continue;
+        }
+        sim.add_particle(ParticleInit {
+            position: c,
+            velocity: v0,
+            angular_velocity: DVec3::ZERO,
+            radius: r,
+            material,
+            flags: 0,
+        })?;
+        placed.push((c, r));
+        inserted += 1;
+    }
+    Ok(inserted)
+}
