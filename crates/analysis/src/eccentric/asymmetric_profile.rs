@@ -3,7 +3,8 @@
 //! Eq. 16 applies it to the velocity scaled by the free-fall speed, v/√(2gR); Eq. 17 to the
 //! area fraction scaled by its maximum over the outlet, φ/φ_max. x* = (x − x_c)/R with x* < 0
 //! on the near-wall side, so δ < 0 means the profile leans toward the wall (Table 3, s = 0).
-//! Eq. 15 is the δ = 0 special case, with ε_e = √γ and σ_e = a for a centred outlet.
+//! Eq. 15 is the δ = 0 special case (`fixed_asymmetry: Some(0.0)`), with ε_e = √γ and
+//! σ_e = a for a centred outlet.
 //!
 //! The paper pools all outlet sizes at a given s into one collapse (Figs. 10e–h, 12e–h), so
 //! the fitting functions take a slice of profiles. Table 3 lists ε_s2 = 1 for every s, i.e.
@@ -28,6 +29,8 @@ pub struct AsymmetricProfileOptions {
     pub maximum_abs_x_star: f64,
     /// Hold ε at this value instead of fitting it (the paper holds ε_s2 = 1).
     pub fixed_amplitude: Option<f64>,
+    /// Hold δ at this value instead of fitting it; `Some(0.0)` gives Eq. 15.
+    pub fixed_asymmetry: Option<f64>,
 }
 
 impl Default for AsymmetricProfileOptions {
@@ -35,6 +38,7 @@ impl Default for AsymmetricProfileOptions {
         Self {
             maximum_abs_x_star: PROFILE_FIT_HALF_WIDTH,
             fixed_amplitude: None,
+            fixed_asymmetry: None,
         }
     }
 }
@@ -85,6 +89,10 @@ fn fit_points(
         Some(value) => (value, ParameterBounds::held()),
         None => (peak, ParameterBounds::free()),
     };
+    let (asymmetry, asymmetry_bounds) = match options.fixed_asymmetry {
+        Some(value) => (value, ParameterBounds::held()),
+        None => (0.0, ParameterBounds::free()),
+    };
     let fit = fit_curve(
         |x, p| asymmetric_profile(x, p[0], p[1], p[2]),
         CurveData {
@@ -92,9 +100,9 @@ fn fit_points(
             y: &y,
             sigma: sigma.as_deref(),
         },
-        &[0.0, amplitude, 0.4],
+        &[asymmetry, amplitude, 0.4],
         Some(&[
-            ParameterBounds::free(),
+            asymmetry_bounds,
             amplitude_bounds,
             ParameterBounds::between(EXPONENT_BOUNDS.0, EXPONENT_BOUNDS.1),
         ]),
@@ -222,6 +230,35 @@ mod tests {
         assert_eq!(fit.amplitude, Estimate::exact(1.0));
         assert!(fit.asymmetry.value.abs() < 4.0 * fit.asymmetry.standard_error);
         assert!((fit.exponent.value - 0.42).abs() < 4.0 * fit.exponent.standard_error + 0.002);
+    }
+
+    #[test]
+    fn centred_outlet_with_eq15_gives_epsilon_equal_to_root_gamma() {
+        // Paper Sec. 4.2.1: for e = 0, ε_e = √γ and σ_e = a. Build v = √(2γgR)(1 − x*²)^a with
+        // γ = 1.66, a = 0.39, scale by √(2gR) and fit Eq. 15 (δ held at 0); 4σ recovery.
+        let g = 9.81f64;
+        let radii = [0.009, 0.015, 0.0225, 0.03];
+        let root_gamma = 1.66f64.sqrt();
+        let profiles: Vec<BinnedProfile> = radii
+            .iter()
+            .enumerate()
+            .map(|(i, &r)| {
+                profile(
+                    (2.0 * g * r).sqrt(),
+                    (0.0, root_gamma, 0.39),
+                    0.02,
+                    80 + i as u64,
+                )
+            })
+            .collect();
+        let options = AsymmetricProfileOptions {
+            fixed_asymmetry: Some(0.0),
+            ..AsymmetricProfileOptions::default()
+        };
+        let fit = fit_eccentric_velocity_profiles(&profiles, &radii, g, &options).unwrap();
+        assert_eq!(fit.asymmetry, Estimate::exact(0.0));
+        assert!((fit.amplitude.value - root_gamma).abs() < 4.0 * fit.amplitude.standard_error);
+        assert!((fit.exponent.value - 0.39).abs() < 4.0 * fit.exponent.standard_error);
     }
 
     #[test]
