@@ -8,3 +8,4 @@ pub mod config;
 pub mod hopper;
 pub mod measure;
 pub mod output;
+pub mod summary;

@@ -1,0 +1,109 @@
+//! What one hopper run reports: `summary.json` and the rows of `profiles.csv`.
+
+use serde::{Deserialize, Serialize};
+
+/// Why the discharge stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// Every particle left the hopper.
+    Empty,
+    /// No particle crossed the outlet for the clog timeout: an arch formed.
+    Clogged,
+    /// The discharge time limit was reached with particles left.
+    TimeLimit,
+}
+
+/// The summary of one run (`summary.json`). Rates in kg/s for the whole slab.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CaseSummary {
+    /// hopperflow version that produced it.
+    pub version: String,
+    /// Seed of the fill.
+    pub seed: u64,
+    /// Hash of the resolved case file (hex SHA-256), to tie results to inputs.
+    pub config_hash: String,
+    /// Outlet width D [m].
+    pub outlet_width: f64,
+    /// Hopper angle α from the vertical [°].
+    pub hopper_angle_deg: f64,
+    /// Gap s between the left wall and the outlet [m].
+    pub outlet_gap: f64,
+    /// Dimensionless eccentricity s* = 2s/(L − D) [-].
+    pub dimensionless_gap: f64,
+    /// Hopper width L [m].
+    pub width: f64,
+    /// Slab thickness Z [m].
+    pub thickness: f64,
+    /// Mean particle diameter d [m].
+    pub particle_diameter: f64,
+    /// Particle density ρ_p [kg/m³].
+    pub particle_density: f64,
+    /// Particles in the fill.
+    pub particles: usize,
+    /// Mean discharge rate W over the steady window [kg/s].
+    pub discharge_rate: f64,
+    /// Standard error of W from block averaging of the binned rate [kg/s].
+    pub discharge_rate_error: f64,
+    /// Steady window [s, s], measured from the gate opening.
+    pub steady_window: [f64; 2],
+    /// Whether W(t) showed a plateau in the window (see `analysis::series`).
+    pub plateau_found: bool,
+    /// W from the snapshot flux (2/3) ρ_p d ∫ ⟨φ v⟩ dx over the window [kg/s] (physics.md §7.4).
+    pub flux_check_rate: f64,
+    /// W from the crossing v(x) times the strip φ(x) [kg/s].
+    pub flux_check_rate_profiles: f64,
+    /// Settled bulk volume fraction φ_B (3D) [-].
+    pub bulk_volume_fraction: f64,
+    /// Settled mid-plane area fraction of the bed [-].
+    pub bulk_area_fraction: f64,
+    /// Settled bed height above the outlet [m].
+    pub bed_height: f64,
+    /// Centre velocity v_c (downward, mean of |x*| < 0.1) [m/s].
+    pub centre_velocity: f64,
+    /// Centre area fraction φ_c [-].
+    pub centre_area_fraction: f64,
+    /// Largest binned area fraction φ_max [-].
+    pub max_area_fraction: f64,
+    /// Where φ_max sits, x* [-].
+    pub max_area_fraction_position: f64,
+    /// Whether the outlet clogged.
+    pub clogged: bool,
+    /// Why the discharge stopped.
+    pub stop_reason: StopReason,
+    /// Mass discharged through the outlet [kg].
+    pub discharged_mass: f64,
+    /// Simulated time from gate opening to stop [s].
+    pub discharge_time: f64,
+    /// Simulated time of filling and settling [s].
+    pub fill_time: f64,
+    /// Mean kinetic energy per particle when the gate opened [J].
+    pub settled_kinetic_energy: f64,
+    /// Whether the settling threshold was reached before the settle time limit.
+    pub settled: bool,
+    /// Wall-clock time of the run [s] (not part of the physics; differs between runs).
+    pub wall_time: f64,
+}
+
+/// One x-bin of the outlet profiles (`profiles.csv`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ProfileRow {
+    /// Bin centre, normalised x* = (x − x_c)/R [-].
+    pub x_star: f64,
+    /// Bin centre x [m].
+    pub x: f64,
+    /// Mean downward velocity of crossings v(x) [m/s] (NaN if none).
+    pub velocity: f64,
+    /// Standard error of v [m/s].
+    pub velocity_error: f64,
+    /// Crossings counted in the bin.
+    pub crossings: usize,
+    /// Time-averaged 2D area fraction φ(x) [-].
+    pub area_fraction: f64,
+    /// Standard error of φ [-].
+    pub area_fraction_error: f64,
+    /// ⟨φ v⟩ from snapshots [m/s].
+    pub area_fraction_velocity: f64,
+    /// Snapshot mean downward velocity in the strip [m/s] (NaN if none).
+    pub snapshot_velocity: f64,
+}
