@@ -81,8 +81,6 @@ pub struct CaseSummary {
     pub settled_kinetic_energy: f64,
     /// Whether the settling threshold was reached before the settle time limit.
     pub settled: bool,
-    /// Wall-clock time of the run [s] (not part of the physics; differs between runs).
-    pub wall_time: f64,
 }
 
 /// One x-bin of the outlet profiles (`profiles.csv`).
