@@ -14,7 +14,7 @@ discharged mass, physics.md §7 "Steady window") and the total wall time of the 
 Ratio printed: LIGGGHTS ns / hopperflow ns (above 1 means hopperflow is faster).
 
 Usage:
-  python3 bench/side_by_side.py                 # run both (LIGGGHTS takes ~10 min on one core)
+  python3 bench/side_by_side.py                 # run both (LIGGGHTS takes 6-7 min on one core)
   python3 bench/side_by_side.py --liggghts-log L  # reuse an existing LIGGGHTS log
   python3 bench/side_by_side.py --skip-liggghts   # hopperflow only
 Both codes run on one thread at nice 10 (the machine is shared).
@@ -219,7 +219,7 @@ def main():
         else:
             out = args.keep or tempfile.mkdtemp(prefix="liggghts_hopper_")
             os.makedirs(out, exist_ok=True)
-            print("running LIGGGHTS (one core, about 10 min); log in %s" % out, flush=True)
+            print("running LIGGGHTS (one core, 6-7 min on an idle core); log in %s" % out, flush=True)
             text, wall = run_liggghts(out, args.var)
             lig = parse_liggghts_log(text)
             lig["measured_wall_s"] = wall
