@@ -179,7 +179,7 @@ pub(crate) fn parse_document(text: &str, source: &Arc<str>) -> Result<Table, Con
             location,
             "",
             None,
-            format!("invalid TOML: {}", e.message().trim()),
+            format!("invalid TOML: {}", one_line(e.message())),
         ))
     })?;
     let context = Context { source, text };
@@ -212,7 +212,7 @@ pub(crate) fn parse_value(text: &str, location: &Location) -> Result<Node, Strin
         });
     }
     let value: Value = text.parse().map_err(|e: toml_edit::TomlError| {
-        format!("`{text}` is not a TOML value: {}", e.message().trim())
+        format!("`{text}` is not a TOML value: {}", one_line(e.message()))
     })?;
     // Everything from the command line is located at `--set` itself.
     let context = Context {
@@ -364,6 +364,16 @@ impl Context<'_> {
             location,
         }
     }
+}
+
+/// A parser message on one line, so that every error stays one line of output.
+fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 fn is_bare_word(text: &str) -> bool {

@@ -16,8 +16,10 @@ mod overrides;
 mod particles;
 mod reader;
 mod resolve;
+mod resolve_particles;
 mod resolve_run;
 mod sweep;
+mod sweep_file;
 mod template;
 mod write;
 
@@ -67,8 +69,8 @@ pub fn parse_case(src: &str, source_name: &str, sets: &[String]) -> Result<Case,
              or run `hopperflow init` for a commented template",
         )));
     }
-    overrides::apply_sets(&mut document, sets)?;
-    resolve::resolve_case(&document, &source)
+    let set_errors = overrides::apply_sets(&mut document, sets).err();
+    merge_errors(resolve::resolve_case(&document, &source), set_errors)
 }
 
 /// The paper's base case with `--set` overrides applied and validated (a run without a
@@ -76,8 +78,24 @@ pub fn parse_case(src: &str, source_name: &str, sets: &[String]) -> Result<Case,
 pub fn default_case(sets: &[String]) -> Result<Case, ConfigErrors> {
     let source: Arc<str> = Arc::from("default");
     let mut document = document::Table::default();
-    overrides::apply_sets(&mut document, sets)?;
-    resolve::resolve_case(&document, &source)
+    let set_errors = overrides::apply_sets(&mut document, sets).err();
+    merge_errors(resolve::resolve_case(&document, &source), set_errors)
+}
+
+/// Adds the errors of malformed `--set` overrides to a validation result, so that one
+/// report lists every problem.
+pub(crate) fn merge_errors<T>(
+    result: Result<T, ConfigErrors>,
+    set_errors: Option<ConfigErrors>,
+) -> Result<T, ConfigErrors> {
+    match (result, set_errors) {
+        (result, None) => result,
+        (Ok(_), Some(errors)) => Err(errors),
+        (Err(mut errors), Some(mut more)) => {
+            errors.errors.append(&mut more.errors);
+            Err(errors)
+        }
+    }
 }
 
 /// Reads a file as UTF-8 text; errors name the file and, for bad bytes, their line.

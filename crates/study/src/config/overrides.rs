@@ -53,9 +53,7 @@ pub(crate) fn apply_sets(document: &mut Table, sets: &[String]) -> Result<(), Co
                 continue;
             }
         };
-        if let Err(error) = apply_override(document, &path, node, &location) {
-            errors.push(error);
-        }
+        apply_override(document, &path, node, &location, &mut errors);
     }
     if errors.is_empty() {
         Ok(())
@@ -65,13 +63,15 @@ pub(crate) fn apply_sets(document: &mut Table, sets: &[String]) -> Result<(), Co
 }
 
 /// Sets one dotted key, first removing the keys that are its alternatives (giving the
-/// outlet gap replaces an outlet offset from the file, and so on).
+/// outlet gap replaces an outlet offset from the file, and so on). A key that cannot be
+/// set is recorded in `errors`.
 pub(crate) fn apply_override(
     document: &mut Table,
     path: &[String],
     node: Node,
     location: &Location,
-) -> Result<(), ConfigError> {
+    errors: &mut Vec<ConfigError>,
+) {
     let key = path.join(".");
     for (a, b) in ALTERNATIVE_KEYS {
         for (given, other) in [(a, b), (b, a)] {
@@ -82,13 +82,13 @@ pub(crate) fn apply_override(
             }
         }
     }
-    document.set_path(path, node, location).map_err(|blocking| {
-        ConfigError::new(
+    if let Err(blocking) = document.set_path(path, node, location) {
+        errors.push(ConfigError::new(
             ErrorKind::WrongType,
             location.clone(),
-            key.clone(),
+            key,
             None,
             format!("cannot set this key: `{blocking}` holds a value, not a table"),
-        )
-    })
+        ));
+    }
 }

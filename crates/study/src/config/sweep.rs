@@ -27,11 +27,11 @@ use std::sync::Arc;
 use sha2::{Digest, Sha256};
 
 use super::case::Case;
-use super::document::{parse_document, split_key, Node, NodeValue, Table};
+use super::document::{parse_document, NodeValue};
 use super::error::{ConfigError, ConfigErrors, ErrorKind, Location};
 use super::overrides::{apply_override, apply_sets};
-use super::reader::Section;
 use super::resolve::resolve_case;
+use super::sweep_file::{read_sweep, Axis, SweepConfig, MAX_GRID_POINTS};
 
 /// One case of an expanded sweep.
 #[derive(Clone, Debug, PartialEq)]
@@ -91,389 +91,11 @@ pub fn parse_sweep(
     let Some(mut config) = config.filter(|_| errors.is_empty()) else {
         return Err(ConfigErrors { errors });
     };
-    apply_sets(&mut config.base, sets)?;
+    let set_errors = apply_sets(&mut config.base, sets).err();
     // The base must be valid on its own, so that its errors are reported once rather
     // than for every grid point.
-    resolve_case(&config.base, &config.base_source)?;
+    super::merge_errors(resolve_case(&config.base, &config.base_source), set_errors)?;
     expand(&config)
-}
-
-struct Axis {
-    path: Vec<String>,
-    key: String,
-    values: Vec<Node>,
-    label: String,
-    scale: f64,
-    digits: usize,
-}
-
-struct Series {
-    name: String,
-    set: Vec<(Vec<String>, String, Node, Location)>,
-    axes: Vec<Axis>,
-}
-
-struct SweepConfig {
-    name: String,
-    description: String,
-    replicas: u32,
-    base: Table,
-    base_source: Arc<str>,
-    axes: Vec<Axis>,
-    series: Vec<Series>,
-}
-
-/// Largest number of replicas; a guard against typos.
-const MAX_REPLICAS: i64 = 10_000;
-
-/// Largest number of grid points of one series; a guard against typos that would
-/// expand into more cases than could ever run.
-const MAX_GRID_POINTS: usize = 100_000;
-
-fn read_sweep(
-    document: &Table,
-    source: &Arc<str>,
-    base_dir: Option<&Path>,
-    errors: &mut Vec<ConfigError>,
-) -> Option<SweepConfig> {
-    let mut root = Section::root(document, source);
-    let version = root.integer_or("version", super::CASE_FORMAT_VERSION, errors);
-    if version.value != super::CASE_FORMAT_VERSION {
-        errors.push(version.error(
-            ErrorKind::Invalid,
-            "this hopperflow reads sweep format version 1 only",
-        ));
-    }
-    let name = root.string("name", errors);
-    let description = root
-        .string("description", errors)
-        .map_or_else(String::new, |d| d.value);
-    let replicas = root.integer_or("replicas", 1, errors);
-    if !(1..=MAX_REPLICAS).contains(&replicas.value) {
-        errors.push(replicas.error(
-            ErrorKind::Invalid,
-            format!("must be an integer in [1, {MAX_REPLICAS}]"),
-        ));
-    }
-    let name = match name {
-        Some(n) if is_identifier(&n.value) => n.value,
-        Some(n) => {
-            errors.push(ConfigError::new(
-                ErrorKind::Invalid,
-                n.location,
-                n.key,
-                Some(format!("{:?}", n.value)),
-                "must be a non-empty name of letters, digits, `_` and `-`",
-            ));
-            String::new()
-        }
-        None => {
-            errors.push(ConfigError::new(
-                ErrorKind::Missing,
-                Location::whole(source),
-                "name",
-                None,
-                "required: the sweep's name",
-            ));
-            String::new()
-        }
-    };
-    let (base, base_source) = read_base(&mut root, source, base_dir, errors)?;
-    let axes = read_axes(&mut root, "axes", errors);
-    let series = read_series(&mut root, errors);
-    root.finish(
-        &[
-            "version",
-            "name",
-            "description",
-            "replicas",
-            "base",
-            "axes",
-            "series",
-        ],
-        errors,
-    );
-    let series = if series.is_empty() {
-        vec![Series {
-            name: name.clone(),
-            set: Vec::new(),
-            axes: Vec::new(),
-        }]
-    } else {
-        series
-    };
-    Some(SweepConfig {
-        name,
-        description,
-        replicas: replicas.value.clamp(1, MAX_REPLICAS) as u32,
-        base,
-        base_source,
-        axes,
-        series,
-    })
-}
-
-fn read_base(
-    root: &mut Section<'_>,
-    source: &Arc<str>,
-    base_dir: Option<&Path>,
-    errors: &mut Vec<ConfigError>,
-) -> Option<(Table, Arc<str>)> {
-    let Some(entry) = root.entry("base") else {
-        return Some((Table::default(), Arc::clone(source)));
-    };
-    match &entry.node.value {
-        NodeValue::Table(t) => Some((t.clone(), Arc::clone(source))),
-        NodeValue::String(file) => {
-            let Some(dir) = base_dir else {
-                errors.push(ConfigError::new(
-                    ErrorKind::Invalid,
-                    entry.key_location.clone(),
-                    "base",
-                    Some(format!("{file:?}")),
-                    "a built-in sweep must give its base as a [base] table",
-                ));
-                return None;
-            };
-            let path = dir.join(file);
-            let name = path.display().to_string();
-            let loaded = super::read_text(&path, &name).and_then(|text| {
-                let base_source: Arc<str> = Arc::from(name.as_str());
-                parse_document(&text, &base_source).map(|t| (t, base_source))
-            });
-            match loaded {
-                Ok(base) => Some(base),
-                Err(e) => {
-                    errors.extend(e.errors);
-                    None
-                }
-            }
-        }
-        other => {
-            errors.push(ConfigError::new(
-                ErrorKind::WrongType,
-                entry.key_location.clone(),
-                "base",
-                Some(other.to_string()),
-                format!(
-                    "expected a case file name or a table, found {}",
-                    other.type_name()
-                ),
-            ));
-            None
-        }
-    }
-}
-
-/// The tables of an array-of-tables key, each with its dotted path and location.
-fn tables<'a>(
-    section: &mut Section<'a>,
-    key: &str,
-    errors: &mut Vec<ConfigError>,
-) -> Vec<(Section<'a>, Location)> {
-    let path = section.key(key);
-    let default_location = section.default_location().clone();
-    let Some(entry) = section.entry(key) else {
-        return Vec::new();
-    };
-    let NodeValue::Array(items) = &entry.node.value else {
-        errors.push(ConfigError::new(
-            ErrorKind::WrongType,
-            entry.key_location.clone(),
-            path,
-            Some(entry.node.value.to_string()),
-            "expected an array of tables ([[…]])",
-        ));
-        return Vec::new();
-    };
-    let mut out = Vec::new();
-    for (i, item) in items.iter().enumerate() {
-        let item_path = format!("{path}[{i}]");
-        match &item.value {
-            NodeValue::Table(t) => out.push((
-                Section::over(
-                    t,
-                    item_path,
-                    item.location.clone(),
-                    default_location.clone(),
-                ),
-                item.location.clone(),
-            )),
-            other => errors.push(ConfigError::new(
-                ErrorKind::WrongType,
-                item.location.clone(),
-                item_path,
-                Some(other.to_string()),
-                "expected a table",
-            )),
-        }
-    }
-    out
-}
-
-fn read_axes(section: &mut Section<'_>, key: &str, errors: &mut Vec<ConfigError>) -> Vec<Axis> {
-    let mut axes = Vec::new();
-    for (mut axis, location) in tables(section, key, errors) {
-        let key = axis.string("key", errors);
-        let values = axis
-            .entry("values")
-            .map(|e| (e.node.clone(), e.key_location.clone()));
-        let label = axis.string("label", errors);
-        let scale = axis.float_or("scale", "", 1.0, errors);
-        let digits = axis.integer_or("digits", 0, errors);
-        axis.finish(&["key", "values", "label", "scale", "digits"], errors);
-        let Some(key) = key else {
-            errors.push(ConfigError::new(
-                ErrorKind::Missing,
-                location,
-                axis.key("key"),
-                None,
-                "required: the dotted case key this axis varies",
-            ));
-            continue;
-        };
-        let path = match split_key(&key.value) {
-            Ok(path) => path,
-            Err(message) => {
-                errors.push(ConfigError::new(
-                    ErrorKind::Invalid,
-                    key.location,
-                    key.key,
-                    Some(key.value),
-                    message,
-                ));
-                continue;
-            }
-        };
-        let values = match values {
-            Some((
-                Node {
-                    value: NodeValue::Array(items),
-                    ..
-                },
-                _,
-            )) if !items.is_empty() => items,
-            Some((_, at)) => {
-                errors.push(ConfigError::new(
-                    ErrorKind::WrongType,
-                    at,
-                    axis.key("values"),
-                    None,
-                    "expected a non-empty array of values",
-                ));
-                continue;
-            }
-            None => {
-                errors.push(ConfigError::new(
-                    ErrorKind::Missing,
-                    location,
-                    axis.key("values"),
-                    None,
-                    "required: the values this axis takes",
-                ));
-                continue;
-            }
-        };
-        if !(scale.value.is_finite() && scale.value > 0.0) {
-            errors.push(scale.error(ErrorKind::Invalid, "must be a finite number > 0"));
-        }
-        if !(0..=12).contains(&digits.value) {
-            errors.push(digits.error(ErrorKind::Invalid, "must be an integer in [0, 12]"));
-        }
-        let label = match label {
-            Some(l) if is_identifier(&l.value) || l.value.is_empty() => l.value,
-            Some(l) => {
-                errors.push(ConfigError::new(
-                    ErrorKind::Invalid,
-                    l.location,
-                    l.key,
-                    Some(format!("{:?}", l.value)),
-                    "must hold only letters, digits, `_` and `-`",
-                ));
-                continue;
-            }
-            None => path.last().cloned().unwrap_or_default(),
-        };
-        axes.push(Axis {
-            key: path.join("."),
-            path,
-            values,
-            label,
-            scale: scale.value,
-            digits: digits.value.clamp(0, 12) as usize,
-        });
-    }
-    axes
-}
-
-fn read_series(root: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Vec<Series> {
-    let mut series = Vec::new();
-    for (mut section, location) in tables(root, "series", errors) {
-        let name = section.string("name", errors);
-        section.string("description", errors);
-        let mut set = Vec::new();
-        if let Some(entry) = section.entry("set") {
-            match &entry.node.value {
-                NodeValue::Table(t) => {
-                    for item in &t.entries {
-                        match split_key(&item.key) {
-                            Ok(path) => set.push((
-                                path,
-                                item.key.clone(),
-                                item.node.clone(),
-                                item.key_location.clone(),
-                            )),
-                            Err(message) => errors.push(ConfigError::new(
-                                ErrorKind::Invalid,
-                                item.key_location.clone(),
-                                section.key("set"),
-                                Some(item.key.clone()),
-                                message,
-                            )),
-                        }
-                    }
-                }
-                other => errors.push(ConfigError::new(
-                    ErrorKind::WrongType,
-                    entry.key_location.clone(),
-                    section.key("set"),
-                    Some(other.to_string()),
-                    "expected a table of \"dotted.key\" = value",
-                )),
-            }
-        }
-        let axes = read_axes(&mut section, "axes", errors);
-        section.finish(&["name", "description", "set", "axes"], errors);
-        match name {
-            Some(n) if is_identifier(&n.value) => series.push(Series {
-                name: n.value,
-                set,
-                axes,
-            }),
-            Some(n) => errors.push(ConfigError::new(
-                ErrorKind::Invalid,
-                n.location,
-                n.key,
-                Some(format!("{:?}", n.value)),
-                "must be a non-empty name of letters, digits, `_` and `-`",
-            )),
-            None => errors.push(ConfigError::new(
-                ErrorKind::Missing,
-                location,
-                section.key("name"),
-                None,
-                "required: the series name, used in case identifiers",
-            )),
-        }
-    }
-    series
-}
-
-fn is_identifier(text: &str) -> bool {
-    !text.is_empty()
-        && text
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
 /// The identifier text of one axis value: value × scale, integers zero-padded.
@@ -547,9 +169,7 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
         let mut fixed = BTreeMap::new();
         for (path, key, node, location) in &series.set {
             fixed.insert(key.clone(), label_text(&node.value));
-            if let Err(e) = apply_override(&mut document, path, node.clone(), location) {
-                errors.push(e);
-            }
+            apply_override(&mut document, path, node.clone(), location, &mut errors);
         }
         let total = axes
             .iter()
@@ -580,10 +200,13 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
                 let node = &axis.values[i];
                 parts.push(value_tag(axis, &node.value, i));
                 labels.insert(axis.key.clone(), label_text(&node.value));
-                if let Err(e) = apply_override(&mut point, &axis.path, node.clone(), &node.location)
-                {
-                    errors.push(e);
-                }
+                apply_override(
+                    &mut point,
+                    &axis.path,
+                    node.clone(),
+                    &node.location,
+                    &mut errors,
+                );
             }
             let point_id = parts.join("-");
             if !seen.insert(point_id.clone()) {

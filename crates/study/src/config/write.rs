@@ -3,12 +3,18 @@
 use std::fmt::Write;
 
 use super::case::{Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION};
+use super::error::rounded;
 use super::particles::{Material, SizeDistribution};
 
-/// A float in TOML syntax that parses back to the same bits (Rust's `{:?}` prints the
-/// shortest representation that round-trips, always with a `.` or an exponent).
+/// A float in TOML syntax that parses back to the same bits: Rust prints the shortest
+/// representation that round-trips, `{:?}` always with a `.` or an exponent; large
+/// moduli are written with an exponent (`1e8`) for readability.
 fn float(x: f64) -> String {
-    format!("{x:?}")
+    if x.abs() >= 1e6 {
+        format!("{x:e}")
+    } else {
+        format!("{x:?}")
+    }
 }
 
 fn floats(xs: &[f64]) -> String {
@@ -56,7 +62,7 @@ impl Case {
             out,
             "outlet_gap = {}  # s [m]; e = {} m",
             float(g.outlet_gap),
-            g.outlet_offset()
+            rounded(g.outlet_offset())
         );
 
         let p = &self.particles;
