@@ -238,3 +238,19 @@ fn rayleigh_fraction_sets_the_time_step() {
     // Δt = 0.05 t_R with t_R = 2.5684e-5 s (physics spec §1.1, 5 digits).
     assert!((case.time_step - 0.05 * 2.5684e-5).abs() < 1e-10);
 }
+
+#[test]
+fn errors_point_at_the_key_in_dotted_inline_and_implicit_tables() {
+    // Dotted key at the top level, an inline table, and a table whose parent is implicit:
+    // each error must still carry the line and column of its key.
+    let text = "version = 1\ngeometry.width = -0.1\ncontact = { friction = -1.0 }\n[particles.material]\ndensity = 0\n";
+    let errors = parse_case(text, "forms.toml", &[]).unwrap_err();
+    let report = errors.to_string();
+    for fragment in [
+        "forms.toml:2:10: geometry.width = -0.1 m: must be a finite number > 0",
+        "forms.toml:3:13: contact.friction = -1: must be a finite number ≥ 0",
+        "forms.toml:5:1: particles.material.density = 0 kg/m³: must be a finite number > 0",
+    ] {
+        assert!(report.contains(fragment), "lacks `{fragment}`:\n{report}");
+    }
+}

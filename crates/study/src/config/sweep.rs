@@ -178,7 +178,7 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
         let Some(total) = total else {
             errors.push(ConfigError::new(
                 ErrorKind::Invalid,
-                Location::whole(&config.base_source),
+                Location::whole(&config.source),
                 "series",
                 Some(series.name.clone()),
                 format!("the axes of this series make more than {MAX_GRID_POINTS} grid points"),
@@ -212,7 +212,7 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
             if !seen.insert(point_id.clone()) {
                 errors.push(ConfigError::new(
                     ErrorKind::Conflict,
-                    Location::whole(&Arc::from(config.name.as_str())),
+                    Location::whole(&config.source),
                     "",
                     Some(point_id.clone()),
                     "two grid points share this identifier; give the series distinct names or the axes distinct labels",

@@ -38,6 +38,8 @@ pub(crate) struct SweepConfig {
     pub replicas: u32,
     pub base: Table,
     pub base_source: Arc<str>,
+    /// Name of the sweep file itself, for errors about the grid.
+    pub source: Arc<str>,
     pub axes: Vec<Axis>,
     pub series: Vec<Series>,
 }
@@ -127,6 +129,7 @@ pub(crate) fn read_sweep(
         replicas: replicas.value.clamp(1, MAX_REPLICAS) as u32,
         base,
         base_source,
+        source: Arc::clone(source),
         axes,
         series,
     })
