@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod bench_cmd;
+mod run_cmd;
 
 #[derive(Parser)]
 #[command(name = "hopperflow", version, about = "DEM simulation and analysis of granular discharge from hoppers")]
@@ -13,13 +14,29 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run one hopper case (default: the paper's base case).
+    Run(run_cmd::RunArgs),
+    /// Validate a case file without running it.
+    Check(run_cmd::CheckArgs),
+    /// Write a commented case file with every key, its unit and default.
+    Init(run_cmd::InitArgs),
     /// Time the engine (ns per particle-step).
     Bench(bench_cmd::BenchArgs),
 }
 
 fn main() {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let code = if e.use_stderr() { run_cmd::EXIT_BAD_INPUT } else { 0 };
+            let _ = e.print();
+            std::process::exit(code);
+        }
+    };
     let code = match cli.command {
+        Command::Run(args) => run_cmd::run(args),
+        Command::Check(args) => run_cmd::check(args),
+        Command::Init(args) => run_cmd::init(args),
         Command::Bench(args) => bench_cmd::run(args),
     };
     std::process::exit(code);

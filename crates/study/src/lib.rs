@@ -8,4 +8,6 @@ pub mod config;
 pub mod hopper;
 pub mod measure;
 pub mod output;
+pub mod run;
 pub mod summary;
+pub mod sweep;

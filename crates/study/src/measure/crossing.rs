@@ -279,7 +279,7 @@ impl CrossingRecord {
     }
 }
 
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 struct Observation {
     time: f64,
     x: f64,
@@ -292,7 +292,7 @@ struct Observation {
 ///
 /// Call [`CrossingProbe::observe`] every k steps (k ≤ 100 at Δt = 2.5 µs). The probe keeps
 /// each id's previous (t, x, z, v_z); ids that vanish (removed particles) are forgotten.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CrossingProbe {
     record: CrossingRecord,
     previous: HashMap<u64, Observation>,

@@ -218,7 +218,7 @@ impl StripRecord {
 }
 
 /// Observes frames (every ~1e-3 s, physics.md §7.2) and stores per-bin strip sums.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StripProbe {
     record: StripRecord,
 }

@@ -230,7 +230,7 @@ impl VelocityFieldRecord {
 }
 
 /// Accumulates coarse-grained ρ and p on the grid, frame by frame.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VelocityFieldProbe {
     record: VelocityFieldRecord,
     last_time: Option<f64>,

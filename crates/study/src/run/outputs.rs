@@ -1,0 +1,304 @@
+//! What a finished run writes: flow.csv, profiles.csv, field.csv, plots, frames, VTU/PVD,
+//! and the summary (physics.md §7).
+
+use std::path::{Path, PathBuf};
+
+use analysis::profile::BinnedProfile;
+use analysis::selfsimilar::{fit_power_profile, power_profile, PROFILE_FIT_HALF_WIDTH};
+use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
+use sha2::{Digest, Sha256};
+
+use super::protocol::{CaseRun, Phase};
+use super::RunError;
+use crate::config::Case;
+use crate::hopper::outline;
+use crate::measure::{OutletSummary, TimeWindow};
+use crate::output::{
+    area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg, velocity_profile_figure, write_csv_table,
+    write_frame_png, write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView, ParticleFields,
+    Profile, PvdCollection, WallSegment,
+};
+use crate::summary::{CaseSummary, ProfileRow, StopReason};
+
+/// Hex SHA-256 of the resolved case text.
+pub fn config_hash(text: &str) -> String {
+    let digest = Sha256::digest(text.as_bytes());
+    digest.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Simulated time between PNG frames of the discharge [s].
+const FRAME_INTERVAL: f64 = 0.05;
+
+/// Snapshots written while the case runs: VTU + PVD and PNG frames.
+pub struct Pictures {
+    enabled: bool,
+    dir: PathBuf,
+    pvd: PvdCollection,
+    vtu_interval: f64,
+    next_vtu: f64,
+    next_frame: f64,
+    frames: usize,
+    walls: Vec<WallSegment>,
+    geometry_height: f64,
+    half_width: f64,
+}
+
+impl Pictures {
+    /// Prepares the snapshot folders of `out_dir`.
+    pub fn new(out_dir: &Path, case: &Case, enabled: bool) -> Result<Self, RunError> {
+        let dir = out_dir.join("snapshots");
+        if enabled {
+            std::fs::create_dir_all(&dir).map_err(|source| RunError::Directory { path: dir.clone(), source })?;
+            let polygons: Vec<Vec<[f64; 3]>> = outline(&case.geometry)
+                .iter()
+                .map(|s| {
+                    let (a, b) = (s[0], s[1]);
+                    let z = case.geometry.thickness;
+                    vec![[a.0, 0.0, a.1], [b.0, 0.0, b.1], [b.0, z, b.1], [a.0, z, a.1]]
+                })
+                .collect();
+            write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
+        }
+        let walls = outline(&case.geometry)
+            .iter()
+            .map(|s| WallSegment {
+                start: [s[0].0, s[0].1],
+                end: [s[1].0, s[1].1],
+            })
+            .collect();
+        Ok(Self {
+            enabled,
+            pvd: PvdCollection::new(out_dir.join("particles.pvd")),
+            dir,
+            vtu_interval: case.output.vtu_interval,
+            next_vtu: 0.0,
+            next_frame: f64::NAN,
+            frames: 0,
+            walls,
+            geometry_height: case.geometry.height,
+            half_width: 0.5 * case.geometry.width,
+        })
+    }
+
+    /// Writes whatever snapshot is due.
+    pub fn observe(&mut self, run: &CaseRun) -> Result<(), RunError> {
+        if !self.enabled {
+            return Ok(());
+        }
+        let sim = run.simulation();
+        let t = sim.time();
+        let p = sim.particles();
+        if self.vtu_interval > 0.0 && t >= self.next_vtu {
+            self.next_vtu = t + self.vtu_interval;
+            let name = format!("particles_{:06}.vtu", (t * 1e4).round() as u64);
+            let positions: Vec<[f64; 3]> = p.positions().iter().map(|x| x.to_array()).collect();
+            let velocities: Vec<[f64; 3]> = p.velocities().iter().map(|x| x.to_array()).collect();
+            let omegas: Vec<[f64; 3]> = p.angular_velocities().iter().map(|x| x.to_array()).collect();
+            let fields = ParticleFields {
+                ids: p.tags(),
+                positions: &positions,
+                radii: p.radii(),
+                velocities: &velocities,
+                angular_velocities: &omegas,
+            };
+            write_particles_vtu(self.dir.join(&name), &fields, t)?;
+            self.pvd.push(t, 0, self.dir.join(&name))?;
+            self.pvd.push(t, 1, self.dir.join("walls.vtu"))?;
+        }
+        if let Phase::Discharge { opened, .. } = run.phase() {
+            if self.next_frame.is_nan() {
+                self.next_frame = opened;
+            }
+            if t >= self.next_frame {
+                self.next_frame += FRAME_INTERVAL;
+                let particles: Vec<FrameParticle> = (0..p.len())
+                    .map(|k| FrameParticle {
+                        x: p.positions()[k].x,
+                        z: p.positions()[k].z,
+                        radius: p.radii()[k],
+                        speed: p.velocities()[k].length(),
+                    })
+                    .collect();
+                let view = FrameView::fitted((-self.half_width, self.half_width), (-0.02, self.geometry_height), 1200, (0.0, 1.5));
+                let name = format!("frame_{:04}.png", self.frames);
+                self.frames += 1;
+                write_frame_png(self.dir.join(name), &view, &particles, &self.walls, t - opened)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Nothing is left open; the PVD is rewritten at every push.
+    pub fn finish(self) -> Result<(), RunError> {
+        Ok(())
+    }
+}
+
+fn or_nan(x: Option<f64>) -> f64 {
+    x.unwrap_or(f64::NAN)
+}
+
+/// Analyses the finished run, writes flow.csv, profiles.csv, field.csv and the plots, and
+/// returns the summary (the caller writes it last).
+pub fn finish(run: &CaseRun, out_dir: &Path, hash: &str, pictures: bool) -> Result<CaseSummary, RunError> {
+    let case = &run.case;
+    let state = &run.state;
+    let Phase::Done { reason, opened } = run.phase() else {
+        unreachable!("finish is called once the protocol is done")
+    };
+    let record = state.crossing.record();
+    let end = run.simulation().time() - opened;
+    let times: Vec<f64> = record.events.iter().map(|e| e.time - opened).collect();
+    let masses: Vec<f64> = record.events.iter().map(|e| e.mass).collect();
+    let bin = case.measure.rate_bin_width;
+    let series = RateSeries::from_events(&times, &masses, 0.0, end.max(bin), bin)?;
+    let options = SteadyWindowOptions {
+        start_fraction: case.measure.steady_start_fraction,
+        end_fraction: case.measure.steady_end_fraction,
+        ..SteadyWindowOptions::default()
+    };
+    let window = find_steady_window(&series, &options).ok();
+    let rate = window.as_ref().and_then(|w| mean_rate(&series, w).ok());
+
+    // flow.csv: W(t) per bin and the cumulative discharged mass.
+    let (_, cumulative) = series.cumulative_mass();
+    let rows: Vec<Vec<Cell>> = (0..series.len())
+        .map(|k| vec![series.bin_centre(k).into(), series.rates[k].into(), cumulative.get(k + 1).copied().unwrap_or(f64::NAN).into()])
+        .collect();
+    write_csv_table(out_dir.join("flow.csv"), &["time", "rate", "cumulative_mass"], &rows)?;
+
+    let outlet_window = window
+        .as_ref()
+        .and_then(|w| TimeWindow::new(opened + w.start_time, opened + w.end_time).ok());
+    let density = case.particles.material.density;
+    let d = case.particles.size.mean_diameter();
+    let outlet = outlet_window.and_then(|w| OutletSummary::new(record, state.strip.record(), w, density).ok());
+
+    let mut profile_rows = Vec::new();
+    if let Some(o) = &outlet {
+        for (v, a) in o.velocity.entries.iter().zip(&o.area_fraction.entries) {
+            profile_rows.push(ProfileRow {
+                x_star: v.x_star,
+                x: v.x,
+                velocity: or_nan(v.mean_speed),
+                velocity_error: or_nan(v.standard_error),
+                crossings: v.count as usize,
+                area_fraction: a.area_fraction,
+                area_fraction_error: or_nan(a.area_fraction_standard_error),
+                area_fraction_velocity: a.area_fraction_speed,
+                snapshot_velocity: or_nan(a.snapshot_speed),
+            });
+        }
+    }
+    let headers = [
+        "x_star",
+        "x",
+        "velocity",
+        "velocity_error",
+        "crossings",
+        "area_fraction",
+        "area_fraction_error",
+        "area_fraction_velocity",
+        "snapshot_velocity",
+    ];
+    let rows: Vec<Vec<Cell>> = profile_rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.x_star.into(),
+                r.x.into(),
+                r.velocity.into(),
+                r.velocity_error.into(),
+                (r.crossings as f64).into(),
+                r.area_fraction.into(),
+                r.area_fraction_error.into(),
+                r.area_fraction_velocity.into(),
+                r.snapshot_velocity.into(),
+            ]
+        })
+        .collect();
+    write_csv_table(out_dir.join("profiles.csv"), &headers, &rows)?;
+
+    // field.csv: coarse-grained velocity around the outlet over the steady window (Fig. 9).
+    if let Some(w) = outlet_window {
+        if let Ok(field) = state.field.record().field(w) {
+            let rows: Vec<Vec<Cell>> = field
+                .cells
+                .iter()
+                .map(|c| {
+                    let v = c.velocity.unwrap_or([f64::NAN, f64::NAN]);
+                    vec![c.centre[0].into(), c.centre[1].into(), c.mass_density.into(), v[0].into(), v[1].into()]
+                })
+                .collect();
+            write_csv_table(out_dir.join("field.csv"), &["x", "z", "mass_density", "velocity_x", "velocity_z"], &rows)?;
+        }
+    }
+
+    if pictures {
+        plots(out_dir, &series, window.as_ref().map(|w| (w.start_time, w.end_time)), rate.as_ref().map(|r| r.rate.value), &profile_rows)?;
+    }
+
+    let g = &case.geometry;
+    let bulk = state.bulk.as_ref();
+    Ok(CaseSummary {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        seed: case.seed,
+        config_hash: hash.to_string(),
+        outlet_width: g.outlet_width,
+        hopper_angle_deg: g.hopper_angle_deg,
+        outlet_gap: g.outlet_gap,
+        dimensionless_gap: g.dimensionless_gap(),
+        width: g.width,
+        thickness: g.thickness,
+        particle_diameter: d,
+        particle_density: density,
+        particles: case.particles.count,
+        discharge_rate: rate.as_ref().map_or(f64::NAN, |r| r.rate.value),
+        discharge_rate_error: rate.as_ref().map_or(f64::NAN, |r| r.rate.standard_error),
+        steady_window: window.as_ref().map_or([f64::NAN; 2], |w| [w.start_time, w.end_time]),
+        plateau_found: window.as_ref().is_some_and(|w| w.is_plateau),
+        flux_check_rate: outlet.as_ref().map_or(f64::NAN, |o| o.flux_from_area_velocity),
+        flux_check_rate_profiles: outlet.as_ref().map_or(f64::NAN, |o| o.flux_from_profiles),
+        bulk_volume_fraction: bulk.map_or(f64::NAN, |b| b.volume_fraction),
+        bulk_area_fraction: bulk.map_or(f64::NAN, |b| b.area_fraction),
+        bed_height: bulk.map_or(f64::NAN, |b| b.bed_height),
+        centre_velocity: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.centre_speed)),
+        centre_area_fraction: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.centre_area_fraction)),
+        max_area_fraction: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.max_area_fraction)),
+        max_area_fraction_position: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.max_area_fraction_position)),
+        clogged: reason == StopReason::Clogged,
+        stop_reason: reason,
+        discharged_mass: state.discharged_mass,
+        discharge_time: end,
+        fill_time: opened,
+        settled_kinetic_energy: state.settled_kinetic_energy,
+        settled: state.settled,
+    })
+}
+
+fn plots(out_dir: &Path, series: &RateSeries, window: Option<(f64, f64)>, rate: Option<f64>, rows: &[ProfileRow]) -> Result<(), RunError> {
+    let times: Vec<f64> = (0..series.len()).map(|k| series.bin_centre(k)).collect();
+    let fig = discharge_rate_figure(&times, &series.rates, window, rate);
+    plot_png(&fig, out_dir.join("flow_rate.png"), 900, 600)?;
+    plot_svg(&fig, out_dir.join("flow_rate.svg"), 900, 600)?;
+    let good: Vec<&ProfileRow> = rows.iter().filter(|r| r.velocity.is_finite()).collect();
+    let xs: Vec<f64> = good.iter().map(|r| r.x_star).collect();
+    let v: Vec<f64> = good.iter().map(|r| r.velocity).collect();
+    let ve: Vec<f64> = good.iter().map(|r| if r.velocity_error.is_finite() { r.velocity_error } else { 0.0 }).collect();
+    let phi: Vec<f64> = good.iter().map(|r| r.area_fraction).collect();
+    let pe: Vec<f64> = good.iter().map(|r| if r.area_fraction_error.is_finite() { r.area_fraction_error } else { 0.0 }).collect();
+    let fit = |values: &[f64], errors: &[f64], label: &str| -> Option<FittedCurve> {
+        let counts = vec![1u64; values.len()];
+        let profile = BinnedProfile::new(xs.clone(), values.to_vec(), counts, errors.to_vec()).ok()?;
+        let f = fit_power_profile(&profile, PROFILE_FIT_HALF_WIDTH).ok()?;
+        let (amp, exp) = (f.amplitude.value, f.exponent.value);
+        Some(FittedCurve::sampled(format!("{label} = {exp:.2}"), (-1.0, 1.0), 101, move |x| power_profile(x, amp, exp)))
+    };
+    let v_fit = fit(&v, &ve, "(1 − x*²)^a, a");
+    let fig = velocity_profile_figure(&Profile { x_star: &xs, value: &v, error: Some(&ve) }, v_fit.as_ref());
+    plot_png(&fig, out_dir.join("velocity_profile.png"), 900, 600)?;
+    let phi_fit = fit(&phi, &pe, "(1 − x*²)^b, b");
+    let fig = area_fraction_profile_figure(&Profile { x_star: &xs, value: &phi, error: Some(&pe) }, phi_fit.as_ref());
+    plot_png(&fig, out_dir.join("area_fraction_profile.png"), 900, 600)?;
+    Ok(())
+}

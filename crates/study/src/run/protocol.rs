@@ -1,0 +1,326 @@
+//! The run protocol of one hopper case: fill, settle, open the gate, discharge (issue 3,
+//! physics.md §5 and §10.8), as a resumable state machine.
+
+use dem::{DVec3, MaterialId, Simulation, SimulationState};
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde::{Deserialize, Serialize};
+
+use crate::config::Case;
+use crate::hopper::{fill::insert_batch, hopper_simulation, sample_radius, HopperWalls};
+use crate::measure::{
+    BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView, Kernel, OutletBins, OutletGeometry,
+    StripConfig, StripProbe, VelocityFieldProbe,
+};
+use crate::summary::StopReason;
+
+use super::RunError;
+
+/// Height of the insertion band below the fill top [m]: tall enough for a few hundred
+/// particles per batch at random-sequential-addition density, short enough to start low.
+const INSERT_BAND: f64 = 0.08;
+/// Downward speed given to inserted particles [m/s], so batches clear the band quickly.
+const INSERT_SPEED: f64 = 1.0;
+/// Simulated time between insertion attempts [s].
+const INSERT_INTERVAL: f64 = 0.01;
+/// Settling starts being checked this long after the last insertion [s] (the last batch
+/// needs about √(2H/g) ≈ 0.3 s to land from the top of a 400 mm hopper).
+const MIN_SETTLE_AFTER_FILL: f64 = 0.05;
+/// Simulated time between settling checks and particle deletions [s].
+const CHECK_INTERVAL: f64 = 0.0025;
+/// Particles observed by the crossing probe lie within this many diameters of the outlet
+/// line: between two observations (≤ 100 steps) a particle moves far less than that.
+const CROSSING_BAND_DIAMETERS: f64 = 2.0;
+
+/// Phase of the protocol.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Phase {
+    /// Inserting particles in batches.
+    Fill {
+        /// Particles inserted so far.
+        inserted: usize,
+        /// Simulated time of the last successful insertion [s].
+        last_insert: f64,
+    },
+    /// Waiting for the kinetic energy to fall below the threshold.
+    Settle {
+        /// When the fill finished [s].
+        since: f64,
+    },
+    /// Gate open; particles leave.
+    Discharge {
+        /// When the gate opened [s].
+        opened: f64,
+        /// Last time a particle crossed the outlet [s].
+        last_crossing: f64,
+    },
+    /// Finished.
+    Done {
+        /// Why the discharge stopped.
+        reason: StopReason,
+        /// When the gate opened [s].
+        opened: f64,
+    },
+}
+
+/// Everything of a run that a checkpoint must hold to resume bit-identically.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunState {
+    pub(crate) sim: SimulationState,
+    pub(crate) walls: HopperWalls,
+    pub(crate) material: MaterialId,
+    pub(crate) rng: Xoshiro256PlusPlus,
+    pub(crate) phase: Phase,
+    pub(crate) crossing: CrossingProbe,
+    pub(crate) strip: StripProbe,
+    pub(crate) field: VelocityFieldProbe,
+    pub(crate) bulk: Option<BulkMeasurement>,
+    pub(crate) settled_kinetic_energy: f64,
+    pub(crate) settled: bool,
+    pub(crate) next_frame: f64,
+    pub(crate) next_check: f64,
+    pub(crate) discharged_mass: f64,
+}
+
+/// A case being run.
+pub struct CaseRun {
+    pub(crate) case: Case,
+    pub(crate) sim: Simulation,
+    pub(crate) state: RunState,
+}
+
+/// The outlet geometry of a case for the probes.
+pub fn outlet_geometry(case: &Case) -> OutletGeometry {
+    OutletGeometry {
+        outlet_height: 0.0,
+        centre: case.geometry.outlet_centre(),
+        half_width: case.geometry.outlet_radius(),
+        particle_diameter: case.particles.size.mean_diameter(),
+    }
+}
+
+impl CaseRun {
+    /// A fresh run: walls built, gate closed, no particles yet.
+    pub fn new(case: &Case, threads: usize) -> Result<Self, RunError> {
+        let (sim, walls, material) = hopper_simulation(case, threads)?;
+        let outlet = outlet_geometry(case);
+        let bins = OutletBins::with_width(&outlet, case.measure.x_bin_width)?;
+        let mut strip = StripConfig::new(outlet, bins);
+        strip.strip_height = case.measure.strip_height;
+        let d = outlet.particle_diameter;
+        let grid = FieldGrid::new(-0.5 * case.geometry.width, 0.5 * case.geometry.width, -3.0 * d, (2.0 * case.geometry.width).min(case.geometry.height), d)?;
+        let state = RunState {
+            sim: sim.state().clone(),
+            walls,
+            material,
+            rng: Xoshiro256PlusPlus::seed_from_u64(case.seed),
+            phase: Phase::Fill { inserted: 0, last_insert: 0.0 },
+            crossing: CrossingProbe::new(outlet)?,
+            strip: StripProbe::new(strip)?,
+            field: VelocityFieldProbe::new(grid, Kernel::Box, case.measure.rate_bin_width)?,
+            bulk: None,
+            settled_kinetic_energy: f64::NAN,
+            settled: false,
+            next_frame: 0.0,
+            next_check: 0.0,
+            discharged_mass: 0.0,
+        };
+        Ok(Self { case: case.clone(), sim, state })
+    }
+
+    /// Resumes from a checkpointed state.
+    pub fn resume(case: &Case, state: RunState, threads: usize) -> Result<Self, RunError> {
+        let sim = Simulation::from_state(state.sim.clone(), threads)?;
+        Ok(Self { case: case.clone(), sim, state })
+    }
+
+    /// The state to checkpoint (the engine state is refreshed first).
+    pub fn checkpoint(&mut self) -> &RunState {
+        self.state.sim = self.sim.state().clone();
+        &self.state
+    }
+
+    /// The simulation (read-only).
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// The current phase.
+    pub fn phase(&self) -> Phase {
+        self.state.phase
+    }
+
+    /// Advances by one protocol chunk (at most `CHECK_INTERVAL` of simulated time).
+    pub fn advance(&mut self) -> Result<(), RunError> {
+        let dt = self.case.time_step;
+        let chunk = (CHECK_INTERVAL / dt).round().max(1.0) as u64;
+        match self.state.phase {
+            Phase::Fill { inserted, last_insert } => self.fill(inserted, last_insert, chunk),
+            Phase::Settle { since } => self.settle(since, chunk),
+            Phase::Discharge { opened, last_crossing } => self.discharge(opened, last_crossing, chunk),
+            Phase::Done { .. } => Ok(()),
+        }
+    }
+
+    fn fill(&mut self, inserted: usize, last_insert: f64, chunk: u64) -> Result<(), RunError> {
+        let total = self.case.particles.count;
+        let t = self.sim.time();
+        let mut inserted = inserted;
+        let mut last = last_insert;
+        if t >= self.state.next_check {
+            self.state.next_check = t + INSERT_INTERVAL;
+            let top = self.case.protocol.fill_top.min(self.case.geometry.height);
+            let band = ((top - INSERT_BAND).max(self.case.protocol.fill_bottom), top);
+            let want = total - inserted;
+            let size = self.case.particles.size.clone();
+            let n = insert_batch(
+                &mut self.sim,
+                &self.case.geometry,
+                &mut self.state.rng,
+                want,
+                |rng| sample_radius(&size, rng),
+                self.state.material,
+                band,
+                DVec3::new(0.0, 0.0, -INSERT_SPEED),
+                20 * want + 1000,
+            )?;
+            if n > 0 {
+                inserted += n;
+                last = t;
+            } else if t - last > 1.0 {
+                return Err(RunError::CannotFill { inserted, total });
+            }
+        }
+        self.sim.run(chunk)?;
+        self.state.phase = if inserted >= total {
+            self.state.next_check = self.sim.time() + MIN_SETTLE_AFTER_FILL;
+            Phase::Settle { since: self.sim.time() }
+        } else {
+            Phase::Fill { inserted, last_insert: last }
+        };
+        Ok(())
+    }
+
+    fn mean_kinetic_energy(&self) -> f64 {
+        let e = self.sim.energy();
+        (e.translational + e.rotational) / self.sim.particles().len().max(1) as f64
+    }
+
+    fn settle(&mut self, since: f64, chunk: u64) -> Result<(), RunError> {
+        self.sim.run(chunk)?;
+        let t = self.sim.time();
+        if t < self.state.next_check {
+            return Ok(());
+        }
+        let ke = self.mean_kinetic_energy();
+        let calm = ke < self.case.protocol.settle_kinetic_energy;
+        if calm || t - since > self.case.protocol.max_settle_time {
+            self.state.settled = calm;
+            self.state.settled_kinetic_energy = ke;
+            self.state.bulk = self.measure_bulk().ok();
+            self.sim.remove_wall(self.state.walls.gate)?;
+            self.state.next_frame = t;
+            self.state.next_check = t;
+            self.state.phase = Phase::Discharge { opened: t, last_crossing: t };
+        }
+        Ok(())
+    }
+
+    fn measure_bulk(&self) -> Result<BulkMeasurement, RunError> {
+        let g = &self.case.geometry;
+        let outlet = outlet_geometry(&self.case);
+        let outline = ContainerOutline::hopper(g.width, &outlet, g.hopper_angle(), g.height)?;
+        let (x0, x1) = outline.x_range();
+        let probe = BulkProbe::new(outline, g.thickness, (x0, x1), 0.0, outlet.particle_diameter)?;
+        let frame = Frame::of(&self.sim, |_| true);
+        Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.material.density))?)
+    }
+
+    fn discharge(&mut self, opened: f64, last_crossing: f64, chunk: u64) -> Result<(), RunError> {
+        let every = self.case.measure.crossing_check_interval.max(1) as u64;
+        let d = outlet_geometry(&self.case).particle_diameter;
+        let density = self.case.particles.material.density;
+        let band = CROSSING_BAND_DIAMETERS * d;
+        let mut last_crossing = last_crossing;
+        let mut done = 0;
+        while done < chunk {
+            let n = every.min(chunk - done);
+            self.sim.run(n)?;
+            done += n;
+            let t = self.sim.time();
+            let frame = Frame::of(&self.sim, |x| x.z.abs() < band);
+            if self.state.crossing.observe(&frame.view(t, density))? > 0 {
+                last_crossing = t;
+            }
+            if t >= self.state.next_frame {
+                self.state.next_frame += self.case.measure.frame_interval;
+                let strip = Frame::of(&self.sim, |x| x.z.abs() < d);
+                self.state.strip.observe(&strip.view(t, density))?;
+                let all = Frame::of(&self.sim, |_| true);
+                self.state.field.observe(&all.view(t, density))?;
+            }
+        }
+        // Delete particles well below the outlet (physics.md §5: about 5 d).
+        let depth = self.case.protocol.deletion_depth;
+        let removed = self.sim.remove_particles(|k, p| p.positions()[k].z < -depth);
+        self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
+        let t = self.sim.time();
+        let reason = if self.sim.particles().is_empty() {
+            Some(StopReason::Empty)
+        } else if t - last_crossing > self.case.protocol.clog_timeout {
+            Some(StopReason::Clogged)
+        } else if t - opened > self.case.protocol.time_limit {
+            Some(StopReason::TimeLimit)
+        } else {
+            None
+        };
+        self.state.phase = match reason {
+            Some(reason) => Phase::Done { reason, opened },
+            None => Phase::Discharge { opened, last_crossing },
+        };
+        Ok(())
+    }
+}
+
+/// Particle data copied out of the engine for the probes (they take plain arrays).
+pub struct Frame {
+    ids: Vec<u64>,
+    positions: Vec<[f64; 3]>,
+    velocities: Vec<[f64; 3]>,
+    radii: Vec<f64>,
+}
+
+impl Frame {
+    /// The particles whose position satisfies `keep`.
+    pub fn of(sim: &Simulation, keep: impl Fn(DVec3) -> bool) -> Self {
+        let p = sim.particles();
+        let mut f = Frame {
+            ids: Vec::new(),
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            radii: Vec::new(),
+        };
+        for k in 0..p.len() {
+            let x = p.positions()[k];
+            if keep(x) {
+                f.ids.push(p.tags()[k]);
+                f.positions.push(x.to_array());
+                f.velocities.push(p.velocities()[k].to_array());
+                f.radii.push(p.radii()[k]);
+            }
+        }
+        f
+    }
+
+    /// A probe view at time `time` [s] for particle density `density` [kg/m³].
+    pub fn view(&self, time: f64, density: f64) -> FrameView<'_> {
+        FrameView {
+            time,
+            ids: &self.ids,
+            positions: &self.positions,
+            velocities: &self.velocities,
+            radii: &self.radii,
+            density,
+        }
+    }
+}
