@@ -1,0 +1,60 @@
+//! Why a study could not run or its results could not be read.
+
+use std::path::PathBuf;
+
+use crate::output::OutputError;
+
+/// A study-level failure. A single case failing is not one of these: it is recorded in
+/// `failures.json` and the results table, and the other cases go on.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// A directory could not be created or a file could not be read.
+    #[error("cannot access {path}: {source}")]
+    Io {
+        /// The file or directory involved.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A writer failed (results table, manifest, failures list).
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// A results table or a summary could not be parsed.
+    #[error("cannot read {path}: {reason}")]
+    Parse {
+        /// The file involved.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The output directory holds a different study, so resuming into it would mix results.
+    #[error(
+        "{path} holds study '{found_name}' with config hash {found_hash}, not '{expected_name}' \
+         ({expected_hash}); choose another output directory or remove the old one"
+    )]
+    DifferentStudy {
+        /// The manifest that disagrees.
+        path: PathBuf,
+        /// Name in the manifest.
+        found_name: String,
+        /// Config hash in the manifest.
+        found_hash: String,
+        /// Name of the sweep being run.
+        expected_name: String,
+        /// Config hash of the sweep being run.
+        expected_hash: String,
+    },
+    /// Two cases of the plan share an identifier, so they would share a directory.
+    #[error("the sweep has two cases named '{0}'")]
+    DuplicateCase(String),
+}
+
+impl StudyError {
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}

@@ -1,0 +1,20 @@
+//! Parametric studies: run every case of a sweep in parallel and resumably, and collect
+//! one results table.
+//!
+//! [`run_study`] takes an expanded [`crate::config::SweepPlan`] and a [`CaseRunner`] (the
+//! simulation, or a stand-in in tests), writes `study.json`, `cases/<id>/…`,
+//! `results.csv` and `failures.json`, and reports each finished case through a callback.
+
+mod error;
+mod manifest;
+mod results;
+mod runner;
+mod simulation;
+
+pub use error::StudyError;
+pub use manifest::{CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
+pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
+pub use runner::{
+    run_study, CaseRunner, StudyEvent, StudyOptions, StudyOutcome, StudyPaths, SUMMARY_FILE,
+};
+pub use simulation::SimulationRunner;
