@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 
 mod bench_cmd;
 mod run_cmd;
+mod verify_cmd;
 
 #[derive(Parser)]
 #[command(name = "hopperflow", version, about = "DEM simulation and analysis of granular discharge from hoppers")]
@@ -22,6 +23,8 @@ enum Command {
     Init(run_cmd::InitArgs),
     /// Time the engine (ns per particle-step).
     Bench(bench_cmd::BenchArgs),
+    /// Run the verification suite (impact benchmarks and closed-form tests).
+    Verify(verify_cmd::VerifyArgs),
 }
 
 fn main() {
@@ -38,6 +41,7 @@ fn main() {
         Command::Check(args) => run_cmd::check(args),
         Command::Init(args) => run_cmd::init(args),
         Command::Bench(args) => bench_cmd::run(args),
+        Command::Verify(args) => verify_cmd::run(args),
     };
     std::process::exit(code);
 }

@@ -8,8 +8,12 @@ use serde::{Deserialize, Serialize};
 pub enum StopReason {
     /// Every particle left the hopper.
     Empty,
-    /// No particle crossed the outlet for the clog timeout: an arch formed.
+    /// No particle crossed the outlet for the clog timeout and particles span the orifice:
+    /// an arch formed.
     Clogged,
+    /// The flow stopped with particles left only beside the orifice (the stagnant zones of a
+    /// flat or shallow bottom), none above it: the hopper drained as far as it can.
+    Drained,
     /// The discharge time limit was reached with particles left.
     TimeLimit,
 }

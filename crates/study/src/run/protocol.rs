@@ -268,7 +268,7 @@ impl CaseRun {
         let reason = if self.sim.particles().is_empty() {
             Some(StopReason::Empty)
         } else if t - last_crossing > self.case.protocol.clog_timeout {
-            Some(StopReason::Clogged)
+            Some(if self.orifice_blocked() { StopReason::Clogged } else { StopReason::Drained })
         } else if t - opened > self.case.protocol.time_limit {
             Some(StopReason::TimeLimit)
         } else {
@@ -279,6 +279,22 @@ impl CaseRun {
             None => Phase::Discharge { opened, last_crossing },
         };
         Ok(())
+    }
+}
+
+impl CaseRun {
+    /// Whether some particle sits over the orifice, within D + d above it: a stopped flow
+    /// with such a particle is an arch (a clog); without one, only the stagnant zones beside
+    /// the orifice are left. A particle resting on a plate has its centre over the plate, so
+    /// centres more than r/2 inside the opening must be held up by neighbours.
+    fn orifice_blocked(&self) -> bool {
+        let o = outlet_geometry(&self.case);
+        let p = self.sim.particles();
+        (0..p.len()).any(|k| {
+            let x = p.positions()[k];
+            let r = p.radii()[k];
+            (x.x - o.centre).abs() < o.half_width - 0.5 * r && x.z > 0.0 && x.z < 2.0 * o.half_width + o.particle_diameter
+        })
     }
 }
 

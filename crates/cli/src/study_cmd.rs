@@ -1,0 +1,238 @@
+//! `hopperflow study`: runs a parametric study (the built-in fan2023 programme or a sweep
+//! file) in parallel and resumably, then prints where the results are.
+
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use study::config::{builtin_sweep, load_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
+use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyEvent, StudyOptions};
+
+#[derive(Args)]
+pub struct StudyArgs {
+    /// A built-in sweep (`fan2023`, `fan2023-quick`) or a sweep file (TOML).
+    sweep: String,
+    /// Output directory (default: `study-<sweep name>`). An existing one is resumed.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Independent fills per grid point (overrides the sweep's `replicas`).
+    #[arg(long)]
+    replicas: Option<u32>,
+    /// Cases run at the same time (default: one per core; each case uses one thread).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Run the reduced preset of a built-in sweep (fan2023-quick: 600 spheres, 6 cases).
+    #[arg(long)]
+    quick: bool,
+    /// Print the sweep file (built-in or given) instead of running it.
+    #[arg(long)]
+    print: bool,
+    /// Override a key of the base case, e.g. `--set protocol.time_limit=10` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Skip the per-case plots and frames (faster; the report does not need them).
+    #[arg(long)]
+    no_pictures: bool,
+}
+
+/// The sweep text and its plan.
+fn plan(args: &StudyArgs) -> Result<(String, SweepPlan), String> {
+    let name = if args.quick && args.sweep == "fan2023" {
+        "fan2023-quick"
+    } else {
+        args.sweep.as_str()
+    };
+    let (text, mut plan) = if let Some(text) = builtin_sweep(name) {
+        let plan = parse_sweep(text, name, None, &args.sets).map_err(|e| e.to_string())?;
+        (text.to_string(), plan)
+    } else {
+        if args.quick {
+            return Err(format!(
+                "--quick applies to the built-in fan2023 sweep only; reduce '{}' in the file",
+                args.sweep
+            ));
+        }
+        let path = PathBuf::from(&args.sweep);
+        if !path.exists() {
+            return Err(format!(
+                "'{}' is neither a built-in sweep ({}) nor a file",
+                args.sweep,
+                BUILTIN_SWEEP_NAMES.join(", ")
+            ));
+        }
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let plan = load_sweep(&path, &args.sets).map_err(|e| e.to_string())?;
+        (text, plan)
+    };
+    if let Some(replicas) = args.replicas {
+        if replicas == 0 {
+            return Err("--replicas must be at least 1".into());
+        }
+        if replicas != plan.replicas {
+            // Replicas are expanded by the sweep reader (each with its own seed), so the
+            // file is re-read with the count replaced.
+            let text = with_replicas(&text, replicas);
+            plan = if builtin_sweep(name).is_some() {
+                parse_sweep(&text, name, None, &args.sets)
+            } else {
+                let path = PathBuf::from(&args.sweep);
+                parse_sweep(&text, &args.sweep, path.parent(), &args.sets)
+            }
+            .map_err(|e| e.to_string())?;
+            return Ok((text, plan));
+        }
+    }
+    Ok((text, plan))
+}
+
+/// The sweep text with its top-level `replicas = …` line replaced (or added).
+fn with_replicas(text: &str, replicas: u32) -> String {
+    let mut out = String::new();
+    let mut replaced = false;
+    let mut in_table = false;
+    for line in text.lines() {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with('[') {
+            in_table = true;
+        }
+        if !in_table && !replaced && trimmed.starts_with("replicas") && trimmed.contains('=') {
+            out.push_str(&format!("replicas = {replicas}\n"));
+            replaced = true;
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    if !replaced {
+        out = format!("replicas = {replicas}\n{out}");
+    }
+    out
+}
+
+pub fn run(args: StudyArgs) -> i32 {
+    if args.print {
+        let name = if args.quick && args.sweep == "fan2023" {
+            "fan2023-quick"
+        } else {
+            args.sweep.as_str()
+        };
+        match builtin_sweep(name) {
+            Some(text) => print!("{text}"),
+            None => match std::fs::read_to_string(&args.sweep) {
+                Ok(text) => print!("{text}"),
+                Err(e) => {
+                    eprintln!("error: cannot read {}: {e}", args.sweep);
+                    return 2;
+                }
+            },
+        }
+        return 0;
+    }
+    let (text, plan) = match plan(&args) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("study-{}", plan.name)));
+    if let Err(e) = std::fs::create_dir_all(&out) {
+        eprintln!("error: cannot create {}: {e}", out.display());
+        return 1;
+    }
+    // Keep the sweep as run beside its results, so the study can be rerun or edited.
+    if let Err(e) = study::output::write_atomic(out.join("sweep.toml"), text.as_bytes()) {
+        eprintln!("error: {e}");
+        return 1;
+    }
+    for skipped in &plan.skipped {
+        eprintln!("skipped {}: {}", skipped.id, skipped.reasons.join("; "));
+    }
+    let bar = ProgressBar::new(plan.cases.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} cases  elapsed {elapsed}  eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let bar = Mutex::new(bar);
+    let observer = |event: &StudyEvent| {
+        let bar = bar.lock().unwrap_or_else(|p| p.into_inner());
+        match event {
+            StudyEvent::Started {
+                total,
+                already_done,
+            } => {
+                bar.set_position(*already_done as u64);
+                if *already_done > 0 {
+                    bar.println(format!(
+                        "resuming: {already_done} of {total} cases already finished"
+                    ));
+                }
+            }
+            StudyEvent::CaseEnded {
+                id,
+                outlet_width,
+                discharge_rate,
+                status,
+                wall_time,
+                reason,
+                done,
+                ..
+            } => {
+                bar.set_position(*done as u64);
+                let what = match status {
+                    CaseStatus::Complete => format!("W = {:.1} g/s", discharge_rate * 1e3),
+                    CaseStatus::Clogged => {
+                        format!("CLOGGED (W before = {:.1} g/s)", discharge_rate * 1e3)
+                    }
+                    CaseStatus::Failed => {
+                        format!("FAILED: {}", reason.as_deref().unwrap_or("unknown error"))
+                    }
+                };
+                bar.println(format!(
+                    "{id:<28} D = {:>4.1} mm  {what}  ({wall_time:.0} s)",
+                    outlet_width * 1e3
+                ));
+            }
+        }
+    };
+    let runner = SimulationRunner {
+        pictures: !args.no_pictures,
+    };
+    let options = StudyOptions {
+        jobs: args.jobs.unwrap_or(0),
+    };
+    let outcome = run_study(&plan, &out, &runner, &options, &observer);
+    bar.lock().unwrap_or_else(|p| p.into_inner()).finish();
+    match outcome {
+        Ok(outcome) => {
+            println!(
+                "{} cases: {} run now, {} from earlier runs, {} failed",
+                outcome.rows.len(),
+                outcome.ran,
+                outcome.reused,
+                outcome.failures.len()
+            );
+            println!("results: {}", out.join("results.csv").display());
+            println!("report:  hopperflow report {}", out.display());
+            if outcome.failures.is_empty() {
+                0
+            } else {
+                eprintln!(
+                    "{} case(s) failed (see {}); rerun the same command to retry them",
+                    outcome.failures.len(),
+                    out.join("failures.json").display()
+                );
+                3
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            1
+        }
+    }
+}

@@ -1,0 +1,267 @@
+//! Loading a finished study (results table, profiles, flow series) and averaging replicas
+//! into grid points: mean ± standard error over independent fills, before any fit.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use analysis::profile::BinnedProfile;
+use analysis::Estimate;
+
+use crate::summary::ProfileRow;
+use crate::sweep::{read_results_table, CaseStatus, ResultRow, StudyError, StudyManifest, StudyPaths};
+
+/// Tolerance on s* for "the outlet is centred" (s* = 1); grid values are exact decimals.
+const CENTRED_TOLERANCE: f64 = 1e-6;
+
+/// Everything the report reads from a study directory.
+#[derive(Debug, Clone, Default)]
+pub struct StudyData {
+    /// The manifest, when `study.json` exists.
+    pub manifest: Option<StudyManifest>,
+    /// Every row of `results.csv`.
+    pub rows: Vec<ResultRow>,
+    /// Replica-averaged grid points of the usable (complete, finite-W) cases.
+    pub points: Vec<GridPoint>,
+}
+
+/// One grid point: the replicas of a case averaged.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridPoint {
+    /// Identifier without the replica suffix.
+    pub key: String,
+    /// Series name.
+    pub series: String,
+    /// Orifice width D [m].
+    pub outlet_width: f64,
+    /// Hopper angle α [°].
+    pub hopper_angle_deg: f64,
+    /// Gap s between the left wall and the outlet [m].
+    pub outlet_gap: f64,
+    /// s* = 2s/(L − D) [-].
+    pub dimensionless_gap: f64,
+    /// Slab thickness Z [m].
+    pub thickness: f64,
+    /// Particle–wall friction μ_pw [-].
+    pub wall_friction: f64,
+    /// Hopper width L [m].
+    pub width: f64,
+    /// Particle diameter d [m].
+    pub particle_diameter: f64,
+    /// Particle density ρ_p [kg/m³].
+    pub particle_density: f64,
+    /// Particles in the fill.
+    pub particles: usize,
+    /// Replicas averaged.
+    pub replicas: usize,
+    /// W [kg/s]: replica mean ± standard error (one replica: its own blocking error).
+    pub discharge_rate: Estimate,
+    /// v_c [m/s].
+    pub centre_velocity: Estimate,
+    /// φ_c [-].
+    pub centre_area_fraction: Estimate,
+    /// φ_max [-].
+    pub max_area_fraction: Estimate,
+    /// Mean settled bulk volume fraction φ_B [-].
+    pub bulk_volume_fraction: f64,
+    /// Mean velocity profile v(x*) [m/s], when profiles were saved.
+    pub velocity_profile: Option<BinnedProfile>,
+    /// Mean area-fraction profile φ(x*) [-].
+    pub area_fraction_profile: Option<BinnedProfile>,
+    /// W(t) of the first replica: times [s] and rates [kg/s], when `flow.csv` was saved.
+    pub flow: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl GridPoint {
+    /// Outlet half-width R [m].
+    pub fn radius(&self) -> f64 {
+        0.5 * self.outlet_width
+    }
+    /// Whether the outlet is centred (s* = 1).
+    pub fn is_centred(&self) -> bool {
+        (self.dimensionless_gap - 1.0).abs() < CENTRED_TOLERANCE
+    }
+    /// Whether this point is a flat-bottomed (α = 90°) hopper.
+    pub fn is_flat(&self) -> bool {
+        (self.hopper_angle_deg - 90.0).abs() < 1e-9
+    }
+    /// Whether `other` has the same material, slab, hopper width and fill (so that one
+    /// can be the reference of the other).
+    pub fn same_conditions(&self, other: &GridPoint) -> bool {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-12);
+        close(self.thickness, other.thickness)
+            && close(self.wall_friction, other.wall_friction)
+            && close(self.width, other.width)
+            && close(self.particle_diameter, other.particle_diameter)
+            && close(self.particle_density, other.particle_density)
+            && self.particles == other.particles
+    }
+}
+
+/// Identifier without its `-r<replica>` suffix.
+fn point_key(id: &str) -> &str {
+    match id.rfind("-r") {
+        Some(i) if id[i + 2..].chars().all(|c| c.is_ascii_digit()) && i + 2 < id.len() => &id[..i],
+        _ => id,
+    }
+}
+
+/// Mean ± standard error of replica values; with one value, `single_error` is its error.
+fn replica_mean(values: &[f64], single_error: f64) -> Estimate {
+    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    let n = finite.len();
+    if n == 0 {
+        return Estimate::new(f64::NAN, f64::NAN);
+    }
+    let mean = finite.iter().sum::<f64>() / n as f64;
+    if n == 1 {
+        return Estimate::new(mean, single_error);
+    }
+    let variance = finite.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+    Estimate::new(mean, (variance / n as f64).sqrt())
+}
+
+/// Reads `profiles.csv` rows; `None` when absent or unreadable (the report then says the
+/// profile was not measured rather than failing).
+fn read_profiles(path: &Path) -> Option<Vec<ProfileRow>> {
+    let mut reader = csv::Reader::from_path(path).ok()?;
+    reader.deserialize::<ProfileRow>().collect::<Result<_, _>>().ok()
+}
+
+/// Reads `flow.csv` (time, rate, …); `None` when absent or unreadable.
+fn read_flow(path: &Path) -> Option<(Vec<f64>, Vec<f64>)> {
+    let mut reader = csv::Reader::from_path(path).ok()?;
+    let (mut t, mut w) = (Vec::new(), Vec::new());
+    for record in reader.records() {
+        let record = record.ok()?;
+        t.push(record.get(0)?.parse().ok()?);
+        w.push(record.get(1)?.parse().ok()?);
+    }
+    Some((t, w))
+}
+
+/// Bin-wise replica average of profiles with equal bins: mean ± standard error over the
+/// replicas that populate a bin (one replica keeps its own bin error).
+fn average_profiles(
+    profiles: &[Vec<ProfileRow>],
+    value: impl Fn(&ProfileRow) -> f64,
+    error: impl Fn(&ProfileRow) -> f64,
+    count: impl Fn(&ProfileRow) -> u64,
+) -> Option<BinnedProfile> {
+    let first = profiles.first()?;
+    if profiles.iter().any(|p| p.len() != first.len()) {
+        return None;
+    }
+    let (mut centres, mut values, mut counts, mut errors) = (vec![], vec![], vec![], vec![]);
+    for (i, bin) in first.iter().enumerate() {
+        let populated: Vec<&ProfileRow> = profiles
+            .iter()
+            .map(|p| &p[i])
+            .filter(|row| count(row) > 0 && value(row).is_finite())
+            .collect();
+        let samples: Vec<f64> = populated.iter().map(|row| value(row)).collect();
+        let single = populated.first().map_or(f64::NAN, |row| error(row));
+        let mean = replica_mean(&samples, single);
+        centres.push(bin.x_star);
+        values.push(mean.value);
+        counts.push(populated.iter().map(|row| count(row)).sum());
+        errors.push(mean.standard_error);
+    }
+    BinnedProfile::new(centres, values, counts, errors).ok()
+}
+
+/// Loads a study directory: `results.csv` (required), `study.json` and each case's
+/// `profiles.csv` and `flow.csv` (optional).
+pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
+    let paths = StudyPaths::new(root);
+    let manifest = StudyManifest::read(&paths.manifest())?;
+    let rows = read_results_table(&paths.results())?;
+    let mut groups: BTreeMap<String, Vec<&ResultRow>> = BTreeMap::new();
+    for row in &rows {
+        if row.status == CaseStatus::Complete && row.discharge_rate.is_finite() {
+            groups.entry(point_key(&row.id).to_string()).or_default().push(row);
+        }
+    }
+    let mut points = Vec::new();
+    for (key, replicas) in groups {
+        let first = replicas[0];
+        let values = |f: fn(&ResultRow) -> f64| replicas.iter().map(|r| f(r)).collect::<Vec<_>>();
+        let profiles: Vec<Vec<ProfileRow>> = replicas
+            .iter()
+            .filter_map(|r| read_profiles(&paths.case_dir(&r.id).join("profiles.csv")))
+            .collect();
+        let usable = profiles.len() == replicas.len();
+        let velocity_profile = usable
+            .then(|| {
+                average_profiles(
+                    &profiles,
+                    |r| r.velocity,
+                    |r| r.velocity_error,
+                    |r| r.crossings as u64,
+                )
+            })
+            .flatten();
+        let area_fraction_profile = usable
+            .then(|| {
+                average_profiles(
+                    &profiles,
+                    |r| r.area_fraction,
+                    |r| r.area_fraction_error,
+                    |r| u64::from(r.area_fraction.is_finite()),
+                )
+            })
+            .flatten();
+        points.push(GridPoint {
+            key,
+            series: first.series.clone(),
+            outlet_width: first.outlet_width,
+            hopper_angle_deg: first.hopper_angle_deg,
+            outlet_gap: first.outlet_gap,
+            dimensionless_gap: first.dimensionless_gap,
+            thickness: first.thickness,
+            wall_friction: first.wall_friction,
+            width: first.width,
+            particle_diameter: first.particle_diameter,
+            particle_density: first.particle_density,
+            particles: first.particles,
+            replicas: replicas.len(),
+            discharge_rate: replica_mean(
+                &values(|r| r.discharge_rate),
+                first.discharge_rate_error,
+            ),
+            centre_velocity: replica_mean(&values(|r| r.centre_velocity), f64::NAN),
+            centre_area_fraction: replica_mean(&values(|r| r.centre_area_fraction), f64::NAN),
+            max_area_fraction: replica_mean(&values(|r| r.max_area_fraction), f64::NAN),
+            bulk_volume_fraction: replica_mean(&values(|r| r.bulk_volume_fraction), f64::NAN)
+                .value,
+            velocity_profile,
+            area_fraction_profile,
+            flow: read_flow(&paths.case_dir(&first.id).join("flow.csv")),
+        });
+    }
+    Ok(StudyData {
+        manifest,
+        rows,
+        points,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn replica_suffix_is_removed_only_when_it_is_a_number() {
+        assert_eq!(point_key("angle-a30-D045-r12"), "angle-a30-D045");
+        assert_eq!(point_key("angle-rough"), "angle-rough");
+    }
+
+    #[test]
+    fn replica_mean_gives_the_standard_error_of_the_mean() {
+        // Values 1, 2, 3: sample standard deviation 1, so the error is 1/√3 exactly.
+        let m = replica_mean(&[1.0, 2.0, 3.0], 9.0);
+        assert!((m.value - 2.0).abs() < 1e-15);
+        assert!((m.standard_error - 1.0 / 3f64.sqrt()).abs() < 1e-15);
+        // One replica keeps the error it came with.
+        assert_eq!(replica_mean(&[4.0], 0.5).standard_error, 0.5);
+    }
+}
