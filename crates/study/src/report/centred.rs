@@ -6,8 +6,8 @@ use analysis::flowrate::{
     brown_ratio, rose_tanaka_ratio, self_similar_discharge_rate, SelfSimilarFlowParameters,
 };
 use analysis::selfsimilar::{
-    fit_centre_velocity, fit_collapsed_power_profile, fit_packing_saturation,
-    CentreVelocityFit, PackingSaturationFit, PROFILE_FIT_HALF_WIDTH,
+    fit_centre_velocity, fit_collapsed_power_profile, fit_packing_saturation, CentreVelocityFit,
+    PackingSaturationFit, PROFILE_FIT_HALF_WIDTH,
 };
 use analysis::Estimate;
 
@@ -70,7 +70,9 @@ fn by_angle(points: &[GridPoint]) -> Vec<(String, f64, Vec<GridPoint>)> {
         }
     }
     for group in &mut groups {
-        group.2.sort_by(|a, b| a.outlet_width.total_cmp(&b.outlet_width));
+        group
+            .2
+            .sort_by(|a, b| a.outlet_width.total_cmp(&b.outlet_width));
     }
     groups.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
     groups
@@ -85,7 +87,10 @@ pub fn fit_angles(points: &[GridPoint]) -> Vec<AngleFit> {
 }
 
 fn fit_angle(series: String, hopper_angle_deg: f64, points: Vec<GridPoint>) -> AngleFit {
-    let velocity: Vec<_> = points.iter().filter_map(|p| p.velocity_profile.clone()).collect();
+    let velocity: Vec<_> = points
+        .iter()
+        .filter_map(|p| p.velocity_profile.clone())
+        .collect();
     let packing: Vec<_> = points
         .iter()
         .filter_map(|p| p.area_fraction_profile.clone())

@@ -8,7 +8,9 @@ use analysis::profile::BinnedProfile;
 use analysis::Estimate;
 
 use crate::summary::ProfileRow;
-use crate::sweep::{read_results_table, CaseStatus, ResultRow, StudyError, StudyManifest, StudyPaths};
+use crate::sweep::{
+    read_results_table, CaseStatus, ResultRow, StudyError, StudyManifest, StudyPaths,
+};
 
 /// Tolerance on s* for "the outlet is centred" (s* = 1); grid values are exact decimals.
 const CENTRED_TOLERANCE: f64 = 1e-6;
@@ -124,7 +126,10 @@ fn replica_mean(values: &[f64], single_error: f64) -> Estimate {
 /// profile was not measured rather than failing).
 fn read_profiles(path: &Path) -> Option<Vec<ProfileRow>> {
     let mut reader = csv::Reader::from_path(path).ok()?;
-    reader.deserialize::<ProfileRow>().collect::<Result<_, _>>().ok()
+    reader
+        .deserialize::<ProfileRow>()
+        .collect::<Result<_, _>>()
+        .ok()
 }
 
 /// Reads `flow.csv` (time, rate, …); `None` when absent or unreadable.
@@ -178,7 +183,10 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
     let mut groups: BTreeMap<String, Vec<&ResultRow>> = BTreeMap::new();
     for row in &rows {
         if row.status == CaseStatus::Complete && row.discharge_rate.is_finite() {
-            groups.entry(point_key(&row.id).to_string()).or_default().push(row);
+            groups
+                .entry(point_key(&row.id).to_string())
+                .or_default()
+                .push(row);
         }
     }
     let mut points = Vec::new();
@@ -224,15 +232,11 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             particle_density: first.particle_density,
             particles: first.particles,
             replicas: replicas.len(),
-            discharge_rate: replica_mean(
-                &values(|r| r.discharge_rate),
-                first.discharge_rate_error,
-            ),
+            discharge_rate: replica_mean(&values(|r| r.discharge_rate), first.discharge_rate_error),
             centre_velocity: replica_mean(&values(|r| r.centre_velocity), f64::NAN),
             centre_area_fraction: replica_mean(&values(|r| r.centre_area_fraction), f64::NAN),
             max_area_fraction: replica_mean(&values(|r| r.max_area_fraction), f64::NAN),
-            bulk_volume_fraction: replica_mean(&values(|r| r.bulk_volume_fraction), f64::NAN)
-                .value,
+            bulk_volume_fraction: replica_mean(&values(|r| r.bulk_volume_fraction), f64::NAN).value,
             velocity_profile,
             area_fraction_profile,
             flow: read_flow(&paths.case_dir(&first.id).join("flow.csv")),

@@ -1,0 +1,162 @@
+//! `hopperflow report DIR`: reads a finished study and writes `report/report.md`,
+//! `report/report.html`, `report/comparison.json` and `report/figures/*.{png,svg}`.
+
+use std::path::{Path, PathBuf};
+
+use super::comparison::compare_with_paper;
+use super::data::load_study;
+use super::document::{Block, Document};
+use super::figures::report_figures;
+use super::{analyse_study, tables};
+use crate::output::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
+use crate::sweep::{CaseStatus, StudyError};
+
+/// Figure size [px]: wide enough for legends beside six series.
+const FIGURE_SIZE: (u32, u32) = (900, 600);
+
+/// Why a report could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// The study could not be read.
+    #[error(transparent)]
+    Study(#[from] StudyError),
+    /// A report file could not be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// The report directory could not be created or a figure read back.
+    #[error("cannot access {path}: {source}")]
+    Io {
+        /// The path involved.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// The files a report wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ReportFiles {
+    /// `report/report.md`.
+    pub markdown: PathBuf,
+    /// `report/report.html`.
+    pub html: PathBuf,
+    /// `report/comparison.json`.
+    pub comparison: PathBuf,
+    /// Figure files (PNG and SVG).
+    pub figures: Vec<PathBuf>,
+}
+
+/// Builds the report of the study in `root` from its saved results (no simulation).
+pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
+    let data = load_study(root)?;
+    let analysis = analyse_study(&data.points);
+    let items = compare_with_paper(&analysis);
+    let dir = root.join("report");
+    let figures_dir = dir.join("figures");
+    std::fs::create_dir_all(&figures_dir).map_err(|source| ReportError::Io {
+        path: figures_dir.clone(),
+        source,
+    })?;
+
+    let mut doc = Document::default();
+    let name = data
+        .manifest
+        .as_ref()
+        .map_or("study".to_string(), |m| m.name.clone());
+    doc.push(Block::Heading(1, format!("hopperflow report: {name}")));
+    let count = |s: CaseStatus| data.rows.iter().filter(|r| r.status == s).count();
+    match &data.manifest {
+        Some(m) => doc.push(Block::Paragraph(format!(
+            "Sweep '{}' ({}). Run by hopperflow {}, this report by hopperflow {}. Config hash {}. {} cases planned, {} replica(s) per grid point, {} grid point(s) skipped.",
+            m.name, m.description, m.version, env!("CARGO_PKG_VERSION"), m.config_hash, m.cases.len(), m.replicas, m.skipped.len()
+        ))),
+        None => doc.push(Block::Paragraph("No study.json: version, config hash and seeds are unknown.".into())),
+    }
+    doc.push(Block::Paragraph(format!(
+        "{} case(s) in results.csv: {} complete, {} clogged, {} failed. Clogged and failed cases are left out of every fit; replicas are averaged (mean ± standard error) before fitting. Uncertainties are one standard error unless an interval is given. g = {} m/s².",
+        data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed), super::GRAVITY
+    )));
+
+    doc.push(Block::Heading(2, "Comparison with the paper".into()));
+    doc.push(Block::Paragraph(format!(
+        "Items of the acceptance list (physics spec §9 B3). The angle items use series '{}', the eccentric item series '{}'; k is the flat-bottom (α = 90°) fit. 'not measured' means the study has too few cases for the fit (the reason is given).",
+        super::ANGLE_SERIES, super::ECCENTRIC_SERIES
+    )));
+    doc.push(tables::comparison_table(&items));
+
+    doc.push(Block::Heading(
+        2,
+        "Table 2: centred outlets by hopper angle".into(),
+    ));
+    doc.push(Block::Paragraph("a and b: exponents of (1 − x*²)^p fitted to the velocity and area-fraction profiles of all widths of one angle, each divided by its centre value (|x*| < 0.1), bins |x*| ≤ 0.9. γ: least squares of v_c = √(2γgR). φ∞, τ₁, τ₂: Eq. 12 over φ_c(R), R in mm (needs four widths).".into()));
+    doc.push(tables::table2(&analysis));
+    doc.push(Block::Heading(2, "Beverloo constants".into()));
+    doc.push(Block::Paragraph("Weighted straight line of (W/Z)^(2/3) against D; k from the x-intercept, C from the slope under three densities (physics spec §8.2): bulk φ_B ρ_p (φ_B the measured settled fraction), particle ρ_p, and ρ_p φ_2D with φ_2D the mean measured centre area fraction. Intervals are 95 %.".into()));
+    doc.push(tables::beverloo_table(&analysis));
+    doc.push(Block::Heading(2, "Eq. 14 against the measured rate".into()));
+    doc.push(tables::eq14_table(&analysis));
+    doc.push(Block::Heading(2, "Hopper angle: W(α)/W(90°)".into()));
+    doc.push(Block::Paragraph(format!(
+        "Rose–Tanaka is evaluated at β_d = {}° (not stated in the paper).",
+        super::centred::STAGNANT_ZONE_ANGLE_DEG
+    )));
+    doc.push(tables::angle_ratio_table(&analysis));
+    doc.push(Block::Heading(2, "Table 3: off-centred outlets".into()));
+    doc.push(Block::Paragraph("Eq. 16 on v/√(2gR) and Eq. 17 on φ/φ_max (ε_s2 held at 1), all widths of one gap pooled, bins |x*| ≤ 0.9, x* < 0 on the near-wall side.".into()));
+    doc.push(tables::table3(&analysis));
+    doc.extend_fits(&analysis);
+    doc.push(Block::Heading(2, "Eq. 18 and W/W0".into()));
+    doc.push(tables::eccentric_rate_table(&analysis));
+
+    doc.push(Block::Heading(2, "Figures".into()));
+    let mut figure_files = Vec::new();
+    for figure in report_figures(&analysis) {
+        let png = figures_dir.join(format!("{}.png", figure.name));
+        let svg = figures_dir.join(format!("{}.svg", figure.name));
+        plot_png(&figure.figure, &png, FIGURE_SIZE.0, FIGURE_SIZE.1)?;
+        plot_svg(&figure.figure, &svg, FIGURE_SIZE.0, FIGURE_SIZE.1)?;
+        let text = std::fs::read_to_string(&svg).map_err(|source| ReportError::Io {
+            path: svg.clone(),
+            source,
+        })?;
+        doc.push(Block::Figure {
+            name: figure.name,
+            caption: figure.caption,
+            svg: text,
+        });
+        figure_files.push(png);
+        figure_files.push(svg);
+    }
+
+    doc.push(Block::Heading(2, "Cases and seeds".into()));
+    doc.push(tables::cases_table(&data));
+
+    let files = ReportFiles {
+        markdown: dir.join("report.md"),
+        html: dir.join("report.html"),
+        comparison: dir.join("comparison.json"),
+        figures: figure_files,
+    };
+    write_json_atomic(&files.comparison, &items)?;
+    write_atomic(&files.markdown, doc.to_markdown().as_bytes())?;
+    write_atomic(
+        &files.html,
+        doc.to_html(&format!("hopperflow report: {name}"))
+            .as_bytes(),
+    )?;
+    Ok(files)
+}
+
+trait FitBlocks {
+    fn extend_fits(&mut self, analysis: &super::StudyAnalysis);
+}
+
+impl FitBlocks for Document {
+    /// The σ_s1(s*) and φ_max(R) fits of the off-centre series.
+    fn extend_fits(&mut self, analysis: &super::StudyAnalysis) {
+        for block in tables::eccentric_fit_blocks(analysis) {
+            self.push(block);
+        }
+    }
+}

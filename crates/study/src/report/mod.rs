@@ -1,0 +1,69 @@
+//! The study report: analysis of a finished study's saved results (no re-simulation) and
+//! the documents built from it.
+//!
+//! - [`load_study`] reads `results.csv`, `study.json` and each case's profiles, and
+//!   averages replicas (mean ± standard error) into [`GridPoint`]s;
+//! - [`analyse_study`] fits them: Beverloo per series, angle and gap ([`beverloo`]),
+//!   Table 2 quantities and Eq. 14 ([`centred`]), Table 3 quantities and Eq. 18
+//!   ([`eccentric`]); every function here is pure;
+//! - [`compare_with_paper`] turns the fits into the paper's acceptance items;
+//! - [`build_report`] writes `report/report.md`, `report/report.html` (self-contained),
+//!   `report/comparison.json` and the figures.
+
+pub mod beverloo;
+mod build;
+pub mod centred;
+mod comparison;
+mod data;
+mod document;
+pub mod eccentric;
+mod figures;
+mod tables;
+
+use analysis::Estimate;
+
+pub use build::{build_report, ReportError, ReportFiles};
+pub use comparison::{
+    compare_with_paper, ComparisonItem, ANGLE_SERIES, ECCENTRIC_SERIES, FLAT_TOLERANCE,
+};
+pub use data::{load_study, GridPoint, StudyData};
+pub use document::{Block, Document};
+
+/// A fitted value, or why it could not be measured (too few points, no profiles, a fit
+/// that failed); the report prints the reason instead of failing.
+pub type Fitted<T> = Result<T, String>;
+
+/// Gravitational acceleration g [m/s²] used by every fit (the engine's default).
+pub const GRAVITY: f64 = 9.81;
+
+/// All fits of a study.
+#[derive(Debug, Clone)]
+pub struct StudyAnalysis {
+    /// Beverloo fits per series, angle and gap.
+    pub beverloo: Vec<beverloo::BeverlooGroup>,
+    /// Table 2 per (series, α).
+    pub angles: Vec<centred::AngleFit>,
+    /// W(α)/W(90°) per (series, α, D).
+    pub angle_ratios: Vec<centred::AngleRatio>,
+    /// Off-centre outlets.
+    pub eccentric: eccentric::EccentricAnalysis,
+}
+
+/// Fits everything that the grid points allow.
+pub fn analyse_study(points: &[GridPoint]) -> StudyAnalysis {
+    StudyAnalysis {
+        beverloo: beverloo::fit_beverloo_groups(points),
+        angles: centred::fit_angles(points),
+        angle_ratios: centred::angle_ratios(points),
+        eccentric: eccentric::analyse_eccentric(points),
+    }
+}
+
+/// The standard errors of `values` when every one is finite and positive (fit weights);
+/// otherwise `None`, so that the fit weights points equally.
+pub(crate) fn errors_if_known(values: &[Estimate]) -> Option<Vec<f64>> {
+    values
+        .iter()
+        .all(|e| e.standard_error.is_finite() && e.standard_error > 0.0)
+        .then(|| values.iter().map(|e| e.standard_error).collect())
+}

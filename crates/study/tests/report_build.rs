@@ -1,0 +1,242 @@
+//! The report built from synthetic studies with known parameters: fits recover them,
+//! comparison.json has exactly its keys, pass/fail follows the bands, and missing data
+//! gives "not measured" rows rather than a failure.
+
+mod study_fake;
+
+use std::path::Path;
+
+use serde_json::Value;
+use study::config::{parse_sweep, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
+use study::report::{analyse_study, build_report, load_study};
+use study::sweep::{run_study, StudyEvent, StudyOptions};
+use study_fake::FakeRunner;
+
+fn quiet(_: &StudyEvent) {}
+
+fn run_fake(sweep: &str, dir: &Path, fake: &FakeRunner) {
+    let plan = parse_sweep(sweep, "sweep", None, &[]).unwrap();
+    run_study(&plan, dir, fake, &StudyOptions { jobs: 2 }, &quiet).unwrap();
+}
+
+fn comparison(dir: &Path) -> Vec<Value> {
+    let text = std::fs::read_to_string(dir.join("report/comparison.json")).unwrap();
+    serde_json::from_str::<Value>(&text)
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .clone()
+}
+
+fn item<'a>(items: &'a [Value], starts: &str) -> &'a Value {
+    items
+        .iter()
+        .find(|i| i["item"].as_str().unwrap().starts_with(starts))
+        .unwrap_or_else(|| panic!("no item {starts}"))
+}
+
+#[test]
+fn fits_recover_the_known_laws_of_a_synthetic_fan2023_study() {
+    let dir = tempfile::tempdir().unwrap();
+    run_fake(FAN2023_SWEEP, dir.path(), &FakeRunner::new());
+    let data = load_study(dir.path()).unwrap();
+    let analysis = analyse_study(&data.points);
+
+    let flat = analysis
+        .angles
+        .iter()
+        .find(|f| f.series == "angle" && f.hopper_angle_deg == 90.0)
+        .unwrap();
+    // Profiles carry ±0.2 % noise, so exponents come back within 0.01 of the truth.
+    assert!((flat.velocity_exponent.as_ref().unwrap().value - 0.39).abs() < 0.01);
+    assert!((flat.packing_exponent.as_ref().unwrap().value - 0.39).abs() < 0.01);
+    // v_c is the mean of the two central bins (x* = ±0.05), (1 − 0.0025)^a below the
+    // peak: γ is low by about 2a·0.0025 ≈ 0.2 %, so 1 % covers it.
+    let gamma = flat.centre_velocity.as_ref().unwrap().gamma.value;
+    assert!((gamma / 1.66 - 1.0).abs() < 0.01, "γ = {gamma}");
+    let phi = flat.saturation.as_ref().unwrap().phi_infinity.value;
+    // φ_c carries the same 0.2 % noise on four points; 0.01 is a few σ of φ∞.
+    assert!((phi - study_fake::PHI_INFINITY).abs() < 0.01, "φ∞ = {phi}");
+
+    let k = analysis
+        .beverloo
+        .iter()
+        .find(|g| g.series == "angle" && g.label == "α = 90°")
+        .unwrap()
+        .fit
+        .as_ref()
+        .unwrap()
+        .k
+        .value;
+    // Rates are exact Beverloo values, so k is recovered to rounding.
+    assert!((k - study_fake::BEVERLOO_K).abs() < 1e-6, "k = {k}");
+    let c = analysis
+        .beverloo
+        .iter()
+        .find(|g| g.series == "angle" && g.label == "α = 90°")
+        .unwrap()
+        .fit
+        .as_ref()
+        .unwrap()
+        .coefficients
+        .bulk_density
+        .coefficient
+        .value;
+    assert!((c - study_fake::BEVERLOO_C).abs() < 1e-6, "C = {c}");
+
+    // The σ_s1(s*) law of the fake is recovered by the per-case fits and the exponential
+    // fit (0.2 % noise on 24 cases: limits within 0.02, rate within 20 %).
+    let (_, fit) = analysis
+        .eccentric
+        .exponent_fits
+        .iter()
+        .find(|(s, _)| s == "eccentric")
+        .unwrap();
+    let fit = fit.as_ref().unwrap();
+    assert!(
+        (fit.limit.value - 0.39).abs() < 0.02,
+        "c0 = {}",
+        fit.limit.value
+    );
+    assert!(
+        (fit.amplitude.value - 0.12).abs() < 0.02,
+        "c1 = {}",
+        fit.amplitude.value
+    );
+    assert!(
+        (fit.rate.value / 3.74 - 1.0).abs() < 0.2,
+        "c2 = {}",
+        fit.rate.value
+    );
+    // W/W0 at s = 0 is the fake's gain exactly (same Beverloo rate times 1.3).
+    for p in analysis
+        .eccentric
+        .points
+        .iter()
+        .filter(|p| p.point.outlet_gap == 0.0)
+    {
+        let ratio = p.relative_rate.as_ref().unwrap().value;
+        assert!((ratio - study_fake::WALL_OUTLET_GAIN).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn report_of_a_paper_like_study_passes_every_item_and_writes_all_documents() {
+    let dir = tempfile::tempdir().unwrap();
+    run_fake(FAN2023_SWEEP, dir.path(), &FakeRunner::new());
+    let files = build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    assert_eq!(items.len(), 10);
+    for i in &items {
+        let mut keys: Vec<&str> = i.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        keys.sort();
+        assert_eq!(keys, ["band", "item", "measured", "paper", "pass"]);
+        // The fake follows the paper's laws, so every item must be measured and pass.
+        assert_eq!(i["pass"], Value::Bool(true), "{i}");
+    }
+    let k = item(&items, "Beverloo k")["measured"].as_f64().unwrap();
+    assert!((k - 1.55).abs() < 1e-6);
+
+    let md = std::fs::read_to_string(&files.markdown).unwrap();
+    let html = std::fs::read_to_string(&files.html).unwrap();
+    for needle in [
+        "Table 2",
+        "Table 3",
+        "Beverloo constants",
+        "Comparison with the paper",
+        "Config hash",
+    ] {
+        assert!(md.contains(needle), "markdown lacks {needle}");
+        assert!(html.contains(needle), "html lacks {needle}");
+    }
+    // Paper values stand beside ours: Table 2's γ(15°) and Table 3's σ_s2(s = 0).
+    assert!(md.contains("2.81") && md.contains("0.32"));
+    // Self-contained: figures inline as SVG, no external image or stylesheet.
+    assert!(html.contains("<svg"));
+    assert!(!html.contains("<img") && !html.contains("<link"));
+    assert!(
+        files.figures.len() >= 20,
+        "{} figure files",
+        files.figures.len()
+    );
+    assert!(files.figures.iter().all(|f| f.exists()));
+    assert!(dir
+        .path()
+        .join("report/figures/fig16-relative-rate.svg")
+        .exists());
+}
+
+#[test]
+fn a_missed_item_fails_and_the_report_says_by_how_much() {
+    let dir = tempfile::tempdir().unwrap();
+    // γ(90°) = 2.5 is 25.6 % above 1.66, beyond the ±20 % band (upper edge 1.992).
+    let fake = FakeRunner {
+        gamma_90: Some(2.5),
+        ..FakeRunner::new()
+    };
+    run_fake(FAN2023_SWEEP, dir.path(), &fake);
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    let gamma = item(&items, "γ(90°)");
+    assert_eq!(gamma["pass"], Value::Bool(false));
+    let measured = gamma["measured"].as_f64().unwrap();
+    // Within 1 % of the fake's value (see the recovery test for the bias).
+    assert!((measured / 2.5 - 1.0).abs() < 0.01);
+    // γ no longer stays flat from 55° to 90° (1.61, 1.64, 2.5: 2.5 is 31 % above the mean).
+    assert_eq!(
+        item(&items, "Table 2 trend: γ flat")["pass"],
+        Value::Bool(false)
+    );
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    let expected = format!("{:.3} above the band", measured - 1.66 * 1.2);
+    assert!(md.contains(&expected), "report lacks '{expected}'");
+}
+
+#[test]
+fn quick_study_report_builds_with_not_measured_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    run_fake(FAN2023_QUICK_SWEEP, dir.path(), &FakeRunner::new());
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    assert_eq!(items.len(), 10);
+    // Two widths only: no Beverloo fit (needs 3) and no Eq. 12 fit (needs 4).
+    for name in ["Beverloo k", "φ∞(90°)", "Table 2 trend: γ flat"] {
+        let i = item(&items, name);
+        assert_eq!(i["measured"], Value::String("not measured".into()), "{i}");
+        assert_eq!(i["pass"], Value::Null);
+    }
+    // What two widths can measure is measured: γ(90°), a, b, the 30° rise, W(s=0)/W0.
+    for name in [
+        "γ(90°)",
+        "a(90°)",
+        "b(90°)",
+        "Table 2 trend: γ rises",
+        "W(s = 0)/W0",
+    ] {
+        assert_eq!(item(&items, name)["pass"], Value::Bool(true), "{name}");
+    }
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    assert!(
+        md.contains("not measured (1 outlet width(s); the fit needs at least 3)")
+            || md.contains("not measured (2 outlet width(s); the fit needs at least 3)")
+    );
+}
+
+#[test]
+fn report_survives_failed_cases_and_missing_profiles() {
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner {
+        fail: vec!["angle-a90-D030-r0".into()],
+        ..FakeRunner::new()
+    };
+    run_fake(FAN2023_QUICK_SWEEP, dir.path(), &fake);
+    std::fs::remove_file(dir.path().join("cases/angle-a90-D018-r0/profiles.csv")).unwrap();
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    assert_eq!(
+        item(&items, "a(90°)")["measured"],
+        Value::String("not measured".into())
+    );
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    assert!(md.contains("1 failed"));
+}
