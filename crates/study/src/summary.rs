@@ -16,6 +16,8 @@ pub enum StopReason {
     Drained,
     /// The discharge time limit was reached with particles left.
     TimeLimit,
+    /// The requested fraction of the fill had left (`protocol.stop_fraction`).
+    Fraction,
 }
 
 /// The summary of one run (`summary.json`). Rates in kg/s for the whole slab.

@@ -84,6 +84,7 @@ pub(crate) fn read_protocol(
     let depth = section.float_or("deletion_depth", "m", 5.0 * d_max, errors);
     let clog = section.float_or("clog_timeout", "s", base.clog_timeout, errors);
     let limit = section.float_or("time_limit", "s", base.time_limit, errors);
+    let stop = section.float_or("stop_fraction", "-", base.stop_fraction, errors);
     section.finish(
         &[
             "settle_kinetic_energy",
@@ -93,6 +94,7 @@ pub(crate) fn read_protocol(
             "deletion_depth",
             "clog_timeout",
             "time_limit",
+            "stop_fraction",
         ],
         errors,
     );
@@ -101,7 +103,12 @@ pub(crate) fn read_protocol(
         & bottom.require_non_negative(errors)
         & top.require_positive(errors)
         & clog.require_positive(errors)
-        & limit.require_positive(errors);
+        & limit.require_positive(errors)
+        & stop.require_positive(errors);
+    if ok && stop.value > 1.0 {
+        errors.push(stop.error(ErrorKind::Invalid, "must be in (0, 1]".to_string()));
+        ok = false;
+    }
     if ok && bottom.value >= top.value {
         errors.push(top.error(
             ErrorKind::Invalid,
@@ -138,6 +145,7 @@ pub(crate) fn read_protocol(
         deletion_depth: depth.value,
         clog_timeout: clog.value,
         time_limit: limit.value,
+        stop_fraction: stop.value,
     })
 }
 

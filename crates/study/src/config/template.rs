@@ -71,8 +71,9 @@ max_settle_time = 3.0    # [s], longest simulated settling time
 fill_bottom = 0.0        # [m], bottom of the insertion region above the outlet plane
 # fill_top = 0.4         # [m], top of the insertion region; default H
 # deletion_depth = 0.015 # [m], particles this far below the outlet are removed; default 5 d, ≥ d
-clog_timeout = 1.0       # [s], no particle leaving for this long means a clog
+clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
 time_limit = 20.0        # [s], longest simulated discharge after the gate opens
+stop_fraction = 1.0      # [-], stop once this fraction of the fill's mass has left, in (0, 1]
 
 [measure]
 rate_bin_width = 0.02    # [s], time bins of the discharge rate W(t), ≥ Δt

@@ -177,6 +177,7 @@ impl Case {
         let _ = writeln!(out, "deletion_depth = {}  # [m]", float(pr.deletion_depth));
         let _ = writeln!(out, "clog_timeout = {}  # [s]", float(pr.clog_timeout));
         let _ = writeln!(out, "time_limit = {}  # [s]", float(pr.time_limit));
+        let _ = writeln!(out, "stop_fraction = {}  # [-]", float(pr.stop_fraction));
 
         let m = &self.measure;
         let _ = writeln!(out, "\n[measure]");

@@ -80,6 +80,8 @@ pub struct RunState {
     pub(crate) next_frame: f64,
     pub(crate) next_check: f64,
     pub(crate) discharged_mass: f64,
+    /// Mass of the fill when the gate opened [kg].
+    pub(crate) fill_mass: f64,
 }
 
 /// A case being run.
@@ -124,6 +126,7 @@ impl CaseRun {
             next_frame: 0.0,
             next_check: 0.0,
             discharged_mass: 0.0,
+            fill_mass: 0.0,
         };
         Ok(Self { case: case.clone(), sim, state })
     }
@@ -218,6 +221,7 @@ impl CaseRun {
             self.state.settled = calm;
             self.state.settled_kinetic_energy = ke;
             self.state.bulk = self.measure_bulk().ok();
+            self.state.fill_mass = self.sim.particles().masses().iter().sum();
             self.sim.remove_wall(self.state.walls.gate)?;
             self.state.next_frame = t;
             self.state.next_check = t;
@@ -265,8 +269,11 @@ impl CaseRun {
         let removed = self.sim.remove_particles(|k, p| p.positions()[k].z < -depth);
         self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
         let t = self.sim.time();
+        let target = self.case.protocol.stop_fraction * self.state.fill_mass;
         let reason = if self.sim.particles().is_empty() {
             Some(StopReason::Empty)
+        } else if self.case.protocol.stop_fraction < 1.0 && self.state.discharged_mass >= target {
+            Some(StopReason::Fraction)
         } else if t - last_crossing > self.case.protocol.clog_timeout {
             Some(if self.orifice_blocked() { StopReason::Clogged } else { StopReason::Drained })
         } else if t - opened > self.case.protocol.time_limit {
