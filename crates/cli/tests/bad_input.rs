@@ -369,6 +369,38 @@ fn unknown_subcommand_and_missing_argument_exit_with_code_two() {
     );
 }
 
+#[test]
+fn output_path_that_is_a_file_fails_with_a_message_instead_of_a_panic() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let case = dir.path().join("base.toml");
+    std::fs::write(&case, "version = 1\n").expect("write base case");
+    let blocker = dir.path().join("not_a_folder");
+    std::fs::write(&blocker, "occupied").expect("write blocker");
+    let output = hopperflow(&[
+        "run",
+        case.to_str().expect("UTF-8 test path"),
+        "--out",
+        blocker.to_str().expect("UTF-8 test path"),
+        "--quiet",
+    ]);
+    let stderr = stderr_of(&output);
+    assert!(
+        !stderr.contains("panicked"),
+        "the binary panicked:\n{stderr}"
+    );
+    // Not bad input but an I/O failure: any non-zero status, with the path named.
+    assert!(!output.status.success(), "run into a file succeeded");
+    assert!(
+        stderr.contains("not_a_folder"),
+        "stderr does not name the output path:\n{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&blocker).expect("read blocker"),
+        "occupied",
+        "the blocking file was changed"
+    );
+}
+
 proptest! {
     // Each case starts the binary, so keep the count small; the parser itself is fuzzed
     // in-process by the study crate's own tests.

@@ -8,6 +8,7 @@ pub mod config;
 pub mod hopper;
 pub mod measure;
 pub mod output;
+pub mod report;
 pub mod run;
 pub mod summary;
 pub mod sweep;
