@@ -3,7 +3,9 @@
 use clap::{Parser, Subcommand};
 
 mod bench_cmd;
+mod report_cmd;
 mod run_cmd;
+mod study_cmd;
 mod verify_cmd;
 
 #[derive(Parser)]
@@ -21,6 +23,10 @@ enum Command {
     Check(run_cmd::CheckArgs),
     /// Write a commented case file with every key, its unit and default.
     Init(run_cmd::InitArgs),
+    /// Run a parametric study: the paper's (`fan2023`) or a sweep file.
+    Study(study_cmd::StudyArgs),
+    /// Build the report of a finished study from its saved results.
+    Report(report_cmd::ReportArgs),
     /// Time the engine (ns per particle-step).
     Bench(bench_cmd::BenchArgs),
     /// Run the verification suite (impact benchmarks and closed-form tests).
@@ -40,6 +46,8 @@ fn main() {
         Command::Run(args) => run_cmd::run(args),
         Command::Check(args) => run_cmd::check(args),
         Command::Init(args) => run_cmd::init(args),
+        Command::Study(args) => study_cmd::run(args),
+        Command::Report(args) => report_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
         Command::Verify(args) => verify_cmd::run(args),
     };
