@@ -105,7 +105,9 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     doc.push(Block::Heading(2, "Table 3: off-centred outlets".into()));
     doc.push(Block::Paragraph("Eq. 16 on v/√(2gR) and Eq. 17 on φ/φ_max (ε_s2 held at 1), all widths of one gap pooled, bins |x*| ≤ 0.9, x* < 0 on the near-wall side.".into()));
     doc.push(tables::table3(&analysis));
-    doc.extend_fits(&analysis);
+    for block in tables::eccentric_fit_blocks(&analysis) {
+        doc.push(block);
+    }
     doc.push(Block::Heading(2, "Eq. 18 and W/W0".into()));
     doc.push(tables::eccentric_rate_table(&analysis));
 
@@ -146,17 +148,4 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
             .as_bytes(),
     )?;
     Ok(files)
-}
-
-trait FitBlocks {
-    fn extend_fits(&mut self, analysis: &super::StudyAnalysis);
-}
-
-impl FitBlocks for Document {
-    /// The σ_s1(s*) and φ_max(R) fits of the off-centre series.
-    fn extend_fits(&mut self, analysis: &super::StudyAnalysis) {
-        for block in tables::eccentric_fit_blocks(analysis) {
-            self.push(block);
-        }
-    }
 }

@@ -95,7 +95,7 @@ fn in_range(
     }
 }
 
-fn angle_fit<'a>(analysis: &'a StudyAnalysis, angle: f64) -> Result<&'a AngleFit, String> {
+fn angle_fit(analysis: &StudyAnalysis, angle: f64) -> Result<&AngleFit, String> {
     analysis
         .angles
         .iter()

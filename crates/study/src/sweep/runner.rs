@@ -37,16 +37,10 @@ pub trait CaseRunner: Sync {
 }
 
 /// How a study runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StudyOptions {
     /// Cases run at the same time; 0 means one per available core.
     pub jobs: usize,
-}
-
-impl Default for StudyOptions {
-    fn default() -> Self {
-        Self { jobs: 0 }
-    }
 }
 
 /// What the study reports while it runs (for progress bars and logs).
