@@ -9,7 +9,11 @@ mod study_cmd;
 mod verify_cmd;
 
 #[derive(Parser)]
-#[command(name = "hopperflow", version, about = "DEM simulation and analysis of granular discharge from hoppers")]
+#[command(
+    name = "hopperflow",
+    version,
+    about = "DEM simulation and analysis of granular discharge from hoppers"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -37,7 +41,11 @@ fn main() {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
-            let code = if e.use_stderr() { run_cmd::EXIT_BAD_INPUT } else { 0 };
+            let code = if e.use_stderr() {
+                run_cmd::EXIT_BAD_INPUT
+            } else {
+                0
+            };
             let _ = e.print();
             std::process::exit(code);
         }

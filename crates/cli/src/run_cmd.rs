@@ -109,9 +109,11 @@ pub fn run(args: RunArgs) -> i32 {
     } else {
         let bar = ProgressBar::new(1000);
         bar.set_style(
-            ProgressStyle::with_template("{spinner} {prefix:>9} [{bar:30}] {msg} (elapsed {elapsed}, eta {eta})")
-                .unwrap_or_else(|_| ProgressStyle::default_bar())
-                .progress_chars("=> "),
+            ProgressStyle::with_template(
+                "{spinner} {prefix:>9} [{bar:30}] {msg} (elapsed {elapsed}, eta {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
         );
         bar
     };
@@ -136,13 +138,45 @@ pub fn run(args: RunArgs) -> i32 {
     bar.finish_and_clear();
     match outcome {
         Ok(RunOutcome::Finished(s)) => {
-            println!("case      {}", args.case.as_ref().map_or("paper base case".into(), |p| p.display().to_string()));
+            println!(
+                "case      {}",
+                args.case
+                    .as_ref()
+                    .map_or("paper base case".into(), |p| p.display().to_string())
+            );
             println!("output    {}", args.out.display());
-            println!("W         {:.2} ± {:.2} g/s (steady window {:.3}–{:.3} s after opening{})", s.discharge_rate * 1e3, s.discharge_rate_error * 1e3, s.steady_window[0], s.steady_window[1], if s.plateau_found { "" } else { ", no clear plateau" });
-            println!("flux      {:.2} g/s from ⟨φv⟩, {:.2} g/s from φ(x)·v(x)", s.flux_check_rate * 1e3, s.flux_check_rate_profiles * 1e3);
-            println!("v_c       {:.3} m/s, φ_c {:.3}, φ_max {:.3}", s.centre_velocity, s.centre_area_fraction, s.max_area_fraction);
-            println!("φ_B       {:.3} (bed height {:.1} mm)", s.bulk_volume_fraction, s.bed_height * 1e3);
-            println!("stopped   {:?} after {:.2} s of discharge{}", s.stop_reason, s.discharge_time, if s.clogged { " (clogged)" } else { "" });
+            println!(
+                "W         {:.2} ± {:.2} g/s (steady window {:.3}–{:.3} s after opening{})",
+                s.discharge_rate * 1e3,
+                s.discharge_rate_error * 1e3,
+                s.steady_window[0],
+                s.steady_window[1],
+                if s.plateau_found {
+                    ""
+                } else {
+                    ", no clear plateau"
+                }
+            );
+            println!(
+                "flux      {:.2} g/s from ⟨φv⟩, {:.2} g/s from φ(x)·v(x)",
+                s.flux_check_rate * 1e3,
+                s.flux_check_rate_profiles * 1e3
+            );
+            println!(
+                "v_c       {:.3} m/s, φ_c {:.3}, φ_max {:.3}",
+                s.centre_velocity, s.centre_area_fraction, s.max_area_fraction
+            );
+            println!(
+                "φ_B       {:.3} (bed height {:.1} mm)",
+                s.bulk_volume_fraction,
+                s.bed_height * 1e3
+            );
+            println!(
+                "stopped   {:?} after {:.2} s of discharge{}",
+                s.stop_reason,
+                s.discharge_time,
+                if s.clogged { " (clogged)" } else { "" }
+            );
             println!("wall time {:.1} s", started.elapsed().as_secs_f64());
             0
         }

@@ -14,7 +14,11 @@ pub struct VerifyArgs {
 }
 
 pub fn run(args: VerifyArgs) -> i32 {
-    let rows = run_all(if args.fast { Resolution::Fast } else { Resolution::Full });
+    let rows = run_all(if args.fast {
+        Resolution::Fast
+    } else {
+        Resolution::Full
+    });
     let failed = rows.iter().filter(|r| !r.pass).count();
     if args.json {
         match serde_json::to_string_pretty(&rows) {
@@ -25,7 +29,10 @@ pub fn run(args: VerifyArgs) -> i32 {
             }
         }
     } else {
-        println!("{:<6} {:<44} {:>13} {:>13} {:>11} {:>5}", "test", "quantity", "expected", "measured", "tolerance", "pass");
+        println!(
+            "{:<6} {:<44} {:>13} {:>13} {:>11} {:>5}",
+            "test", "quantity", "expected", "measured", "tolerance", "pass"
+        );
         for r in &rows {
             println!(
                 "{:<6} {:<44} {:>13.6e} {:>13.6e} {:>11.3e} {:>5}",

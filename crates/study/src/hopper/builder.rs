@@ -45,7 +45,10 @@ pub fn outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
         }
     };
     let (zl, zr) = (rise(run_l), rise(run_r));
-    let mut segments = vec![[(-half, zl), (-half, geometry.height)], [(half, zr), (half, geometry.height)]];
+    let mut segments = vec![
+        [(-half, zl), (-half, geometry.height)],
+        [(half, zr), (half, geometry.height)],
+    ];
     if run_l > 0.0 {
         segments.push([(-half, zl), (xl, 0.0)]);
     }
@@ -56,13 +59,22 @@ pub fn outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
 }
 
 /// Adds the hopper's walls, gate closed, to `sim`.
-pub fn build_walls(sim: &mut Simulation, geometry: &HopperGeometry, material: WallMaterial, interaction: Interaction) -> Result<HopperWalls, DemError> {
+pub fn build_walls(
+    sim: &mut Simulation,
+    geometry: &HopperGeometry,
+    material: WallMaterial,
+    interaction: Interaction,
+) -> Result<HopperWalls, DemError> {
     let z = geometry.thickness;
-    let wall = |v: Vec<DVec3>| Wall::polygon(v, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()));
+    let wall = |v: Vec<DVec3>| {
+        Wall::polygon(v, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()))
+    };
     let segs = outline(geometry);
     let left = sim.add_wall(wall(slab_rectangle(segs[0][0], segs[0][1], z))?);
     let right = sim.add_wall(wall(slab_rectangle(segs[1][0], segs[1][1], z))?);
-    let plane = |p: DVec3, n: DVec3| Wall::plane(p, n, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()));
+    let plane = |p: DVec3, n: DVec3| {
+        Wall::plane(p, n, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()))
+    };
     let front = sim.add_wall(plane(DVec3::ZERO, DVec3::Y)?);
     let back = sim.add_wall(plane(DVec3::new(0.0, z, 0.0), -DVec3::Y)?);
     let (run_l, run_r) = geometry.plate_runs();

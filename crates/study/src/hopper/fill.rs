@@ -73,7 +73,10 @@ pub fn insert_batch(
             continue;
         }
         let c = DVec3::new(x, y, z);
-        if placed.iter().any(|(q, rq)| q.distance_squared(c) < (r + rq + gap) * (r + rq + gap)) {
+        if placed
+            .iter()
+            .any(|(q, rq)| q.distance_squared(c) < (r + rq + gap) * (r + rq + gap))
+        {
             continue;
         }
         sim.add_particle(ParticleInit {

@@ -1,6 +1,9 @@
 //! Turns a validated case into an engine simulation: materials, laws and walls.
 
-use dem::{ContactLaws, DVec3, DemError, MaterialId, RollingLaw, Simulation, SimulationConfig, TangentialLaw};
+use dem::{
+    ContactLaws, DVec3, DemError, MaterialId, RollingLaw, Simulation, SimulationConfig,
+    TangentialLaw,
+};
 use rand::Rng;
 
 use super::builder::{build_walls, HopperWalls};
@@ -43,7 +46,10 @@ pub fn contact_laws(case: &Case) -> ContactLaws {
 }
 
 /// A simulation holding the hopper's walls (gate closed) and the particle material.
-pub fn hopper_simulation(case: &Case, threads: usize) -> Result<(Simulation, HopperWalls, MaterialId), DemError> {
+pub fn hopper_simulation(
+    case: &Case,
+    threads: usize,
+) -> Result<(Simulation, HopperWalls, MaterialId), DemError> {
     let mut config = SimulationConfig::new(case.time_step);
     config.laws = contact_laws(case);
     config.threads = threads;
@@ -57,7 +63,12 @@ pub fn hopper_simulation(case: &Case, threads: usize) -> Result<(Simulation, Hop
         config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
         config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(&m)),
     };
-    let walls = build_walls(&mut sim, &case.geometry, wall_material, engine_interaction(&case.wall.interaction))?;
+    let walls = build_walls(
+        &mut sim,
+        &case.geometry,
+        wall_material,
+        engine_interaction(&case.wall.interaction),
+    )?;
     Ok((sim, walls, id))
 }
 
@@ -66,7 +77,12 @@ pub fn sample_radius(size: &SizeDistribution, rng: &mut dyn rand::RngCore) -> f6
     let d = match size {
         SizeDistribution::Monodisperse { diameter } => *diameter,
         SizeDistribution::Uniform { min, max } => min + (max - min) * rng.gen::<f64>(),
-        SizeDistribution::Normal { mean, std_dev, min, max } => {
+        SizeDistribution::Normal {
+            mean,
+            std_dev,
+            min,
+            max,
+        } => {
             // Box–Muller, truncated by rejection to [min, max].
             loop {
                 let (u1, u2): (f64, f64) = (rng.gen::<f64>().max(f64::MIN_POSITIVE), rng.gen());
@@ -77,7 +93,10 @@ pub fn sample_radius(size: &SizeDistribution, rng: &mut dyn rand::RngCore) -> f6
                 }
             }
         }
-        SizeDistribution::Discrete { diameters, fractions } => {
+        SizeDistribution::Discrete {
+            diameters,
+            fractions,
+        } => {
             let u: f64 = rng.gen();
             let mut acc = 0.0;
             let mut pick = diameters[diameters.len() - 1];
@@ -96,7 +115,13 @@ pub fn sample_radius(size: &SizeDistribution, rng: &mut dyn rand::RngCore) -> f6
 
 /// Places `count` particles on a jittered hexagonal lattice filling the hopper from the
 /// bottom up, at rest: a dense start for benchmarks, not the paper's fill protocol.
-pub fn lattice_bed(sim: &mut Simulation, case: &Case, material: MaterialId, count: usize, rng: &mut impl Rng) -> Result<usize, DemError> {
+pub fn lattice_bed(
+    sim: &mut Simulation,
+    case: &Case,
+    material: MaterialId,
+    count: usize,
+    rng: &mut impl Rng,
+) -> Result<usize, DemError> {
     let g = &case.geometry;
     let r = 0.5 * case.particles.size.max_diameter();
     let spacing = 2.0 * r * 1.01;
@@ -114,7 +139,11 @@ pub fn lattice_bed(sim: &mut Simulation, case: &Case, material: MaterialId, coun
         while x + r < half && placed < count {
             let jitter = 0.002 * r * (rng.gen::<f64>() - 0.5);
             if super::fill::inside_hopper(g, x, z, r, 1e-5) {
-                sim.add_particle(dem::ParticleInit::at_rest(DVec3::new(x + jitter, 0.5 * g.thickness, z), r, material))?;
+                sim.add_particle(dem::ParticleInit::at_rest(
+                    DVec3::new(x + jitter, 0.5 * g.thickness, z),
+                    r,
+                    material,
+                ))?;
                 placed += 1;
             }
             x += spacing;

@@ -169,7 +169,11 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         _ => CaseRun::new(case, options.threads)?,
     };
     let started = Instant::now();
-    let mut last_report = (Instant::now(), run.simulation().steps(), run.simulation().particles().len());
+    let mut last_report = (
+        Instant::now(),
+        run.simulation().steps(),
+        run.simulation().particles().len(),
+    );
     let mut next_checkpoint = run.simulation().time() + case.output.checkpoint_interval;
     let mut pictures = outputs::Pictures::new(out_dir, case, options.pictures)?;
     let mut chunks = 0u64;
@@ -188,12 +192,16 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         if let Some(report) = &options.progress {
             let sim = run.simulation();
             let elapsed = last_report.0.elapsed().as_secs_f64();
-            let psteps = (sim.steps() - last_report.1) as f64 * 0.5 * (sim.particles().len() + last_report.2) as f64;
+            let psteps = (sim.steps() - last_report.1) as f64
+                * 0.5
+                * (sim.particles().len() + last_report.2) as f64;
             let total = case.particles.count as f64;
             let fraction = match run.phase() {
                 Phase::Fill { inserted, .. } => inserted as f64 / total,
                 Phase::Settle { .. } => 1.0,
-                Phase::Discharge { .. } | Phase::Done { .. } => run.state.discharged_mass / (total_mass(case)).max(f64::MIN_POSITIVE),
+                Phase::Discharge { .. } | Phase::Done { .. } => {
+                    run.state.discharged_mass / (total_mass(case)).max(f64::MIN_POSITIVE)
+                }
             };
             report(&Progress {
                 phase: phase_name(run.phase()),

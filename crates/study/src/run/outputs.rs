@@ -14,9 +14,10 @@ use crate::config::Case;
 use crate::hopper::outline;
 use crate::measure::{OutletSummary, TimeWindow};
 use crate::output::{
-    area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg, velocity_profile_figure, write_csv_table,
-    write_frame_png, write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView, ParticleFields,
-    Profile, PvdCollection, WallSegment,
+    area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
+    velocity_profile_figure, write_csv_table, write_frame_png, write_particles_vtu,
+    write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView, ParticleFields, Profile,
+    PvdCollection, WallSegment,
 };
 use crate::summary::{CaseSummary, ProfileRow, StopReason};
 
@@ -48,13 +49,21 @@ impl Pictures {
     pub fn new(out_dir: &Path, case: &Case, enabled: bool) -> Result<Self, RunError> {
         let dir = out_dir.join("snapshots");
         if enabled {
-            std::fs::create_dir_all(&dir).map_err(|source| RunError::Directory { path: dir.clone(), source })?;
+            std::fs::create_dir_all(&dir).map_err(|source| RunError::Directory {
+                path: dir.clone(),
+                source,
+            })?;
             let polygons: Vec<Vec<[f64; 3]>> = outline(&case.geometry)
                 .iter()
                 .map(|s| {
                     let (a, b) = (s[0], s[1]);
                     let z = case.geometry.thickness;
-                    vec![[a.0, 0.0, a.1], [b.0, 0.0, b.1], [b.0, z, b.1], [a.0, z, a.1]]
+                    vec![
+                        [a.0, 0.0, a.1],
+                        [b.0, 0.0, b.1],
+                        [b.0, z, b.1],
+                        [a.0, z, a.1],
+                    ]
                 })
                 .collect();
             write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
@@ -93,7 +102,11 @@ impl Pictures {
             let name = format!("particles_{:06}.vtu", (t * 1e4).round() as u64);
             let positions: Vec<[f64; 3]> = p.positions().iter().map(|x| x.to_array()).collect();
             let velocities: Vec<[f64; 3]> = p.velocities().iter().map(|x| x.to_array()).collect();
-            let omegas: Vec<[f64; 3]> = p.angular_velocities().iter().map(|x| x.to_array()).collect();
+            let omegas: Vec<[f64; 3]> = p
+                .angular_velocities()
+                .iter()
+                .map(|x| x.to_array())
+                .collect();
             let fields = ParticleFields {
                 ids: p.tags(),
                 positions: &positions,
@@ -119,10 +132,21 @@ impl Pictures {
                         speed: p.velocities()[k].length(),
                     })
                     .collect();
-                let view = FrameView::fitted((-self.half_width, self.half_width), (-0.02, self.geometry_height), 1200, (0.0, 1.5));
+                let view = FrameView::fitted(
+                    (-self.half_width, self.half_width),
+                    (-0.02, self.geometry_height),
+                    1200,
+                    (0.0, 1.5),
+                );
                 let name = format!("frame_{:04}.png", self.frames);
                 self.frames += 1;
-                write_frame_png(self.dir.join(name), &view, &particles, &self.walls, t - opened)?;
+                write_frame_png(
+                    self.dir.join(name),
+                    &view,
+                    &particles,
+                    &self.walls,
+                    t - opened,
+                )?;
             }
         }
         Ok(())
@@ -140,7 +164,12 @@ fn or_nan(x: Option<f64>) -> f64 {
 
 /// Analyses the finished run, writes flow.csv, profiles.csv, field.csv and the plots, and
 /// returns the summary (the caller writes it last).
-pub fn finish(run: &CaseRun, out_dir: &Path, hash: &str, pictures: bool) -> Result<CaseSummary, RunError> {
+pub fn finish(
+    run: &CaseRun,
+    out_dir: &Path,
+    hash: &str,
+    pictures: bool,
+) -> Result<CaseSummary, RunError> {
     let case = &run.case;
     let state = &run.state;
     let Phase::Done { reason, opened } = run.phase() else {
@@ -163,16 +192,27 @@ pub fn finish(run: &CaseRun, out_dir: &Path, hash: &str, pictures: bool) -> Resu
     // flow.csv: W(t) per bin and the cumulative discharged mass.
     let (_, cumulative) = series.cumulative_mass();
     let rows: Vec<Vec<Cell>> = (0..series.len())
-        .map(|k| vec![series.bin_centre(k).into(), series.rates[k].into(), cumulative.get(k + 1).copied().unwrap_or(f64::NAN).into()])
+        .map(|k| {
+            vec![
+                series.bin_centre(k).into(),
+                series.rates[k].into(),
+                cumulative.get(k + 1).copied().unwrap_or(f64::NAN).into(),
+            ]
+        })
         .collect();
-    write_csv_table(out_dir.join("flow.csv"), &["time", "rate", "cumulative_mass"], &rows)?;
+    write_csv_table(
+        out_dir.join("flow.csv"),
+        &["time", "rate", "cumulative_mass"],
+        &rows,
+    )?;
 
     let outlet_window = window
         .as_ref()
         .and_then(|w| TimeWindow::new(opened + w.start_time, opened + w.end_time).ok());
     let density = case.particles.material.density;
     let d = case.particles.size.mean_diameter();
-    let outlet = outlet_window.and_then(|w| OutletSummary::new(record, state.strip.record(), w, density).ok());
+    let outlet = outlet_window
+        .and_then(|w| OutletSummary::new(record, state.strip.record(), w, density).ok());
 
     let mut profile_rows = Vec::new();
     if let Some(o) = &outlet {
@@ -227,15 +267,31 @@ pub fn finish(run: &CaseRun, out_dir: &Path, hash: &str, pictures: bool) -> Resu
                 .iter()
                 .map(|c| {
                     let v = c.velocity.unwrap_or([f64::NAN, f64::NAN]);
-                    vec![c.centre[0].into(), c.centre[1].into(), c.mass_density.into(), v[0].into(), v[1].into()]
+                    vec![
+                        c.centre[0].into(),
+                        c.centre[1].into(),
+                        c.mass_density.into(),
+                        v[0].into(),
+                        v[1].into(),
+                    ]
                 })
                 .collect();
-            write_csv_table(out_dir.join("field.csv"), &["x", "z", "mass_density", "velocity_x", "velocity_z"], &rows)?;
+            write_csv_table(
+                out_dir.join("field.csv"),
+                &["x", "z", "mass_density", "velocity_x", "velocity_z"],
+                &rows,
+            )?;
         }
     }
 
     if pictures {
-        plots(out_dir, &series, window.as_ref().map(|w| (w.start_time, w.end_time)), rate.as_ref().map(|r| r.rate.value), &profile_rows)?;
+        plots(
+            out_dir,
+            &series,
+            window.as_ref().map(|w| (w.start_time, w.end_time)),
+            rate.as_ref().map(|r| r.rate.value),
+            &profile_rows,
+        )?;
     }
 
     let g = &case.geometry;
@@ -255,17 +311,27 @@ pub fn finish(run: &CaseRun, out_dir: &Path, hash: &str, pictures: bool) -> Resu
         particles: case.particles.count,
         discharge_rate: rate.as_ref().map_or(f64::NAN, |r| r.rate.value),
         discharge_rate_error: rate.as_ref().map_or(f64::NAN, |r| r.rate.standard_error),
-        steady_window: window.as_ref().map_or([f64::NAN; 2], |w| [w.start_time, w.end_time]),
+        steady_window: window
+            .as_ref()
+            .map_or([f64::NAN; 2], |w| [w.start_time, w.end_time]),
         plateau_found: window.as_ref().is_some_and(|w| w.is_plateau),
-        flux_check_rate: outlet.as_ref().map_or(f64::NAN, |o| o.flux_from_area_velocity),
+        flux_check_rate: outlet
+            .as_ref()
+            .map_or(f64::NAN, |o| o.flux_from_area_velocity),
         flux_check_rate_profiles: outlet.as_ref().map_or(f64::NAN, |o| o.flux_from_profiles),
         bulk_volume_fraction: bulk.map_or(f64::NAN, |b| b.volume_fraction),
         bulk_area_fraction: bulk.map_or(f64::NAN, |b| b.area_fraction),
         bed_height: bulk.map_or(f64::NAN, |b| b.bed_height),
         centre_velocity: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.centre_speed)),
-        centre_area_fraction: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.centre_area_fraction)),
-        max_area_fraction: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.max_area_fraction)),
-        max_area_fraction_position: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.max_area_fraction_position)),
+        centre_area_fraction: outlet
+            .as_ref()
+            .map_or(f64::NAN, |o| or_nan(o.centre_area_fraction)),
+        max_area_fraction: outlet
+            .as_ref()
+            .map_or(f64::NAN, |o| or_nan(o.max_area_fraction)),
+        max_area_fraction_position: outlet
+            .as_ref()
+            .map_or(f64::NAN, |o| or_nan(o.max_area_fraction_position)),
         clogged: reason == StopReason::Clogged,
         stop_reason: reason,
         discharged_mass: state.discharged_mass,
@@ -276,7 +342,13 @@ pub fn finish(run: &CaseRun, out_dir: &Path, hash: &str, pictures: bool) -> Resu
     })
 }
 
-fn plots(out_dir: &Path, series: &RateSeries, window: Option<(f64, f64)>, rate: Option<f64>, rows: &[ProfileRow]) -> Result<(), RunError> {
+fn plots(
+    out_dir: &Path,
+    series: &RateSeries,
+    window: Option<(f64, f64)>,
+    rate: Option<f64>,
+    rows: &[ProfileRow],
+) -> Result<(), RunError> {
     let times: Vec<f64> = (0..series.len()).map(|k| series.bin_centre(k)).collect();
     let fig = discharge_rate_figure(&times, &series.rates, window, rate);
     plot_png(&fig, out_dir.join("flow_rate.png"), 900, 600)?;
@@ -284,21 +356,59 @@ fn plots(out_dir: &Path, series: &RateSeries, window: Option<(f64, f64)>, rate: 
     let good: Vec<&ProfileRow> = rows.iter().filter(|r| r.velocity.is_finite()).collect();
     let xs: Vec<f64> = good.iter().map(|r| r.x_star).collect();
     let v: Vec<f64> = good.iter().map(|r| r.velocity).collect();
-    let ve: Vec<f64> = good.iter().map(|r| if r.velocity_error.is_finite() { r.velocity_error } else { 0.0 }).collect();
+    let ve: Vec<f64> = good
+        .iter()
+        .map(|r| {
+            if r.velocity_error.is_finite() {
+                r.velocity_error
+            } else {
+                0.0
+            }
+        })
+        .collect();
     let phi: Vec<f64> = good.iter().map(|r| r.area_fraction).collect();
-    let pe: Vec<f64> = good.iter().map(|r| if r.area_fraction_error.is_finite() { r.area_fraction_error } else { 0.0 }).collect();
+    let pe: Vec<f64> = good
+        .iter()
+        .map(|r| {
+            if r.area_fraction_error.is_finite() {
+                r.area_fraction_error
+            } else {
+                0.0
+            }
+        })
+        .collect();
     let fit = |values: &[f64], errors: &[f64], label: &str| -> Option<FittedCurve> {
         let counts = vec![1u64; values.len()];
-        let profile = BinnedProfile::new(xs.clone(), values.to_vec(), counts, errors.to_vec()).ok()?;
+        let profile =
+            BinnedProfile::new(xs.clone(), values.to_vec(), counts, errors.to_vec()).ok()?;
         let f = fit_power_profile(&profile, PROFILE_FIT_HALF_WIDTH).ok()?;
         let (amp, exp) = (f.amplitude.value, f.exponent.value);
-        Some(FittedCurve::sampled(format!("{label} = {exp:.2}"), (-1.0, 1.0), 101, move |x| power_profile(x, amp, exp)))
+        Some(FittedCurve::sampled(
+            format!("{label} = {exp:.2}"),
+            (-1.0, 1.0),
+            101,
+            move |x| power_profile(x, amp, exp),
+        ))
     };
     let v_fit = fit(&v, &ve, "(1 − x*²)^a, a");
-    let fig = velocity_profile_figure(&Profile { x_star: &xs, value: &v, error: Some(&ve) }, v_fit.as_ref());
+    let fig = velocity_profile_figure(
+        &Profile {
+            x_star: &xs,
+            value: &v,
+            error: Some(&ve),
+        },
+        v_fit.as_ref(),
+    );
     plot_png(&fig, out_dir.join("velocity_profile.png"), 900, 600)?;
     let phi_fit = fit(&phi, &pe, "(1 − x*²)^b, b");
-    let fig = area_fraction_profile_figure(&Profile { x_star: &xs, value: &phi, error: Some(&pe) }, phi_fit.as_ref());
+    let fig = area_fraction_profile_figure(
+        &Profile {
+            x_star: &xs,
+            value: &phi,
+            error: Some(&pe),
+        },
+        phi_fit.as_ref(),
+    );
     plot_png(&fig, out_dir.join("area_fraction_profile.png"), 900, 600)?;
     Ok(())
 }

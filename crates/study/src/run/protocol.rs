@@ -9,8 +9,8 @@ use serde::{Deserialize, Serialize};
 use crate::config::Case;
 use crate::hopper::{fill::insert_batch, hopper_simulation, sample_radius, HopperWalls};
 use crate::measure::{
-    BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView, Kernel, OutletBins, OutletGeometry,
-    StripConfig, StripProbe, VelocityFieldProbe,
+    BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView, Kernel,
+    OutletBins, OutletGeometry, StripConfig, StripProbe, VelocityFieldProbe,
 };
 use crate::summary::StopReason;
 
@@ -110,13 +110,22 @@ impl CaseRun {
         let mut strip = StripConfig::new(outlet, bins);
         strip.strip_height = case.measure.strip_height;
         let d = outlet.particle_diameter;
-        let grid = FieldGrid::new(-0.5 * case.geometry.width, 0.5 * case.geometry.width, -3.0 * d, (2.0 * case.geometry.width).min(case.geometry.height), d)?;
+        let grid = FieldGrid::new(
+            -0.5 * case.geometry.width,
+            0.5 * case.geometry.width,
+            -3.0 * d,
+            (2.0 * case.geometry.width).min(case.geometry.height),
+            d,
+        )?;
         let state = RunState {
             sim: sim.state().clone(),
             walls,
             material,
             rng: Xoshiro256PlusPlus::seed_from_u64(case.seed),
-            phase: Phase::Fill { inserted: 0, last_insert: 0.0 },
+            phase: Phase::Fill {
+                inserted: 0,
+                last_insert: 0.0,
+            },
             crossing: CrossingProbe::new(outlet)?,
             strip: StripProbe::new(strip)?,
             field: VelocityFieldProbe::new(grid, Kernel::Box, case.measure.rate_bin_width)?,
@@ -128,13 +137,21 @@ impl CaseRun {
             discharged_mass: 0.0,
             fill_mass: 0.0,
         };
-        Ok(Self { case: case.clone(), sim, state })
+        Ok(Self {
+            case: case.clone(),
+            sim,
+            state,
+        })
     }
 
     /// Resumes from a checkpointed state.
     pub fn resume(case: &Case, state: RunState, threads: usize) -> Result<Self, RunError> {
         let sim = Simulation::from_state(state.sim.clone(), threads)?;
-        Ok(Self { case: case.clone(), sim, state })
+        Ok(Self {
+            case: case.clone(),
+            sim,
+            state,
+        })
     }
 
     /// The state to checkpoint (the engine state is refreshed first).
@@ -158,9 +175,15 @@ impl CaseRun {
         let dt = self.case.time_step;
         let chunk = (CHECK_INTERVAL / dt).round().max(1.0) as u64;
         match self.state.phase {
-            Phase::Fill { inserted, last_insert } => self.fill(inserted, last_insert, chunk),
+            Phase::Fill {
+                inserted,
+                last_insert,
+            } => self.fill(inserted, last_insert, chunk),
             Phase::Settle { since } => self.settle(since, chunk),
-            Phase::Discharge { opened, last_crossing } => self.discharge(opened, last_crossing, chunk),
+            Phase::Discharge {
+                opened,
+                last_crossing,
+            } => self.discharge(opened, last_crossing, chunk),
             Phase::Done { .. } => Ok(()),
         }
     }
@@ -197,9 +220,14 @@ impl CaseRun {
         self.sim.run(chunk)?;
         self.state.phase = if inserted >= total {
             self.state.next_check = self.sim.time() + MIN_SETTLE_AFTER_FILL;
-            Phase::Settle { since: self.sim.time() }
+            Phase::Settle {
+                since: self.sim.time(),
+            }
         } else {
-            Phase::Fill { inserted, last_insert: last }
+            Phase::Fill {
+                inserted,
+                last_insert: last,
+            }
         };
         Ok(())
     }
@@ -225,7 +253,10 @@ impl CaseRun {
             self.sim.remove_wall(self.state.walls.gate)?;
             self.state.next_frame = t;
             self.state.next_check = t;
-            self.state.phase = Phase::Discharge { opened: t, last_crossing: t };
+            self.state.phase = Phase::Discharge {
+                opened: t,
+                last_crossing: t,
+            };
         }
         Ok(())
     }
@@ -235,7 +266,13 @@ impl CaseRun {
         let outlet = outlet_geometry(&self.case);
         let outline = ContainerOutline::hopper(g.width, &outlet, g.hopper_angle(), g.height)?;
         let (x0, x1) = outline.x_range();
-        let probe = BulkProbe::new(outline, g.thickness, (x0, x1), 0.0, outlet.particle_diameter)?;
+        let probe = BulkProbe::new(
+            outline,
+            g.thickness,
+            (x0, x1),
+            0.0,
+            outlet.particle_diameter,
+        )?;
         let frame = Frame::of(&self.sim, |_| true);
         Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.material.density))?)
     }
@@ -266,7 +303,9 @@ impl CaseRun {
         }
         // Delete particles well below the outlet (physics.md §5: about 5 d).
         let depth = self.case.protocol.deletion_depth;
-        let removed = self.sim.remove_particles(|k, p| p.positions()[k].z < -depth);
+        let removed = self
+            .sim
+            .remove_particles(|k, p| p.positions()[k].z < -depth);
         self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
         let t = self.sim.time();
         let target = self.case.protocol.stop_fraction * self.state.fill_mass;
@@ -275,7 +314,11 @@ impl CaseRun {
         } else if self.case.protocol.stop_fraction < 1.0 && self.state.discharged_mass >= target {
             Some(StopReason::Fraction)
         } else if t - last_crossing > self.case.protocol.clog_timeout {
-            Some(if self.orifice_blocked() { StopReason::Clogged } else { StopReason::Drained })
+            Some(if self.orifice_blocked() {
+                StopReason::Clogged
+            } else {
+                StopReason::Drained
+            })
         } else if t - opened > self.case.protocol.time_limit {
             Some(StopReason::TimeLimit)
         } else {
@@ -283,7 +326,10 @@ impl CaseRun {
         };
         self.state.phase = match reason {
             Some(reason) => Phase::Done { reason, opened },
-            None => Phase::Discharge { opened, last_crossing },
+            None => Phase::Discharge {
+                opened,
+                last_crossing,
+            },
         };
         Ok(())
     }
@@ -300,7 +346,9 @@ impl CaseRun {
         (0..p.len()).any(|k| {
             let x = p.positions()[k];
             let r = p.radii()[k];
-            (x.x - o.centre).abs() < o.half_width - 0.5 * r && x.z > 0.0 && x.z < 2.0 * o.half_width + o.particle_diameter
+            (x.x - o.centre).abs() < o.half_width - 0.5 * r
+                && x.z > 0.0
+                && x.z < 2.0 * o.half_width + o.particle_diameter
         })
     }
 }
