@@ -53,7 +53,7 @@ fn in_range(
     low: f64,
     high: f64,
 ) -> ComparisonItem {
-    let band = format!("[{low}, {high}]");
+    let band = format!("[{}, {}]", trim(low), trim(high));
     match value {
         Err(why) => not_measured(item, json!(paper), &band, why),
         Ok(v) if !v.value.is_finite() => not_measured(
@@ -127,16 +127,23 @@ fn rises(item: &str, paper: &str, values: &[(f64, f64)]) -> ComparisonItem {
             "needs one angle below 55° and one from 55° to 90°".into(),
         );
     }
-    let reference = flat
-        .iter()
-        .find(|(a, _)| *a == 55.0)
-        .map(|(_, v)| *v)
-        .unwrap_or_else(|| flat.iter().map(|(_, v)| v).sum::<f64>() / flat.len() as f64);
-    let mut chain = below.clone();
-    chain.push((55.0, reference));
+    // The reference is the 55° value when measured, else the mean over the measured
+    // angles from 55° to 90°; its label says which.
+    let (reference, reference_label) = match flat.iter().find(|(a, _)| *a == 55.0) {
+        Some((_, v)) => (*v, "55°".to_string()),
+        None => {
+            let angles: Vec<String> = flat.iter().map(|(a, _)| format!("{a}°")).collect();
+            (
+                flat.iter().map(|(_, v)| v).sum::<f64>() / flat.len() as f64,
+                format!("mean of {}", angles.join(", ")),
+            )
+        }
+    };
+    let mut chain: Vec<(String, f64)> = below.iter().map(|(a, v)| (format!("{a}°"), *v)).collect();
+    chain.push((reference_label, reference));
     let text = chain
         .iter()
-        .map(|(a, v)| format!("{v:.3} ({a}°)"))
+        .map(|(a, v)| format!("{v:.3} ({a})"))
         .collect::<Vec<_>>()
         .join(" > ");
     let misses: Vec<String> = chain
@@ -144,7 +151,7 @@ fn rises(item: &str, paper: &str, values: &[(f64, f64)]) -> ComparisonItem {
         .filter(|w| w[0].1 <= w[1].1)
         .map(|w| {
             format!(
-                "{}° is {:.3} not above {}° ({:.3}), short by {:.1} %",
+                "{} is {:.3} not above {} ({:.3}), short by {:.1} %",
                 w[0].0,
                 w[0].1,
                 w[1].0,
@@ -310,4 +317,10 @@ pub fn compare_with_paper(analysis: &StudyAnalysis) -> Vec<ComparisonItem> {
     };
     items.push(in_range("W(s = 0)/W0 (mean over D)", 1.3, gain, 1.15, 1.45));
     items
+}
+
+/// A band limit with round-off from its derivation removed (1.9919999999999998 → 1.992).
+fn trim(x: f64) -> String {
+    let s = format!("{x:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
