@@ -47,7 +47,9 @@ impl WorstOverlap {
 
     /// Deterministic merge: larger fraction wins, ties go to the lower index.
     fn merge(self, other: Self) -> Self {
-        if other.fraction > self.fraction || (other.fraction == self.fraction && other.index < self.index) {
+        if other.fraction > self.fraction
+            || (other.fraction == self.fraction && other.index < self.index)
+        {
             other
         } else {
             self
@@ -150,11 +152,16 @@ pub(crate) fn evaluate(
 
     // Few wall candidates: one sequential pass, accumulating directly, on every path.
     let (force, torque) = (&mut buffers.force, &mut buffers.torque);
-    let worst_wall = wall_loop(input, (&wall_pairs.particle, &wall_pairs.wall), &mut wall_pairs.history, |i, cf| {
-        force[i] += cf.force;
-        torque[i] += cf.torque_i;
-        count.particle_wall += 1;
-    });
+    let worst_wall = wall_loop(
+        input,
+        (&wall_pairs.particle, &wall_pairs.wall),
+        &mut wall_pairs.history,
+        |i, cf| {
+            force[i] += cf.force;
+            torque[i] += cf.torque_i;
+            count.particle_wall += 1;
+        },
+    );
     Evaluation {
         count,
         worst_pair,
@@ -164,9 +171,28 @@ pub(crate) fn evaluate(
 
 /// Runs the kernel over pairs `base..base + history.len()`, calling `sink(k, i, j, force)` for
 /// each pair in contact, in order.
+///
+/// The paper's laws (the default) get their own copy of the loop in which the law choices are
+/// constants, so the compiler drops the branches and code of the other laws.
 #[inline(always)]
 fn pair_loop(
     input: &KernelInput,
+    ids: (&[u32], &[u32]),
+    base: usize,
+    history: &mut [ContactHistory],
+    sink: impl FnMut(usize, usize, usize, &ContactForce),
+) -> WorstOverlap {
+    if *input.laws == ContactLaws::default() {
+        pair_loop_with(input, ContactLaws::default(), ids, base, history, sink)
+    } else {
+        pair_loop_with(input, *input.laws, ids, base, history, sink)
+    }
+}
+
+#[inline(always)]
+fn pair_loop_with(
+    input: &KernelInput,
+    laws: ContactLaws,
     (pi, pj): (&[u32], &[u32]),
     base: usize,
     history: &mut [ContactHistory],
@@ -196,14 +222,16 @@ fn pair_loop(
         let g = ContactGeometry {
             normal: d * (1.0 / dist),
             overlap,
-            r_eff: harmonic(ri, rj),
+            // harmonic(ri, rj), reusing the sum.
+            r_eff: ri * rj / sum,
             m_eff: harmonic(mi, mj),
             arm_i: ri - 0.5 * overlap,
             arm_j: rj - 0.5 * overlap,
             inertia: [p.inertia[i], p.inertia[j]],
             mass_radius2: [mi * ri * ri, mj * rj * rj],
         };
-        let c = &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
+        let c =
+            &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
         let bi = BodyMotion {
             velocity: p.velocity[i],
             omega: p.omega[i],
@@ -212,7 +240,7 @@ fn pair_loop(
             velocity: p.velocity[j],
             omega: p.omega[j],
         };
-        let cf = input.laws.resolve(&g, &bi, &bj, c, h, input.dt);
+        let cf = laws.resolve(&g, &bi, &bj, c, h, input.dt);
         sink(base + k, i, j, &cf);
     }
     worst

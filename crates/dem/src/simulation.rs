@@ -8,7 +8,9 @@ use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
-use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+use crate::particles::{
+    MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
+};
 use crate::timescale::rayleigh_time;
 use crate::wall::{Wall, WallId};
 
@@ -136,10 +138,18 @@ impl Simulation {
     /// An empty simulation.
     pub fn new(config: SimulationConfig) -> Result<Self, DemError> {
         if !(config.time_step.is_finite() && config.time_step > 0.0) {
-            return Err(DemError::InvalidInput(format!("time step must be positive and finite, got {}", config.time_step)));
+            return Err(DemError::InvalidInput(format!(
+                "time step must be positive and finite, got {}",
+                config.time_step
+            )));
         }
-        if !config.gravity.is_finite() || !(config.skin >= 0.0) || !(config.max_overlap_fraction > 0.0) {
-            return Err(DemError::InvalidInput("gravity, skin and overlap limit must be finite and non-negative".into()));
+        if !config.gravity.is_finite()
+            || !(config.skin >= 0.0)
+            || !(config.max_overlap_fraction > 0.0)
+        {
+            return Err(DemError::InvalidInput(
+                "gravity, skin and overlap limit must be finite and non-negative".into(),
+            ));
         }
         let state = SimulationState {
             config,
@@ -188,7 +198,11 @@ impl Simulation {
     }
 
     /// Registers a material and how it interacts with itself.
-    pub fn add_material(&mut self, material: Material, self_interaction: Interaction) -> Result<MaterialId, DemError> {
+    pub fn add_material(
+        &mut self,
+        material: Material,
+        self_interaction: Interaction,
+    ) -> Result<MaterialId, DemError> {
         let ok = material.density > 0.0
             && material.youngs_modulus > 0.0
             && material.poisson_ratio > -1.0
@@ -196,7 +210,9 @@ impl Simulation {
             && material.density.is_finite()
             && material.youngs_modulus.is_finite();
         if !ok {
-            return Err(DemError::InvalidInput(format!("unphysical material {material:?}")));
+            return Err(DemError::InvalidInput(format!(
+                "unphysical material {material:?}"
+            )));
         }
         check_interaction(&self_interaction)?;
         let s = &mut self.state;
@@ -216,7 +232,12 @@ impl Simulation {
     }
 
     /// Sets how two different materials interact.
-    pub fn set_interaction(&mut self, a: MaterialId, b: MaterialId, interaction: Interaction) -> Result<(), DemError> {
+    pub fn set_interaction(
+        &mut self,
+        a: MaterialId,
+        b: MaterialId,
+        interaction: Interaction,
+    ) -> Result<(), DemError> {
         check_interaction(&interaction)?;
         let n = self.state.materials.len();
         if a.0 as usize >= n || b.0 as usize >= n {
@@ -231,10 +252,19 @@ impl Simulation {
     /// Adds a particle; its initial force is its weight.
     pub fn add_particle(&mut self, init: ParticleInit) -> Result<ParticleTag, DemError> {
         let Some(mat) = self.state.materials.get(init.material.0 as usize) else {
-            return Err(DemError::InvalidInput(format!("unknown material {}", init.material.0)));
+            return Err(DemError::InvalidInput(format!(
+                "unknown material {}",
+                init.material.0
+            )));
         };
-        if !(init.radius > 0.0 && init.radius.is_finite()) || !init.position.is_finite() || !init.velocity.is_finite() || !init.angular_velocity.is_finite() {
-            return Err(DemError::InvalidInput(format!("particle radius must be positive and the state finite: {init:?}")));
+        if !(init.radius > 0.0 && init.radius.is_finite())
+            || !init.position.is_finite()
+            || !init.velocity.is_finite()
+            || !init.angular_velocity.is_finite()
+        {
+            return Err(DemError::InvalidInput(format!(
+                "particle radius must be positive and the state finite: {init:?}"
+            )));
         }
         let density = mat.density;
         let g = self.state.config.gravity;
@@ -248,7 +278,10 @@ impl Simulation {
     }
 
     /// Removes every particle for which `remove(index, particles)` is true and returns them.
-    pub fn remove_particles(&mut self, mut remove: impl FnMut(usize, &ParticleSet) -> bool) -> Vec<RemovedParticle> {
+    pub fn remove_particles(
+        &mut self,
+        mut remove: impl FnMut(usize, &ParticleSet) -> bool,
+    ) -> Vec<RemovedParticle> {
         let p = &self.state.particles;
         let keep: Vec<bool> = (0..p.len()).map(|k| !remove(k, p)).collect();
         if keep.iter().all(|&k| k) {
@@ -264,7 +297,11 @@ impl Simulation {
             })
             .collect();
         // Carry the survivors' contact memory by tag across the change of indices.
-        let tagged = TaggedHistory::collect(&self.state.particles, &self.state.pairs, &self.state.wall_pairs);
+        let tagged = TaggedHistory::collect(
+            &self.state.particles,
+            &self.state.pairs,
+            &self.state.wall_pairs,
+        );
         self.state.particles.retain_mask(&keep);
         self.rebuild(Some(&tagged));
         removed
@@ -280,7 +317,11 @@ impl Simulation {
 
     /// Removes a wall (a hopper's gate, say).
     pub fn remove_wall(&mut self, id: WallId) -> Result<Wall, DemError> {
-        let slot = self.state.walls.get_mut(id.0 as usize).ok_or(DemError::UnknownWall(id.0))?;
+        let slot = self
+            .state
+            .walls
+            .get_mut(id.0 as usize)
+            .ok_or(DemError::UnknownWall(id.0))?;
         let wall = slot.take().ok_or(DemError::UnknownWall(id.0))?;
         self.state.needs_rebuild = true;
         Ok(wall)
@@ -288,7 +329,12 @@ impl Simulation {
 
     /// Moves a wall rigidly by `offset` [m].
     pub fn translate_wall(&mut self, id: WallId, offset: DVec3) -> Result<(), DemError> {
-        let wall = self.state.walls.get_mut(id.0 as usize).and_then(Option::as_mut).ok_or(DemError::UnknownWall(id.0))?;
+        let wall = self
+            .state
+            .walls
+            .get_mut(id.0 as usize)
+            .and_then(Option::as_mut)
+            .ok_or(DemError::UnknownWall(id.0))?;
         wall.translate(offset);
         self.state.wall_drift += offset.length();
         Ok(())
@@ -296,7 +342,12 @@ impl Simulation {
 
     /// Sets the velocity a wall shows to the contact law [m/s] (it does not move it).
     pub fn set_wall_velocity(&mut self, id: WallId, velocity: DVec3) -> Result<(), DemError> {
-        let wall = self.state.walls.get_mut(id.0 as usize).and_then(Option::as_mut).ok_or(DemError::UnknownWall(id.0))?;
+        let wall = self
+            .state
+            .walls
+            .get_mut(id.0 as usize)
+            .and_then(Option::as_mut)
+            .ok_or(DemError::UnknownWall(id.0))?;
         wall.velocity = velocity;
         Ok(())
     }
@@ -418,18 +469,34 @@ impl Simulation {
         let mut owned = None;
         let mut carry = tagged;
         if resort && carry.is_none() {
-            owned = Some(TaggedHistory::collect(&s.particles, &s.pairs, &s.wall_pairs));
+            owned = Some(TaggedHistory::collect(
+                &s.particles,
+                &s.pairs,
+                &s.wall_pairs,
+            ));
             carry = owned.as_ref();
         }
         if resort {
-            self.grid.rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+            self.grid
+                .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
             let order = self.grid.cell_order().to_vec();
             s.particles.permute(&order);
         }
-        self.grid.rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+        self.grid
+            .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
         let old_pairs = std::mem::take(&mut s.pairs);
         let old_walls = std::mem::take(&mut s.wall_pairs);
-        build_lists(&self.grid, &s.particles, &s.walls, s.skin, &old_pairs, &old_walls, carry, &mut s.pairs, &mut s.wall_pairs);
+        build_lists(
+            &self.grid,
+            &s.particles,
+            &s.walls,
+            s.skin,
+            &old_pairs,
+            &old_walls,
+            carry,
+            &mut s.pairs,
+            &mut s.wall_pairs,
+        );
         drop(owned);
         s.reference.clear();
         s.reference.extend_from_slice(&s.particles.position);
@@ -448,35 +515,30 @@ impl Simulation {
         let p = &mut self.state.particles;
 
         // First half kick and drift, tracking the largest displacement since the last build.
-        let mut max_disp2: f64 = 0.0;
-        let mut finite = true;
         let reference_valid = self.state.reference.len() == p.len();
-        for k in 0..p.len() {
-            let flags = p.flags[k];
-            if flags & FLAG_FROZEN != 0 {
-                continue;
-            }
-            p.velocity[k] += (half * p.inv_mass[k]) * p.force[k];
-            if flags & FLAG_ROTATION_LOCKED == 0 {
-                p.omega[k] += (half * p.inv_inertia[k]) * p.torque[k];
-            }
-            p.position[k] += dt * p.velocity[k];
-            if reference_valid {
-                max_disp2 = max_disp2.max((p.position[k] - self.state.reference[k]).length_squared());
-            }
-            finite &= p.position[k].is_finite();
+        if !reference_valid {
+            // The list is rebuilt below anyway; a reference is needed only to measure from.
+            self.state.reference.clear();
+            self.state.reference.extend_from_slice(&p.position);
         }
+        let (max_disp2, finite) = kick_drift(p, &self.state.reference, half, dt);
         if !finite {
-            let k = p.position.iter().position(|x| !x.is_finite()).unwrap_or(0);
-            return Err(DemError::NonFinite {
-                tag: p.tag[k],
-                position: p.position[k],
-                quantity: "position",
-                time: self.state.time,
-            });
+            // The fast check flags a non-finite or absurdly distant (|Δx|² overflowing)
+            // particle; only a truly non-finite one is an error.
+            if let Some(k) = p.position.iter().position(|x| !x.is_finite()) {
+                return Err(DemError::NonFinite {
+                    tag: p.tag[k],
+                    position: p.position[k],
+                    quantity: "position",
+                    time: self.state.time,
+                });
+            }
         }
         let half_skin = 0.5 * self.state.skin;
-        if self.state.needs_rebuild || !reference_valid || max_disp2.sqrt() + self.state.wall_drift > half_skin {
+        if self.state.needs_rebuild
+            || !reference_valid
+            || max_disp2.sqrt() + self.state.wall_drift > half_skin
+        {
             self.rebuild(None);
         }
 
@@ -491,17 +553,38 @@ impl Simulation {
             wall_coeffs: &self.wall_coeffs,
             dt,
         };
-        let eval = forces::evaluate(&input, &mut s.pairs, &mut s.wall_pairs, s.config.gravity, &mut self.buffers, self.pool.as_ref());
+        let eval = forces::evaluate(
+            &input,
+            &mut s.pairs,
+            &mut s.wall_pairs,
+            s.config.gravity,
+            &mut self.buffers,
+            self.pool.as_ref(),
+        );
         let limit = s.config.max_overlap_fraction;
         if eval.worst_pair.fraction > limit {
             let w = eval.worst_pair;
             let (i, j) = (s.pairs.i[w.index] as usize, s.pairs.j[w.index] as usize);
-            return Err(overlap_error(&s.particles, i, format!("particle {}", s.particles.tag[j]), w, limit, s.time));
+            return Err(overlap_error(
+                &s.particles,
+                i,
+                format!("particle {}", s.particles.tag[j]),
+                w,
+                limit,
+                s.time,
+            ));
         }
         if eval.worst_wall.fraction > limit {
             let w = eval.worst_wall;
             let i = s.wall_pairs.particle[w.index] as usize;
-            return Err(overlap_error(&s.particles, i, format!("wall {}", s.wall_pairs.wall[w.index]), w, limit, s.time));
+            return Err(overlap_error(
+                &s.particles,
+                i,
+                format!("wall {}", s.wall_pairs.wall[w.index]),
+                w,
+                limit,
+                s.time,
+            ));
         }
         std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
         std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
@@ -509,26 +592,17 @@ impl Simulation {
 
         // Second half kick.
         let p = &mut s.particles;
-        let mut finite = true;
-        for k in 0..p.len() {
-            let flags = p.flags[k];
-            if flags & FLAG_FROZEN != 0 {
-                continue;
+        if !kick(p, half) {
+            if let Some(k) =
+                (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite()))
+            {
+                return Err(DemError::NonFinite {
+                    tag: p.tag[k],
+                    position: p.position[k],
+                    quantity: "velocity",
+                    time: s.time,
+                });
             }
-            p.velocity[k] += (half * p.inv_mass[k]) * p.force[k];
-            if flags & FLAG_ROTATION_LOCKED == 0 {
-                p.omega[k] += (half * p.inv_inertia[k]) * p.torque[k];
-            }
-            finite &= p.velocity[k].is_finite() && p.omega[k].is_finite();
-        }
-        if !finite {
-            let k = (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite())).unwrap_or(0);
-            return Err(DemError::NonFinite {
-                tag: p.tag[k],
-                position: p.position[k],
-                quantity: "velocity",
-                time: s.time,
-            });
         }
         s.steps += 1;
         s.time = s.steps as f64 * dt;
@@ -554,15 +628,27 @@ impl Simulation {
             e.gravitational -= p.mass[k] * s.config.gravity.dot(p.position[k]);
         }
         let n = s.materials.len();
-        let coeffs = |a: u16, b: u16| match s.interactions.get(a as usize * n + b as usize).copied().flatten() {
-            Some(i) => PairCoefficients::new(&s.materials[a as usize], Some(&s.materials[b as usize]), &i).e_star,
+        let coeffs = |a: u16, b: u16| match s
+            .interactions
+            .get(a as usize * n + b as usize)
+            .copied()
+            .flatten()
+        {
+            Some(i) => {
+                PairCoefficients::new(&s.materials[a as usize], Some(&s.materials[b as usize]), &i)
+                    .e_star
+            }
             None => 0.0,
         };
         for k in 0..s.pairs.len() {
             let (i, j) = (s.pairs.i[k] as usize, s.pairs.j[k] as usize);
             let overlap = p.radius[i] + p.radius[j] - p.position[i].distance(p.position[j]);
             if overlap > 0.0 {
-                e.elastic += hertz_energy(coeffs(p.material[i], p.material[j]), harmonic(p.radius[i], p.radius[j]), overlap);
+                e.elastic += hertz_energy(
+                    coeffs(p.material[i], p.material[j]),
+                    harmonic(p.radius[i], p.radius[j]),
+                    overlap,
+                );
             }
         }
         for k in 0..s.wall_pairs.particle.len() {
@@ -570,7 +656,11 @@ impl Simulation {
             if let Some(w) = &s.walls[s.wall_pairs.wall[k] as usize] {
                 let overlap = p.radius[i] - w.closest_point(p.position[i]).1;
                 if overlap > 0.0 {
-                    let c = PairCoefficients::with_wall(&s.materials[p.material[i] as usize], &w.material, &w.interaction);
+                    let c = PairCoefficients::with_wall(
+                        &s.materials[p.material[i] as usize],
+                        &w.material,
+                        &w.interaction,
+                    );
                     e.elastic += hertz_energy(c.e_star, p.radius[i], overlap);
                 }
             }
@@ -579,16 +669,93 @@ impl Simulation {
     }
 }
 
+/// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2). Returns the
+/// largest squared displacement from `reference` [m²] and whether every displacement was finite.
+///
+/// Written over zipped slices so that the loop carries no bounds checks; a non-finite position
+/// makes its squared displacement NaN or infinite, which one comparison per particle catches.
+fn kick_drift(p: &mut ParticleSet, reference: &[DVec3], half: f64, dt: f64) -> (f64, bool) {
+    let mut max_disp2: f64 = 0.0;
+    let mut finite = true;
+    let bodies = p
+        .flags
+        .iter()
+        .zip(&p.force)
+        .zip(&p.torque)
+        .zip(&p.inv_mass)
+        .zip(&p.inv_inertia);
+    let state = p
+        .velocity
+        .iter_mut()
+        .zip(p.omega.iter_mut())
+        .zip(p.position.iter_mut())
+        .zip(reference);
+    for (((((&flags, &f), &t), &inv_m), &inv_i), (((v, w), x), &x0)) in bodies.zip(state) {
+        if flags & FLAG_FROZEN != 0 {
+            continue;
+        }
+        *v += (half * inv_m) * f;
+        if flags & FLAG_ROTATION_LOCKED == 0 {
+            *w += (half * inv_i) * t;
+        }
+        *x += dt * *v;
+        let d2 = (*x - x0).length_squared();
+        max_disp2 = max_disp2.max(d2);
+        finite &= d2 <= f64::MAX;
+    }
+    (max_disp2, finite)
+}
+
+/// Second half kick of every free particle. Returns false when some velocity or spin may be
+/// non-finite: x·0 is 0 for finite x and NaN otherwise, so one sum checks all six components.
+fn kick(p: &mut ParticleSet, half: f64) -> bool {
+    let mut probe = 0.0;
+    let bodies = p
+        .flags
+        .iter()
+        .zip(&p.force)
+        .zip(&p.torque)
+        .zip(&p.inv_mass)
+        .zip(&p.inv_inertia);
+    for (((((&flags, &f), &t), &inv_m), &inv_i), (v, w)) in
+        bodies.zip(p.velocity.iter_mut().zip(p.omega.iter_mut()))
+    {
+        if flags & FLAG_FROZEN != 0 {
+            continue;
+        }
+        *v += (half * inv_m) * f;
+        if flags & FLAG_ROTATION_LOCKED == 0 {
+            *w += (half * inv_i) * t;
+        }
+        probe += (*v + *w).element_sum() * 0.0;
+    }
+    probe == 0.0
+}
+
 fn check_interaction(i: &Interaction) -> Result<(), DemError> {
-    let ok = i.friction >= 0.0 && i.rolling_friction >= 0.0 && i.restitution > 0.0 && i.restitution <= 1.0 && i.friction.is_finite() && i.rolling_friction.is_finite();
+    let ok = i.friction >= 0.0
+        && i.rolling_friction >= 0.0
+        && i.restitution > 0.0
+        && i.restitution <= 1.0
+        && i.friction.is_finite()
+        && i.rolling_friction.is_finite();
     if ok {
         Ok(())
     } else {
-        Err(DemError::InvalidInput(format!("friction ≥ 0, rolling friction ≥ 0 and restitution in (0, 1] required, got {i:?}")))
+        Err(DemError::InvalidInput(format!(
+            "friction ≥ 0, rolling friction ≥ 0 and restitution in (0, 1] required, got {i:?}"
+        )))
     }
 }
 
-fn overlap_error(p: &ParticleSet, i: usize, other: String, worst: WorstOverlap, limit: f64, time: f64) -> DemError {
+fn overlap_error(
+    p: &ParticleSet,
+    i: usize,
+    other: String,
+    worst: WorstOverlap,
+    limit: f64,
+    time: f64,
+) -> DemError {
     DemError::ExcessiveOverlap {
         tag: p.tag[i],
         other,

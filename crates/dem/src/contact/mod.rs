@@ -140,26 +140,55 @@ impl ContactLaws {
             }
             TangentialLaw::MindlinDeresiewicz => {
                 let slip = c.friction * g.overlap * c.e_star / (4.0 * c.g_star);
-                tangential::mindlin_deresiewicz(&mut history.tangential, v_t, dt, cap, slip, c.damping, g.m_eff)
+                tangential::mindlin_deresiewicz(
+                    &mut history.tangential,
+                    v_t,
+                    dt,
+                    cap,
+                    slip,
+                    c.damping,
+                    g.m_eff,
+                )
             }
         };
-        let arm_n = -n;
-        let mut torque_i = (g.arm_i * arm_n).cross(f_t);
-        let mut torque_j = (g.arm_j * arm_n).cross(f_t);
+        // Torque of F_t about each centre. The lever from i's centre to the contact point is
+        // −a_i n and from j's is +a_j n with force −F_t on j, so M_i = −a_i (n × F_t) and
+        // M_j = −a_j (n × F_t): one cross product serves both.
+        let n_cross_ft = n.cross(f_t);
+        let mut torque_i;
+        let mut torque_j;
 
         // Rolling (§4), on the relative spin and the elastic normal force.
+        let omega_rel = i.omega - j.omega;
+        match self.rolling {
+            RollingLaw::ConstantTorque { limiter: false } => {
+                // Eq. 8 folded into the same levers: M_i gets −μ_r a_i F_ne ω̂ and M_j
+                // +μ_r a_j F_ne ω̂, so with s = μ_r F_ne/|ω_rel| both torques are
+                // −a (n × F_t ± s ω_rel). Same law as `rolling::constant_torque`, one
+                // division instead of three and no second cross product.
+                let w2 = omega_rel.length_squared();
+                let s = if w2 > 0.0 && c.rolling_friction > 0.0 {
+                    c.rolling_friction * hertz.force / w2.sqrt()
+                } else {
+                    0.0
+                };
+                let roll = s * omega_rel;
+                torque_i = -g.arm_i * (n_cross_ft + roll);
+                torque_j = -g.arm_j * (n_cross_ft - roll);
+            }
+            _ => {
+                torque_i = -g.arm_i * n_cross_ft;
+                torque_j = -g.arm_j * n_cross_ft;
+            }
+        }
         if c.rolling_friction > 0.0 {
-            let omega_rel = i.omega - j.omega;
             match self.rolling {
-                RollingLaw::None => {}
-                RollingLaw::ConstantTorque { limiter } => {
-                    let limit = if limiter {
-                        g.inertia_reduced() * omega_rel.length() / dt
-                    } else {
-                        f64::INFINITY
-                    };
+                RollingLaw::None | RollingLaw::ConstantTorque { limiter: false } => {}
+                RollingLaw::ConstantTorque { limiter: true } => {
+                    let limit = g.inertia_reduced() * omega_rel.length() / dt;
                     let m = c.rolling_friction * hertz.force;
-                    let (mi, mj) = rolling::constant_torque(omega_rel, m * g.arm_i, m * g.arm_j, limit);
+                    let (mi, mj) =
+                        rolling::constant_torque(omega_rel, m * g.arm_i, m * g.arm_j, limit);
                     torque_i += mi;
                     torque_j += mj;
                 }
