@@ -215,7 +215,8 @@ impl Case {
                 steady_end_fraction: 0.70,
             },
             output: OutputSpec {
-                vtu_interval: 0.0,
+                // A ParaView series of a base-case run: about 45 snapshots of 1 MB.
+                vtu_interval: 0.1,
                 checkpoint_interval: 1.0,
                 plots: true,
             },

@@ -85,7 +85,7 @@ steady_start_fraction = 0.15  # [-], steady window starts when this fraction has
 steady_end_fraction = 0.7     # [-], and ends at this fraction; 0 ≤ start < end ≤ 1
 
 [output]
-vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+vtu_interval = 0.1       # [s], time between VTU particle snapshots (particles.pvd); 0 writes none
 checkpoint_interval = 1.0  # [s], simulated time between checkpoints; 0 writes none
 plots = true             # draw the per-case plots
 "#;

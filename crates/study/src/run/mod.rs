@@ -159,7 +159,9 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             }
         }
     }
-    write_atomic(out_dir.join("case.toml"), case_text.as_bytes())?;
+    // The resolved case, headed by the program version; the seed is one of its keys.
+    let header = format!("# Resolved by hopperflow {}; config hash {hash}\n", env!("CARGO_PKG_VERSION"));
+    write_atomic(out_dir.join("case.toml"), format!("{header}{case_text}").as_bytes())?;
 
     let mut run = match (options.resume, checkpoint_path.exists()) {
         (true, true) => {
@@ -175,7 +177,8 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         run.simulation().particles().len(),
     );
     let mut next_checkpoint = run.simulation().time() + case.output.checkpoint_interval;
-    let mut pictures = outputs::Pictures::new(out_dir, case, options.pictures)?;
+    let draw = options.pictures && case.output.plots;
+    let mut pictures = outputs::Pictures::new(out_dir, case, draw)?;
     let mut chunks = 0u64;
     loop {
         if let Phase::Done { .. } = run.phase() {
@@ -217,7 +220,7 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             return Ok(RunOutcome::Interrupted);
         }
     }
-    let summary = outputs::finish(&run, out_dir, &hash, options.pictures)?;
+    let summary = outputs::finish(&run, out_dir, &hash, draw)?;
     write_json_atomic(
         out_dir.join("timing.json"),
         &serde_json::json!({

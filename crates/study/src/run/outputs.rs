@@ -28,7 +28,7 @@ pub fn config_hash(text: &str) -> String {
 }
 
 /// Simulated time between PNG frames of the discharge [s].
-const FRAME_INTERVAL: f64 = 0.05;
+const FRAME_INTERVAL: f64 = 0.1;
 
 /// Snapshots written while the case runs: VTU + PVD and PNG frames.
 pub struct Pictures {
