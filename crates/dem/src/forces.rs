@@ -9,6 +9,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::contact::batch::{Batch, BATCH};
 use crate::contact::{BodyMotion, ContactForce, ContactGeometry, ContactHistory, ContactLaws};
 use crate::material::{harmonic, PairCoefficients};
 use crate::neighbour::{PairList, WallPairList};
@@ -84,6 +85,53 @@ pub(crate) struct Evaluation {
     pub worst_wall: WorstOverlap,
 }
 
+/// Adds pair forces to the bodies in pair order, the one summation both evaluation paths share.
+///
+/// Pairs come sorted by i, so the contributions to body i are summed in registers over its run
+/// of pairs and added to it once, instead of a store and reload per contact.
+struct Accumulator<'a> {
+    force: &'a mut [DVec3],
+    torque: &'a mut [DVec3],
+    current: usize,
+    sum_force: DVec3,
+    sum_torque: DVec3,
+}
+
+impl<'a> Accumulator<'a> {
+    fn new(force: &'a mut [DVec3], torque: &'a mut [DVec3]) -> Self {
+        Self {
+            force,
+            torque,
+            current: usize::MAX,
+            sum_force: DVec3::ZERO,
+            sum_torque: DVec3::ZERO,
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, i: usize, j: usize, cf: &ContactForce) {
+        if i != self.current {
+            self.finish();
+            self.current = i;
+        }
+        self.sum_force += cf.force;
+        self.sum_torque += cf.torque_i;
+        self.force[j] -= cf.force;
+        self.torque[j] += cf.torque_j;
+    }
+
+    /// Adds the open run to its body.
+    #[inline(always)]
+    fn finish(&mut self) {
+        if self.current != usize::MAX {
+            self.force[self.current] += self.sum_force;
+            self.torque[self.current] += self.sum_torque;
+        }
+        self.sum_force = DVec3::ZERO;
+        self.sum_torque = DVec3::ZERO;
+    }
+}
+
 /// Evaluates all contacts, updating histories, and leaves gravity plus contact forces and
 /// torques in `buffers.force` and `buffers.torque`.
 pub(crate) fn evaluate(
@@ -105,14 +153,13 @@ pub(crate) fn evaluate(
 
     let worst_pair = match pool {
         None => {
-            let (force, torque) = (&mut buffers.force, &mut buffers.torque);
-            pair_loop(input, ids, 0, &mut pairs.history, |_, i, j, cf| {
-                force[i] += cf.force;
-                force[j] -= cf.force;
-                torque[i] += cf.torque_i;
-                torque[j] += cf.torque_j;
+            let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
+            let worst = pair_loop(input, ids, 0, &mut pairs.history, |_, i, j, cf| {
+                acc.add(i, j, cf);
                 count.particle_particle += 1;
-            })
+            });
+            acc.finish();
+            worst
         }
         Some(pool) => {
             buffers.pairs.resize(pairs.len(), ContactForce::default());
@@ -134,18 +181,14 @@ pub(crate) fn evaluate(
                     })
                     .reduce(WorstOverlap::default, WorstOverlap::merge)
             });
-            let (force, torque) = (&mut buffers.force, &mut buffers.torque);
+            let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
             for k in 0..pairs.len() {
                 if buffers.active[k] {
-                    let cf = &buffers.pairs[k];
-                    let (i, j) = (pairs.i[k] as usize, pairs.j[k] as usize);
-                    force[i] += cf.force;
-                    force[j] -= cf.force;
-                    torque[i] += cf.torque_i;
-                    torque[j] += cf.torque_j;
+                    acc.add(pairs.i[k] as usize, pairs.j[k] as usize, &buffers.pairs[k]);
                     count.particle_particle += 1;
                 }
             }
+            acc.finish();
             worst
         }
     };
@@ -183,10 +226,113 @@ fn pair_loop(
     sink: impl FnMut(usize, usize, usize, &ContactForce),
 ) -> WorstOverlap {
     if *input.laws == ContactLaws::default() {
-        pair_loop_with(input, ContactLaws::default(), ids, base, history, sink)
+        batched_pair_loop(input, ids, base, history, sink)
     } else {
         pair_loop_with(input, *input.laws, ids, base, history, sink)
     }
+}
+
+/// The paper's laws over a structure-of-arrays batch: touching pairs are gathered into a
+/// [`Batch`], resolved together, and handed to `sink` in pair order.
+#[inline(always)]
+fn batched_pair_loop(
+    input: &KernelInput,
+    (pi, pj): (&[u32], &[u32]),
+    base: usize,
+    history: &mut [ContactHistory],
+    mut sink: impl FnMut(usize, usize, usize, &ContactForce),
+) -> WorstOverlap {
+    let p = input.particles;
+    let mut worst = WorstOverlap::default();
+    let pi = &pi[base..base + history.len()];
+    let pj = &pj[base..base + history.len()];
+    let mut batch = Box::<Batch>::default();
+    let mut slot = [0u32; BATCH];
+    let mut flush = |batch: &mut Batch, slot: &[u32], history: &mut [ContactHistory]| {
+        batch.resolve(input.dt);
+        for (m, &k) in slot[..batch.len].iter().enumerate() {
+            let k = k as usize;
+            history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
+            let cf = ContactForce {
+                force: DVec3::new(batch.force[0][m], batch.force[1][m], batch.force[2][m]),
+                torque_i: DVec3::new(
+                    batch.torque_i[0][m],
+                    batch.torque_i[1][m],
+                    batch.torque_i[2][m],
+                ),
+                torque_j: DVec3::new(
+                    batch.torque_j[0][m],
+                    batch.torque_j[1][m],
+                    batch.torque_j[2][m],
+                ),
+            };
+            worst.see(batch.overlap_fraction[m], base + k);
+            sink(base + k, pi[k] as usize, pj[k] as usize, &cf);
+        }
+        batch.len = 0;
+    };
+    for k in 0..history.len() {
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        let d = p.position[i] - p.position[j];
+        let (ri, rj) = (p.radius[i], p.radius[j]);
+        let sum = ri + rj;
+        let dist2 = d.length_squared();
+        if dist2 >= sum * sum {
+            // Separated: the contact forgets its history (physics.md §3.1).
+            if !history[k].is_empty() {
+                history[k] = ContactHistory::default();
+            }
+            continue;
+        }
+        let m = batch.len;
+        let c =
+            &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
+        let (dv, wi, wj, xi) = (
+            p.velocity[i] - p.velocity[j],
+            p.omega[i],
+            p.omega[j],
+            history[k].tangential,
+        );
+        for (a, (x, v, u, w, z)) in [
+            (d.x, dv.x, wi.x, wj.x, xi.x),
+            (d.y, dv.y, wi.y, wj.y, xi.y),
+            (d.z, dv.z, wi.z, wj.z, xi.z),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            batch.d[a][m] = x;
+            batch.dv[a][m] = v;
+            batch.omega[0][a][m] = u;
+            batch.omega[1][a][m] = w;
+            batch.xi[a][m] = z;
+        }
+        batch.dist2[m] = dist2;
+        batch.radius[0][m] = ri;
+        batch.radius[1][m] = rj;
+        batch.mass[0][m] = p.mass[i];
+        batch.mass[1][m] = p.mass[j];
+        for (a, v) in [
+            c.e_star,
+            c.g_star,
+            c.friction,
+            c.rolling_friction,
+            c.damping,
+            c.stiffness_ratio_sqrt,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            batch.coeff[a][m] = v;
+        }
+        slot[m] = k as u32;
+        batch.len = m + 1;
+        if batch.len == BATCH {
+            flush(&mut batch, &slot, history);
+        }
+    }
+    flush(&mut batch, &slot, history);
+    worst
 }
 
 #[inline(always)]

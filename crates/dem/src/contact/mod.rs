@@ -3,6 +3,7 @@
 //!
 //! Each stage is a pure function in its own file; this module only orders them.
 
+pub mod batch;
 pub mod damping;
 pub mod normal;
 pub mod rolling;

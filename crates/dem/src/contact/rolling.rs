@@ -34,7 +34,12 @@ impl Default for RollingLaw {
 /// `omega_rel` = ω_i − ω_j [rad/s]; `magnitude_i` = μ_r a_i F_ne and `magnitude_j` = μ_r a_j F_ne [N m];
 /// `limit` is the optional cap I_red|ω_rel|/Δt [N m] (pass `f64::INFINITY` for none).
 #[inline]
-pub fn constant_torque(omega_rel: DVec3, magnitude_i: f64, magnitude_j: f64, limit: f64) -> (DVec3, DVec3) {
+pub fn constant_torque(
+    omega_rel: DVec3,
+    magnitude_i: f64,
+    magnitude_j: f64,
+    limit: f64,
+) -> (DVec3, DVec3) {
     let w = omega_rel.length();
     if w == 0.0 {
         return (DVec3::ZERO, DVec3::ZERO);
@@ -48,7 +53,14 @@ pub fn constant_torque(omega_rel: DVec3, magnitude_i: f64, magnitude_j: f64, lim
 /// `omega_roll` is the rolling part of ω_i − ω_j (normal component removed) [rad/s];
 /// `stiffness` k_r [N m/rad], `cap` μ_r R* F_ne [N m], `dashpot` η_r 2√(I_r k_r) [N m s].
 #[inline]
-pub fn epsd(history: &mut DVec3, omega_roll: DVec3, dt: f64, stiffness: f64, cap: f64, dashpot: f64) -> DVec3 {
+pub fn epsd(
+    history: &mut DVec3,
+    omega_roll: DVec3,
+    dt: f64,
+    stiffness: f64,
+    cap: f64,
+    dashpot: f64,
+) -> DVec3 {
     *history -= stiffness * omega_roll * dt;
     let m = history.length();
     if m > cap {
