@@ -3,7 +3,7 @@
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
-use study::bench::{hopper_benchmark, settled_bed, time_steps, BenchResult};
+use study::bench::{hopper_benchmark, scaling_benchmark, settled_bed, time_steps, BenchResult};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum BenchCase {
@@ -11,6 +11,9 @@ pub enum BenchCase {
     Bed,
     /// The paper's base case, timed over 0.1–0.3 s after the gate opens.
     Hopper,
+    /// Dense 3D packings (jittered lattices in contact) of 10^4, 10^5 and 10^6 spheres, or of
+    /// `--particles`: cost per particle-step and peak memory as N grows.
+    Scaling,
 }
 
 #[derive(Args)]
@@ -24,24 +27,42 @@ pub struct BenchArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
-    /// Particles in the bed.
-    #[arg(long, default_value_t = 3000)]
-    particles: usize,
-    /// Steps timed (bed only).
-    #[arg(long, default_value_t = 4000)]
-    steps: u64,
+    /// Particles in the bed (default 3000) or the scaling packing (default 10^4, 10^5, 10^6).
+    #[arg(long)]
+    particles: Option<usize>,
+    /// Steps timed (bed: default 4000; scaling: default 2·10^7 particle-steps per size).
+    #[arg(long)]
+    steps: Option<u64>,
     /// Checkpoint of the filled, settled hopper, reused between hopper benchmarks.
     #[arg(long, default_value = "out/bench-cache/hopper.bin")]
     cache: PathBuf,
 }
 
-fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<BenchResult> {
+fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
     match args.case {
         BenchCase::Bed => {
-            let mut sim = settled_bed(args.particles, threads, 20_000)?;
-            Ok(time_steps(&mut sim, args.steps, "bed", threads)?)
+            let mut sim = settled_bed(args.particles.unwrap_or(3000), threads, 20_000)?;
+            Ok(vec![time_steps(
+                &mut sim,
+                args.steps.unwrap_or(4000),
+                "bed",
+                threads,
+            )?])
         }
-        BenchCase::Hopper => Ok(hopper_benchmark(threads, Some(&args.cache))?),
+        BenchCase::Hopper => Ok(vec![hopper_benchmark(threads, Some(&args.cache))?]),
+        BenchCase::Scaling => {
+            let sizes = match args.particles {
+                Some(n) => vec![n],
+                None => vec![10_000, 100_000, 1_000_000],
+            };
+            // Sizes in increasing order, so the process's peak memory belongs to the current one.
+            let mut out = Vec::new();
+            for n in sizes {
+                let steps = args.steps.unwrap_or((20_000_000 / n.max(1) as u64).max(10));
+                out.push(scaling_benchmark(n, steps, threads)?);
+            }
+            Ok(out)
+        }
     }
 }
 
@@ -60,7 +81,7 @@ pub fn run(args: BenchArgs) -> i32 {
     let mut results = Vec::new();
     for t in list {
         match one(&args, t) {
-            Ok(r) => results.push(r),
+            Ok(r) => results.extend(r),
             Err(e) => {
                 eprintln!("error: {e:#}");
                 return 1;
@@ -75,11 +96,19 @@ pub fn run(args: BenchArgs) -> i32 {
         };
         println!("{}", out.unwrap_or_default());
     } else {
-        println!("{:<8} {:>7} {:>9} {:>12} {:>16} {:>10}", "case", "threads", "particles", "ns/p-step", "p-steps/s", "contacts/p");
+        println!(
+            "{:<8} {:>7} {:>9} {:>12} {:>16} {:>10}",
+            "case", "threads", "particles", "ns/p-step", "p-steps/s", "contacts/p"
+        );
         for r in &results {
             println!(
                 "{:<8} {:>7} {:>9} {:>12.1} {:>16.3e} {:>10.2}",
-                r.case, r.threads, r.particles, r.ns_per_particle_step, r.particle_steps_per_second, r.contacts_per_particle
+                r.case,
+                r.threads,
+                r.particles,
+                r.ns_per_particle_step,
+                r.particle_steps_per_second,
+                r.contacts_per_particle
             );
         }
     }

@@ -34,6 +34,10 @@ pub struct BenchResult {
     /// CPU time of the calling thread per particle and step [ns], where the OS reports it
     /// (Linux schedstat); less sensitive than wall time to other load on the machine.
     pub cpu_ns_per_particle_step: Option<f64>,
+    /// Peak resident memory of the process so far (Linux VmHWM) [bytes], where reported.
+    pub peak_memory_bytes: Option<u64>,
+    /// Peak memory above what the process held before the set-up, per particle [bytes].
+    pub bytes_per_particle: Option<f64>,
 }
 
 /// CPU time consumed by the calling thread [ns], from Linux's schedstat.
@@ -43,7 +47,12 @@ fn thread_cpu_ns() -> Option<u64> {
 }
 
 /// Times `steps` steps of `sim` and reports per particle-step.
-pub fn time_steps(sim: &mut Simulation, steps: u64, case: &str, threads: usize) -> Result<BenchResult, DemError> {
+pub fn time_steps(
+    sim: &mut Simulation,
+    steps: u64,
+    case: &str,
+    threads: usize,
+) -> Result<BenchResult, DemError> {
     let n = sim.particles().len();
     let rebuilds = sim.rebuilds();
     let cpu0 = thread_cpu_ns();
@@ -72,12 +81,108 @@ pub fn time_steps(sim: &mut Simulation, steps: u64, case: &str, threads: usize) 
         wall_contacts_per_particle: wall_contacts / (steps as f64 * n.max(1) as f64),
         rebuilds: sim.rebuilds() - rebuilds,
         cpu_ns_per_particle_step: cpu.map(|c| c / ps),
+        peak_memory_bytes: None,
+        bytes_per_particle: None,
     })
+}
+
+/// A memory figure of this process from Linux's /proc/self/status (`VmHWM`, `VmRSS`) [bytes].
+fn process_memory(key: &str) -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with(key))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Lattice spacing of the scaling packing as a fraction of the diameter: 0.5 % overlap.
+const PACKING_SPACING: f64 = 0.995;
+/// Random displacement of each lattice site, as a fraction of the diameter, up to ±.
+const PACKING_JITTER: f64 = 0.002;
+
+/// A dense 3D packing for the scaling benchmark: `count` Table-1 spheres (d = 3 mm) on a simple
+/// cubic lattice 0.995 d apart, each site jittered by up to ±0.002 d, so every interior sphere
+/// touches its six neighbours; six planes close the box and gravity is off. Returns the
+/// simulation and the resident memory before it was built [bytes].
+pub fn dense_packing(count: usize, threads: usize) -> Result<(Simulation, Option<u64>), DemError> {
+    use dem::{DVec3, Interaction, Material, ParticleInit, SimulationConfig, Wall, WallMaterial};
+    use rand::Rng;
+    let before = process_memory("VmRSS:");
+    let case = Case::paper_base();
+    let diameter = 3.0e-3;
+    let mut config = SimulationConfig::new(case.time_step);
+    config.gravity = DVec3::ZERO;
+    config.threads = threads;
+    // The hopper's skin (crates/study hopper set-up) for comparable lists.
+    config.skin = 0.1 * diameter;
+    let mut sim = Simulation::new(config)?;
+    let material = Material::fan2023();
+    let id = sim.add_material(material, Interaction::fan2023())?;
+    let side = (count as f64).cbrt().ceil() as usize;
+    let spacing = PACKING_SPACING * diameter;
+    let edge = side as f64 * spacing + diameter;
+    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+        for (point, normal) in [(DVec3::ZERO, axis), (edge * axis, -axis)] {
+            let wall = Wall::plane(
+                point,
+                normal,
+                WallMaterial::Elastic(material),
+                Interaction::fan2023(),
+            )
+            .map_err(|e| DemError::InvalidInput(e.to_string()))?;
+            sim.add_wall(wall);
+        }
+    }
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
+    let mut placed = 0;
+    'fill: for z in 0..side {
+        for y in 0..side {
+            for x in 0..side {
+                if placed == count {
+                    break 'fill;
+                }
+                let site = DVec3::new(x as f64, y as f64, z as f64) * spacing
+                    + DVec3::splat(0.5 * diameter + 0.5 * spacing);
+                let jitter = DVec3::new(rng.gen::<f64>(), rng.gen::<f64>(), rng.gen::<f64>()) * 2.0
+                    - DVec3::ONE;
+                sim.add_particle(ParticleInit::at_rest(
+                    site + PACKING_JITTER * diameter * jitter,
+                    0.5 * diameter,
+                    id,
+                ))?;
+                placed += 1;
+            }
+        }
+    }
+    Ok((sim, before))
+}
+
+/// Times `steps` steps of a [`dense_packing`] of `count` spheres (after 10 untimed steps that
+/// build the lists) and reports the peak memory of the process.
+pub fn scaling_benchmark(
+    count: usize,
+    steps: u64,
+    threads: usize,
+) -> Result<BenchResult, DemError> {
+    let (mut sim, before) = dense_packing(count, threads)?;
+    sim.run(10)?;
+    let mut r = time_steps(&mut sim, steps, "scaling", threads)?;
+    r.peak_memory_bytes = process_memory("VmHWM:");
+    r.bytes_per_particle = match (r.peak_memory_bytes, before) {
+        (Some(peak), Some(before)) => {
+            Some(peak.saturating_sub(before) as f64 / count.max(1) as f64)
+        }
+        _ => None,
+    };
+    Ok(r)
 }
 
 /// A settled bed of `count` Table-1 spheres in the paper's slab under gravity, gate closed.
 /// Returns the simulation after `settle_steps` untimed steps.
-pub fn settled_bed(count: usize, threads: usize, settle_steps: u64) -> Result<Simulation, DemError> {
+pub fn settled_bed(
+    count: usize,
+    threads: usize,
+    settle_steps: u64,
+) -> Result<Simulation, DemError> {
     let case = Case::paper_base();
     let (mut sim, _walls, material) = hopper_simulation(&case, threads)?;
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
@@ -95,7 +200,10 @@ pub const HOPPER_WINDOW: f64 = 0.2;
 /// Times the paper's base case over a fixed window of the discharge, probes and particle
 /// deletion included. The filled, settled hopper is cached in `cache` (a checkpoint file) so
 /// that repeated benchmarks skip the fill.
-pub fn hopper_benchmark(threads: usize, cache: Option<&std::path::Path>) -> Result<BenchResult, crate::run::RunError> {
+pub fn hopper_benchmark(
+    threads: usize,
+    cache: Option<&std::path::Path>,
+) -> Result<BenchResult, crate::run::RunError> {
     use crate::run::{CaseRun, Phase, RunState};
     let case = Case::paper_base();
     let cached: Option<RunState> = cache
@@ -120,7 +228,9 @@ pub fn hopper_benchmark(threads: usize, cache: Option<&std::path::Path>) -> Resu
         }
     };
     let Phase::Discharge { opened, .. } = run.phase() else {
-        return Err(crate::run::RunError::Engine(DemError::InvalidInput("the hopper emptied before the benchmark window".into())));
+        return Err(crate::run::RunError::Engine(DemError::InvalidInput(
+            "the hopper emptied before the benchmark window".into(),
+        )));
     };
     while run.simulation().time() < opened + HOPPER_WINDOW_START {
         run.advance()?;
@@ -159,5 +269,7 @@ pub fn hopper_benchmark(threads: usize, cache: Option<&std::path::Path>) -> Resu
         wall_contacts_per_particle: wall_contacts / particle_steps,
         rebuilds: run.simulation().rebuilds() - rebuilds,
         cpu_ns_per_particle_step: cpu.map(|c| c / particle_steps),
+        peak_memory_bytes: None,
+        bytes_per_particle: None,
     })
 }
