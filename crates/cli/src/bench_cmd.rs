@@ -97,18 +97,28 @@ pub fn run(args: BenchArgs) -> i32 {
         println!("{}", out.unwrap_or_default());
     } else {
         println!(
-            "{:<8} {:>7} {:>9} {:>12} {:>16} {:>10}",
-            "case", "threads", "particles", "ns/p-step", "p-steps/s", "contacts/p"
+            "{:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>10} {:>9}",
+            "case",
+            "threads",
+            "particles",
+            "ns/p-step",
+            "cpu ns/p-st",
+            "p-steps/s",
+            "contacts/p",
+            "bytes/p"
         );
+        let or_dash = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
         for r in &results {
             println!(
-                "{:<8} {:>7} {:>9} {:>12.1} {:>16.3e} {:>10.2}",
+                "{:<8} {:>7} {:>9} {:>10.1} {:>12} {:>12.3e} {:>10.2} {:>9}",
                 r.case,
                 r.threads,
                 r.particles,
                 r.ns_per_particle_step,
+                or_dash(r.cpu_ns_per_particle_step),
                 r.particle_steps_per_second,
-                r.contacts_per_particle
+                r.contacts_per_particle,
+                or_dash(r.bytes_per_particle)
             );
         }
     }
