@@ -27,6 +27,8 @@ mod figures;
 mod font;
 mod frame;
 mod image;
+#[cfg(feature = "parquet")]
+mod parquet;
 mod plot;
 mod pvd;
 mod table;
@@ -43,6 +45,8 @@ pub use frame::{
     render_frame, write_frame_png, FrameLayout, FrameParticle, FrameView, WallSegment,
 };
 pub use image::RgbImage;
+#[cfg(feature = "parquet")]
+pub use parquet::write_parquet_table;
 pub use plot::{plot_png, plot_svg, render_plot, Axis, Figure, Series, SeriesStyle, ShadedRange};
 pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};

@@ -232,6 +232,8 @@ pub fn write_results_table(
 ) -> Result<(), StudyError> {
     let cells: Vec<Vec<Cell>> = rows.values().map(ResultRow::cells).collect();
     write_csv_table(path, &RESULT_COLUMNS, &cells)?;
+    #[cfg(feature = "parquet")]
+    crate::output::write_parquet_table(path.with_extension("parquet"), &RESULT_COLUMNS, &cells)?;
     Ok(())
 }
 
