@@ -1,0 +1,117 @@
+//! Criterion benchmark of the contact kernel: the scalar `ContactLaws::resolve` and the
+//! structure-of-arrays batch the engine uses for the paper's laws, on Table-1 contacts.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use dem::contact::batch::{Batch, BATCH};
+use dem::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
+use dem::material::{harmonic, Interaction, Material, PairCoefficients};
+use dem::DVec3;
+
+/// Time step of the paper's base case [s].
+const DT: f64 = 2.5e-6;
+
+/// A Table-1 sphere–sphere contact number `k`: 1 % overlap, sliding and spinning.
+fn contact(k: usize) -> (DVec3, DVec3, DVec3, DVec3, DVec3) {
+    let a = k as f64 * 0.37;
+    let normal = DVec3::new(a.cos(), a.sin(), 0.3).normalize();
+    let d = normal * (3.0e-3 - 1.5e-5);
+    let dv = DVec3::new(0.1 * a.sin(), -0.2, 0.05);
+    let (wi, wj) = (
+        DVec3::new(3.0, -1.0, 2.0 * a.cos()),
+        DVec3::new(-1.0, 0.5, 0.2),
+    );
+    let xi = DVec3::new(-normal.y, normal.x, 0.0) * 1e-6;
+    (d, dv, wi, wj, xi)
+}
+
+fn kernels(c: &mut Criterion) {
+    let m = Material::fan2023();
+    let coeff = PairCoefficients::new(&m, Some(&m), &Interaction::fan2023());
+    let (r, mass) = (
+        1.5e-3,
+        2500.0 * 4.0 / 3.0 * std::f64::consts::PI * 1.5e-3f64.powi(3),
+    );
+    let mut group = c.benchmark_group("contact_kernel");
+    group.throughput(Throughput::Elements(BATCH as u64));
+
+    group.bench_function("scalar_resolve_64_contacts", |b| {
+        let laws = ContactLaws::default();
+        b.iter(|| {
+            let mut sum = DVec3::ZERO;
+            for k in 0..BATCH {
+                let (d, dv, wi, wj, xi) = contact(k);
+                let dist = d.length();
+                let overlap = 2.0 * r - dist;
+                let g = ContactGeometry {
+                    normal: d / dist,
+                    overlap,
+                    r_eff: harmonic(r, r),
+                    m_eff: harmonic(mass, mass),
+                    arm_i: r - 0.5 * overlap,
+                    arm_j: r - 0.5 * overlap,
+                    inertia: [0.4 * mass * r * r; 2],
+                    mass_radius2: [mass * r * r; 2],
+                };
+                let mut h = ContactHistory {
+                    tangential: xi,
+                    rolling: DVec3::ZERO,
+                };
+                let bi = BodyMotion {
+                    velocity: dv,
+                    omega: wi,
+                };
+                let bj = BodyMotion {
+                    velocity: DVec3::ZERO,
+                    omega: wj,
+                };
+                sum += laws
+                    .resolve(black_box(&g), &bi, &bj, &coeff, &mut h, DT)
+                    .force;
+            }
+            sum
+        })
+    });
+
+    group.bench_function("batch_resolve_64_contacts", |b| {
+        let mut batch = Batch::default();
+        for k in 0..BATCH {
+            let (d, dv, wi, wj, xi) = contact(k);
+            for a in 0..3 {
+                batch.d[a][k] = d[a];
+                batch.dv[a][k] = dv[a];
+                batch.omega[0][a][k] = wi[a];
+                batch.omega[1][a][k] = wj[a];
+                batch.xi[a][k] = xi[a];
+            }
+            batch.dist2[k] = d.length_squared();
+            batch.radius[0][k] = r;
+            batch.radius[1][k] = r;
+            batch.mass[0][k] = mass;
+            batch.mass[1][k] = mass;
+            for (a, v) in [
+                coeff.e_star,
+                coeff.g_star,
+                coeff.friction,
+                coeff.rolling_friction,
+                coeff.damping,
+                coeff.stiffness_ratio_sqrt,
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                batch.coeff[a][k] = v;
+            }
+        }
+        batch.len = BATCH;
+        let fresh = batch.xi;
+        b.iter(|| {
+            batch.xi = fresh;
+            black_box(&mut batch).resolve(DT);
+            batch.force[0][0]
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, kernels);
+criterion_main!(benches);
