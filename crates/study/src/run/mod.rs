@@ -74,6 +74,9 @@ pub struct Progress {
     pub particle_steps_per_second: f64,
 }
 
+/// A progress callback, shared with the thread that draws the bar.
+pub type ProgressSink = Arc<dyn Fn(&Progress) + Send + Sync>;
+
 /// How to run a case.
 #[derive(Clone)]
 pub struct RunOptions {
@@ -82,7 +85,7 @@ pub struct RunOptions {
     /// Continue from a checkpoint or a finished summary in the output directory.
     pub resume: bool,
     /// Called after every protocol chunk.
-    pub progress: Option<Arc<dyn Fn(&Progress) + Send + Sync>>,
+    pub progress: Option<ProgressSink>,
     /// Write pictures and snapshots (plots, frames, VTU). Studies may turn them off.
     pub pictures: bool,
     /// Stop after this many protocol chunks (testing interruptions); `None` runs to the end.
