@@ -115,6 +115,9 @@ pub struct Protocol {
     pub fill_bottom: f64,
     /// Top of the region particles are inserted in, above the outlet plane [m].
     pub fill_top: f64,
+    /// Downward speed of particles when inserted [m/s]: faster fills sooner, slower pours
+    /// more gently.
+    pub fill_speed: f64,
     /// Particles this far below the outlet plane are deleted [m] (physics spec §5: 5 d).
     pub deletion_depth: f64,
     /// The outlet counts as clogged when no particle leaves for this long [s].
@@ -185,6 +188,7 @@ impl Case {
                 max_settle_time: 3.0,
                 fill_bottom: 0.0,
                 fill_top: geometry.height,
+                fill_speed: 1.0,
                 deletion_depth: 5.0 * d,
                 // At the smallest outlet (D = 6 d) some 700 particles leave per second:
                 // 0.3 s without any is a stopped flow, not a fluctuation.

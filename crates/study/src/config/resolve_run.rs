@@ -81,6 +81,7 @@ pub(crate) fn read_protocol(
     let settle = section.float_or("max_settle_time", "s", base.max_settle_time, errors);
     let bottom = section.float_or("fill_bottom", "m", base.fill_bottom, errors);
     let top = section.float_or("fill_top", "m", height.unwrap_or(base.fill_top), errors);
+    let speed = section.float_or("fill_speed", "m/s", base.fill_speed, errors);
     let depth = section.float_or("deletion_depth", "m", 5.0 * d_max, errors);
     let clog = section.float_or("clog_timeout", "s", base.clog_timeout, errors);
     let limit = section.float_or("time_limit", "s", base.time_limit, errors);
@@ -91,6 +92,7 @@ pub(crate) fn read_protocol(
             "max_settle_time",
             "fill_bottom",
             "fill_top",
+            "fill_speed",
             "deletion_depth",
             "clog_timeout",
             "time_limit",
@@ -102,6 +104,7 @@ pub(crate) fn read_protocol(
         & settle.require_positive(errors)
         & bottom.require_non_negative(errors)
         & top.require_positive(errors)
+        & speed.require_non_negative(errors)
         & clog.require_positive(errors)
         & limit.require_positive(errors)
         & stop.require_positive(errors);
@@ -142,6 +145,7 @@ pub(crate) fn read_protocol(
         max_settle_time: settle.value,
         fill_bottom: bottom.value,
         fill_top: top.value,
+        fill_speed: speed.value,
         deletion_depth: depth.value,
         clog_timeout: clog.value,
         time_limit: limit.value,

@@ -70,6 +70,7 @@ settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below wh
 max_settle_time = 3.0    # [s], longest simulated settling time
 fill_bottom = 0.0        # [m], bottom of the insertion region above the outlet plane
 # fill_top = 0.4         # [m], top of the insertion region; default H
+fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 # deletion_depth = 0.015 # [m], particles this far below the outlet are removed; default 5 d, ≥ d
 clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
 time_limit = 20.0        # [s], longest simulated discharge after the gate opens

@@ -174,6 +174,7 @@ impl Case {
         );
         let _ = writeln!(out, "fill_bottom = {}  # [m]", float(pr.fill_bottom));
         let _ = writeln!(out, "fill_top = {}  # [m]", float(pr.fill_top));
+        let _ = writeln!(out, "fill_speed = {}  # [m/s]", float(pr.fill_speed));
         let _ = writeln!(out, "deletion_depth = {}  # [m]", float(pr.deletion_depth));
         let _ = writeln!(out, "clog_timeout = {}  # [s]", float(pr.clog_timeout));
         let _ = writeln!(out, "time_limit = {}  # [s]", float(pr.time_limit));

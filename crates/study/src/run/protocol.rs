@@ -19,8 +19,6 @@ use super::RunError;
 /// Height of the insertion band below the fill top [m]: tall enough for a few hundred
 /// particles per batch at random-sequential-addition density, short enough to start low.
 const INSERT_BAND: f64 = 0.08;
-/// Downward speed given to inserted particles [m/s], so batches clear the band quickly.
-const INSERT_SPEED: f64 = 1.0;
 /// Simulated time between insertion attempts [s].
 const INSERT_INTERVAL: f64 = 0.01;
 /// Settling starts being checked this long after the last insertion [s] (the last batch
@@ -207,7 +205,7 @@ impl CaseRun {
                 |rng| sample_radius(&size, rng),
                 self.state.material,
                 band,
-                DVec3::new(0.0, 0.0, -INSERT_SPEED),
+                DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed),
                 20 * want + 1000,
             )?;
             if n > 0 {
