@@ -1,0 +1,114 @@
+//! The `--quick` preset of the paper's study runs end to end through the binary, and its
+//! report builds from the saved results (issue: "`hopperflow study fan2023 --quick` runs in
+//! CI, and its report builds").
+
+use std::process::Command;
+
+fn hopperflow(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
+        .args(args)
+        .output()
+        .expect("the hopperflow binary starts")
+}
+
+/// Reads a CSV file into (headers, rows).
+fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut reader = csv::Reader::from_path(path).expect("results.csv opens");
+    let headers = reader
+        .headers()
+        .expect("headers")
+        .iter()
+        .map(String::from)
+        .collect();
+    let rows = reader
+        .records()
+        .map(|r| r.expect("a row").iter().map(String::from).collect())
+        .collect();
+    (headers, rows)
+}
+
+#[test]
+fn quick_study_runs_and_its_report_builds() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("quick");
+    let out_str = out.to_str().expect("utf-8 path");
+
+    let run = hopperflow(&[
+        "study",
+        "fan2023",
+        "--quick",
+        "--no-pictures",
+        "--out",
+        out_str,
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "the quick study failed:\n{stderr}");
+
+    // The quick preset has six grid points (two angles × two widths, and the wall outlet at
+    // both widths), each run once; every one must finish.
+    let (headers, rows) = read_csv(&out.join("results.csv"));
+    assert_eq!(rows.len(), 6, "six cases in results.csv");
+    let col = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
+    let (id, status, rate) = (col("id"), col("status"), col("discharge_rate"));
+    for row in &rows {
+        assert_eq!(row[status], "complete", "case {} did not complete", row[id]);
+        let w: f64 = row[rate].parse().expect("W is a number");
+        // Beverloo bounds for 600 Table-1 spheres through 6–10 d outlets: W is of the order
+        // of 10–100 g/s; anything outside 5–200 g/s is a broken measurement, not physics.
+        assert!(w > 0.005 && w < 0.2, "case {}: W = {w} kg/s", row[id]);
+    }
+
+    // Physics the quick preset can already show (paper Fig. 16): an outlet against the wall
+    // (s = 0) discharges faster than the centred one of the same width. The quick runs gave
+    // ratios of 1.23 and 1.48 with standard errors of 2–5 % on each W, so 1.05 leaves room
+    // for other seeds without letting an equal rate pass.
+    let w_of = |name: &str| -> f64 {
+        rows.iter()
+            .find(|r| r[id] == name)
+            .unwrap_or_else(|| panic!("case {name}"))[rate]
+            .parse()
+            .expect("W")
+    };
+    for d in ["D018", "D030"] {
+        let ratio = w_of(&format!("eccentric-s00-{d}-r0")) / w_of(&format!("angle-a90-{d}-r0"));
+        assert!(ratio > 1.05, "W(s = 0)/W0 at {d} is {ratio}");
+    }
+
+    let report = hopperflow(&["report", out_str]);
+    assert!(
+        report.status.success(),
+        "report failed:\n{}",
+        String::from_utf8_lossy(&report.stderr)
+    );
+    let md = std::fs::read_to_string(out.join("report/report.md")).expect("report.md");
+    assert!(
+        md.contains("Table 2") && md.contains("Table 3"),
+        "the report has both tables"
+    );
+    let html = std::fs::read_to_string(out.join("report/report.html")).expect("report.html");
+    assert!(
+        html.contains("<html") && html.contains("Table 2"),
+        "the HTML page is a full page with the tables"
+    );
+    let comparison: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("report/comparison.json")).expect("comparison.json"),
+    )
+    .expect("comparison.json parses");
+    let items = comparison.as_array().expect("an array of items");
+    assert!(!items.is_empty(), "the comparison lists items");
+    for item in items {
+        let keys: Vec<&String> = item.as_object().expect("an object").keys().collect();
+        let mut keys: Vec<&str> = keys.iter().map(|k| k.as_str()).collect();
+        keys.sort_unstable();
+        assert_eq!(
+            keys,
+            ["band", "item", "measured", "paper", "pass"],
+            "exactly the five keys"
+        );
+    }
+}
