@@ -5,6 +5,9 @@
 //! contact laws (`contact`), materials and mixing (`material`), walls (`wall`), storage
 //! (`particles`), neighbour search (`neighbour`) and the integrator (`simulation`).
 
+// Input checks are written `!(x > 0.0)` on purpose: unlike `x <= 0.0`, they also refuse NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
+
 pub mod contact;
 mod error;
 mod forces;
@@ -20,6 +23,8 @@ pub use error::DemError;
 pub use forces::ContactCount;
 pub use glam::DVec3;
 pub use material::{Interaction, Material, WallMaterial};
-pub use particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+pub use particles::{
+    MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
+};
 pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, SimulationState};
 pub use wall::{Wall, WallId, WallShape};

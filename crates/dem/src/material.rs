@@ -150,17 +150,34 @@ mod tests {
     fn table1_effective_moduli_match_physics_spec() {
         let m = Material::fan2023();
         assert_relative_eq!(m.youngs_modulus, 2.5e8, max_relative = 1e-12);
-        assert_relative_eq!(effective_youngs_modulus(&m, Some(&m)), 1.3333e8, max_relative = TABLE_TOL);
-        assert_relative_eq!(effective_shear_modulus(&m, Some(&m)), 2.8571e7, max_relative = TABLE_TOL);
-        assert_relative_eq!(effective_youngs_modulus(&m, None), 2.6667e8, max_relative = TABLE_TOL);
-        assert_relative_eq!(effective_shear_modulus(&m, None), 5.7143e7, max_relative = TABLE_TOL);
+        assert_relative_eq!(
+            effective_youngs_modulus(&m, Some(&m)),
+            1.3333e8,
+            max_relative = TABLE_TOL
+        );
+        assert_relative_eq!(
+            effective_shear_modulus(&m, Some(&m)),
+            2.8571e7,
+            max_relative = TABLE_TOL
+        );
+        assert_relative_eq!(
+            effective_youngs_modulus(&m, None),
+            2.6667e8,
+            max_relative = TABLE_TOL
+        );
+        assert_relative_eq!(
+            effective_shear_modulus(&m, None),
+            5.7143e7,
+            max_relative = TABLE_TOL
+        );
     }
 
     #[test]
     fn stiffness_ratio_kappa_is_two_one_minus_nu_over_two_minus_nu() {
         // κ = 4G*/E* = 2(1−ν)/(2−ν) = 0.857 for ν = 0.25 (physics.md §1.1); exact identity.
         let m = Material::fan2023();
-        let kappa = 4.0 * effective_shear_modulus(&m, Some(&m)) / effective_youngs_modulus(&m, Some(&m));
+        let kappa =
+            4.0 * effective_shear_modulus(&m, Some(&m)) / effective_youngs_modulus(&m, Some(&m));
         assert_relative_eq!(kappa, 2.0 * 0.75 / 1.75, max_relative = 1e-12);
     }
 }

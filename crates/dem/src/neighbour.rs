@@ -112,7 +112,10 @@ impl CellGrid {
             for cy in range(y, self.dims[1]) {
                 let row = (cz * self.dims[1] + cy) * self.dims[0];
                 let xs = range(x, self.dims[0]);
-                let (a, b) = (self.start[row + xs.start()] as usize, self.start[row + xs.end() + 1] as usize);
+                let (a, b) = (
+                    self.start[row + xs.start()] as usize,
+                    self.start[row + xs.end() + 1] as usize,
+                );
                 // Cells of one row are contiguous in `sorted`.
                 for &j in &self.sorted[a..b] {
                     visit(j);
@@ -176,7 +179,8 @@ impl TaggedHistory {
         for k in 0..walls.particle.len() {
             let h = walls.history[k];
             if !h.is_empty() {
-                out.walls.push((tag[walls.particle[k] as usize], walls.wall[k], h));
+                out.walls
+                    .push((tag[walls.particle[k] as usize], walls.wall[k], h));
             }
         }
         out.pairs.sort_unstable_by_key(|&(a, b, _)| (a, b));
@@ -186,7 +190,10 @@ impl TaggedHistory {
 
     fn pair(&self, a: u64, b: u64) -> ContactHistory {
         let (lo, hi, flip) = if a < b { (a, b, false) } else { (b, a, true) };
-        match self.pairs.binary_search_by_key(&(lo, hi), |&(x, y, _)| (x, y)) {
+        match self
+            .pairs
+            .binary_search_by_key(&(lo, hi), |&(x, y, _)| (x, y))
+        {
             Ok(k) if flip => negate(self.pairs[k].2),
             Ok(k) => self.pairs[k].2,
             Err(_) => ContactHistory::default(),
@@ -194,7 +201,10 @@ impl TaggedHistory {
     }
 
     fn wall(&self, a: u64, w: u32) -> ContactHistory {
-        match self.walls.binary_search_by_key(&(a, w), |&(x, y, _)| (x, y)) {
+        match self
+            .walls
+            .binary_search_by_key(&(a, w), |&(x, y, _)| (x, y))
+        {
             Ok(k) => self.walls[k].2,
             Err(_) => ContactHistory::default(),
         }
@@ -251,10 +261,13 @@ pub(crate) fn build_lists(
                 None => {
                     // Both lists are sorted by (i, j): advance the old cursor to this pair.
                     let key = (i as u32, j);
-                    while cursor < old_pairs.len() && (old_pairs.i[cursor], old_pairs.j[cursor]) < key {
+                    while cursor < old_pairs.len()
+                        && (old_pairs.i[cursor], old_pairs.j[cursor]) < key
+                    {
                         cursor += 1;
                     }
-                    if cursor < old_pairs.len() && (old_pairs.i[cursor], old_pairs.j[cursor]) == key {
+                    if cursor < old_pairs.len() && (old_pairs.i[cursor], old_pairs.j[cursor]) == key
+                    {
                         old_pairs.history[cursor]
                     } else {
                         ContactHistory::default()
@@ -286,10 +299,14 @@ pub(crate) fn build_lists(
                 Some(tagged) => tagged.wall(particles.tag[i], w as u32),
                 None => {
                     let key = (i as u32, w as u32);
-                    while wcursor < old_walls.particle.len() && (old_walls.particle[wcursor], old_walls.wall[wcursor]) < key {
+                    while wcursor < old_walls.particle.len()
+                        && (old_walls.particle[wcursor], old_walls.wall[wcursor]) < key
+                    {
                         wcursor += 1;
                     }
-                    if wcursor < old_walls.particle.len() && (old_walls.particle[wcursor], old_walls.wall[wcursor]) == key {
+                    if wcursor < old_walls.particle.len()
+                        && (old_walls.particle[wcursor], old_walls.wall[wcursor]) == key
+                    {
                         old_walls.history[wcursor]
                     } else {
                         ContactHistory::default()
@@ -315,13 +332,27 @@ mod tests {
         let mut set = ParticleSet::default();
         for _ in 0..400 {
             let p = DVec3::new(rng.gen::<f64>(), rng.gen::<f64>() * 0.1, rng.gen::<f64>());
-            let init = crate::particles::ParticleInit::at_rest(p, 0.01 + 0.01 * rng.gen::<f64>(), crate::particles::MaterialId(0));
+            let init = crate::particles::ParticleInit::at_rest(
+                p,
+                0.01 + 0.01 * rng.gen::<f64>(),
+                crate::particles::MaterialId(0),
+            );
             set.push(&init, 1000.0);
         }
         let skin = 0.005;
         let grid = CellGrid::build(&set.position, 0.04 + skin);
         let (mut pairs, mut walls) = (PairList::default(), WallPairList::default());
-        build_lists(&grid, &set, &[], skin, &PairList::default(), &WallPairList::default(), None, &mut pairs, &mut walls);
+        build_lists(
+            &grid,
+            &set,
+            &[],
+            skin,
+            &PairList::default(),
+            &WallPairList::default(),
+            None,
+            &mut pairs,
+            &mut walls,
+        );
         let mut brute = Vec::new();
         for i in 0..set.len() {
             for j in i + 1..set.len() {
@@ -331,7 +362,12 @@ mod tests {
                 }
             }
         }
-        let found: Vec<(u32, u32)> = pairs.i.iter().copied().zip(pairs.j.iter().copied()).collect();
+        let found: Vec<(u32, u32)> = pairs
+            .i
+            .iter()
+            .copied()
+            .zip(pairs.j.iter().copied())
+            .collect();
         assert_eq!(found, brute);
     }
 }

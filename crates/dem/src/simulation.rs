@@ -465,7 +465,8 @@ impl Simulation {
         }
         let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
         let cell = 2.0 * r_max + s.skin;
-        let resort = s.config.resort_every > 0 && s.rebuilds % s.config.resort_every as u64 == 0;
+        let resort =
+            s.config.resort_every > 0 && s.rebuilds.is_multiple_of(s.config.resort_every as u64);
         let mut owned = None;
         let mut carry = tagged;
         if resort && carry.is_none() {

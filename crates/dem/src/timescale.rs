@@ -20,6 +20,10 @@ mod tests {
     #[test]
     fn table1_rayleigh_time_is_25_7_microseconds() {
         // physics.md §1.1: t_R = 2.5684e-5 s (5 significant digits).
-        assert_relative_eq!(rayleigh_time(&Material::fan2023(), 1.5e-3), 2.5684e-5, max_relative = 5e-5);
+        assert_relative_eq!(
+            rayleigh_time(&Material::fan2023(), 1.5e-3),
+            2.5684e-5,
+            max_relative = 5e-5
+        );
     }
 }

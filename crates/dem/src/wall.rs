@@ -60,7 +60,12 @@ pub struct Wall {
 
 impl Wall {
     /// An infinite plane.
-    pub fn plane(point: DVec3, normal: DVec3, material: WallMaterial, interaction: Interaction) -> Result<Self, WallError> {
+    pub fn plane(
+        point: DVec3,
+        normal: DVec3,
+        material: WallMaterial,
+        interaction: Interaction,
+    ) -> Result<Self, WallError> {
         let len = normal.length();
         if !(len.is_finite() && len > 0.0) || !point.is_finite() {
             return Err(WallError::BadNormal(normal));
@@ -77,7 +82,11 @@ impl Wall {
     }
 
     /// A convex planar polygon (a rectangle, a triangle, …).
-    pub fn polygon(vertices: Vec<DVec3>, material: WallMaterial, interaction: Interaction) -> Result<Self, WallError> {
+    pub fn polygon(
+        vertices: Vec<DVec3>,
+        material: WallMaterial,
+        interaction: Interaction,
+    ) -> Result<Self, WallError> {
         let n = vertices.len();
         if n < 3 || vertices.iter().any(|v| !v.is_finite()) {
             return Err(WallError::TooFewVertices(n));
@@ -86,14 +95,20 @@ impl Wall {
         let mut normal = DVec3::ZERO;
         for k in 0..n {
             let (a, b) = (vertices[k], vertices[(k + 1) % n]);
-            normal += DVec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+            normal += DVec3::new(
+                (a.y - b.y) * (a.z + b.z),
+                (a.z - b.z) * (a.x + b.x),
+                (a.x - b.x) * (a.y + b.y),
+            );
         }
         let len = normal.length();
         if !(len > 0.0) {
             return Err(WallError::NotConvexPlanar(0));
         }
         let normal = normal / len;
-        let size = (0..n).map(|k| (vertices[(k + 1) % n] - vertices[k]).length()).fold(0.0, f64::max);
+        let size = (0..n)
+            .map(|k| (vertices[(k + 1) % n] - vertices[k]).length())
+            .fold(0.0, f64::max);
         let mut edge_normals = Vec::with_capacity(n);
         for k in 0..n {
             let (a, b) = (vertices[k], vertices[(k + 1) % n]);
@@ -147,13 +162,10 @@ impl Wall {
                 let h = (x - vertices[0]).dot(self.normal);
                 let q = x - h * self.normal;
                 let n = vertices.len();
-                let mut inside = true;
-                for k in 0..n {
-                    if (q - vertices[k]).dot(self.edge_normals[k]) < 0.0 {
-                        inside = false;
-                        break;
-                    }
-                }
+                let inside = vertices
+                    .iter()
+                    .zip(&self.edge_normals)
+                    .all(|(v, e)| (q - *v).dot(*e) >= 0.0);
                 if inside {
                     return (q, h.abs());
                 }
@@ -202,7 +214,12 @@ mod tests {
 
     fn square() -> Wall {
         // Unit square in the z = 0 plane.
-        let v = vec![DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 0.0, 0.0), DVec3::new(1.0, 1.0, 0.0), DVec3::new(0.0, 1.0, 0.0)];
+        let v = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
         Wall::polygon(v, WallMaterial::Rigid, Interaction::fan2023()).unwrap()
     }
 
@@ -213,33 +230,73 @@ mod tests {
     fn polygon_face_edge_and_corner_contacts_use_the_closest_point() {
         let w = square();
         let (p, d) = w.closest_point(DVec3::new(0.3, 0.4, 0.2));
-        assert_relative_eq!(p.distance(DVec3::new(0.3, 0.4, 0.0)), 0.0, epsilon = GEOM_TOL);
+        assert_relative_eq!(
+            p.distance(DVec3::new(0.3, 0.4, 0.0)),
+            0.0,
+            epsilon = GEOM_TOL
+        );
         assert_relative_eq!(d, 0.2, epsilon = GEOM_TOL);
         let (p, d) = w.closest_point(DVec3::new(1.3, 0.5, 0.4));
-        assert_relative_eq!(p.distance(DVec3::new(1.0, 0.5, 0.0)), 0.0, epsilon = GEOM_TOL);
+        assert_relative_eq!(
+            p.distance(DVec3::new(1.0, 0.5, 0.0)),
+            0.0,
+            epsilon = GEOM_TOL
+        );
         assert_relative_eq!(d, 0.5, epsilon = GEOM_TOL);
         let (p, d) = w.closest_point(DVec3::new(-0.3, -0.4, 0.0));
         assert_relative_eq!(p.distance(DVec3::ZERO), 0.0, epsilon = GEOM_TOL);
         assert_relative_eq!(d, 0.5, epsilon = GEOM_TOL);
         let n = w.contact_normal(DVec3::new(-0.3, -0.4, 0.0), p, d);
-        assert_relative_eq!(n.distance(DVec3::new(-0.6, -0.8, 0.0)), 0.0, epsilon = GEOM_TOL);
+        assert_relative_eq!(
+            n.distance(DVec3::new(-0.6, -0.8, 0.0)),
+            0.0,
+            epsilon = GEOM_TOL
+        );
     }
 
     #[test]
     fn triangles_and_planes_are_accepted_and_non_convex_polygons_refused() {
         let tri = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
         assert!(Wall::polygon(tri, WallMaterial::Rigid, Interaction::fan2023()).is_ok());
-        let dart = vec![DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(1.0, 0.2, 0.0), DVec3::new(1.0, 2.0, 0.0)];
-        assert!(matches!(Wall::polygon(dart, WallMaterial::Rigid, Interaction::fan2023()), Err(WallError::NotConvexPlanar(_))));
-        assert!(Wall::plane(DVec3::ZERO, DVec3::ZERO, WallMaterial::Rigid, Interaction::fan2023()).is_err());
-        let plane = Wall::plane(DVec3::ZERO, DVec3::new(0.0, 0.0, 2.0), WallMaterial::Rigid, Interaction::fan2023()).unwrap();
-        assert_relative_eq!(plane.closest_point(DVec3::new(5.0, 1.0, 0.25)).1, 0.25, epsilon = GEOM_TOL);
+        let dart = vec![
+            DVec3::ZERO,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.2, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+        ];
+        assert!(matches!(
+            Wall::polygon(dart, WallMaterial::Rigid, Interaction::fan2023()),
+            Err(WallError::NotConvexPlanar(_))
+        ));
+        assert!(Wall::plane(
+            DVec3::ZERO,
+            DVec3::ZERO,
+            WallMaterial::Rigid,
+            Interaction::fan2023()
+        )
+        .is_err());
+        let plane = Wall::plane(
+            DVec3::ZERO,
+            DVec3::new(0.0, 0.0, 2.0),
+            WallMaterial::Rigid,
+            Interaction::fan2023(),
+        )
+        .unwrap();
+        assert_relative_eq!(
+            plane.closest_point(DVec3::new(5.0, 1.0, 0.25)).1,
+            0.25,
+            epsilon = GEOM_TOL
+        );
     }
 
     #[test]
     fn translating_a_wall_moves_its_closest_point() {
         let mut w = square();
         w.translate(DVec3::new(0.0, 0.0, -0.5));
-        assert_relative_eq!(w.closest_point(DVec3::new(0.5, 0.5, 0.0)).1, 0.5, epsilon = GEOM_TOL);
+        assert_relative_eq!(
+            w.closest_point(DVec3::new(0.5, 0.5, 0.0)).1,
+            0.5,
+            epsilon = GEOM_TOL
+        );
     }
 }

@@ -139,8 +139,8 @@ impl Batch {
             let sliding = spring2 > cap * cap;
             let scale = if sliding { cap / spring2.sqrt() } else { 1.0 };
             let dash = if sliding { 0.0 } else { gamma_t };
-            for c in 0..3 {
-                xi[c] *= scale;
+            for x in &mut xi {
+                *x *= scale;
             }
             let f_t = [
                 -s_t * xi[0] - dash * v_t[0],

@@ -134,7 +134,11 @@ pub fn lattice_bed(
         if z + r > g.height {
             break;
         }
-        let shift = if k.is_multiple_of(2) { 0.0 } else { 0.5 * spacing };
+        let shift = if k.is_multiple_of(2) {
+            0.0
+        } else {
+            0.5 * spacing
+        };
         let mut x = -half + r * 1.05 + shift;
         while x + r < half && placed < count {
             let jitter = 0.002 * r * (rng.gen::<f64>() - 0.5);

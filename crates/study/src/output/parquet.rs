@@ -19,7 +19,11 @@ fn err(path: &Path, e: impl std::fmt::Display) -> OutputError {
 }
 
 /// Writes `rows` under `headers` as a Parquet file, atomically.
-pub fn write_parquet_table(path: impl AsRef<Path>, headers: &[&str], rows: &[Vec<Cell>]) -> Result<(), OutputError> {
+pub fn write_parquet_table(
+    path: impl AsRef<Path>,
+    headers: &[&str],
+    rows: &[Vec<Cell>],
+) -> Result<(), OutputError> {
     let path = path.as_ref();
     if rows.iter().any(|r| r.len() != headers.len()) {
         return Err(err(path, "every row needs one cell per header"));
@@ -32,7 +36,10 @@ pub fn write_parquet_table(path: impl AsRef<Path>, headers: &[&str], rows: &[Vec
         .zip(&numeric)
         .map(|(h, &n)| {
             // Parquet field names must be plain identifiers.
-            let name: String = h.chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '_' }).collect();
+            let name: String = h
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                .collect();
             if n {
                 format!("REQUIRED DOUBLE {name};")
             } else {
@@ -40,7 +47,10 @@ pub fn write_parquet_table(path: impl AsRef<Path>, headers: &[&str], rows: &[Vec
             }
         })
         .collect();
-    let schema = Arc::new(parse_message_type(&format!("message table {{ {} }}", fields.join(" "))).map_err(|e| err(path, e))?);
+    let schema = Arc::new(
+        parse_message_type(&format!("message table {{ {} }}", fields.join(" ")))
+            .map_err(|e| err(path, e))?,
+    );
     let props = Arc::new(WriterProperties::builder().build());
     let file = AtomicFile::create(path)?;
     let mut writer = SerializedFileWriter::new(file, schema, props).map_err(|e| err(path, e))?;
@@ -55,7 +65,9 @@ pub fn write_parquet_table(path: impl AsRef<Path>, headers: &[&str], rows: &[Vec
                     Cell::Text(_) => f64::NAN,
                 })
                 .collect();
-            out.typed::<DoubleType>().write_batch(&values, None, None).map_err(|e| err(path, e))?;
+            out.typed::<DoubleType>()
+                .write_batch(&values, None, None)
+                .map_err(|e| err(path, e))?;
         } else {
             let values: Vec<ByteArray> = rows
                 .iter()
@@ -64,7 +76,9 @@ pub fn write_parquet_table(path: impl AsRef<Path>, headers: &[&str], rows: &[Vec
                     Cell::Text(t) => ByteArray::from(t.as_str()),
                 })
                 .collect();
-            out.typed::<ByteArrayType>().write_batch(&values, None, None).map_err(|e| err(path, e))?;
+            out.typed::<ByteArrayType>()
+                .write_batch(&values, None, None)
+                .map_err(|e| err(path, e))?;
         }
         out.close().map_err(|e| err(path, e))?;
         column += 1;
@@ -82,7 +96,10 @@ mod tests {
     fn parquet_table_is_written_with_magic_bytes_and_refuses_ragged_rows() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("t.parquet");
-        let rows = vec![vec![Cell::Text("a".into()), Cell::Number(1.5)], vec![Cell::Text("b".into()), Cell::Number(2.5)]];
+        let rows = vec![
+            vec![Cell::Text("a".into()), Cell::Number(1.5)],
+            vec![Cell::Text("b".into()), Cell::Number(2.5)],
+        ];
         write_parquet_table(&path, &["id", "rate"], &rows).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         // A Parquet file starts and ends with the magic "PAR1".

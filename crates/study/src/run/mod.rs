@@ -163,8 +163,14 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         }
     }
     // The resolved case, headed by the program version; the seed is one of its keys.
-    let header = format!("# Resolved by hopperflow {}; config hash {hash}\n", env!("CARGO_PKG_VERSION"));
-    write_atomic(out_dir.join("case.toml"), format!("{header}{case_text}").as_bytes())?;
+    let header = format!(
+        "# Resolved by hopperflow {}; config hash {hash}\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    write_atomic(
+        out_dir.join("case.toml"),
+        format!("{header}{case_text}").as_bytes(),
+    )?;
 
     let mut run = match (options.resume, checkpoint_path.exists()) {
         (true, true) => {
