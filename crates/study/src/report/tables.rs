@@ -217,10 +217,7 @@ pub fn eq14_table(analysis: &StudyAnalysis) -> Block {
                     Err(why) => format!("not measured ({why})"),
                 },
                 ratio,
-                format!(
-                    "{:.3} ± {:.3}",
-                    p.centre_velocity.value, p.centre_velocity.standard_error
-                ),
+                estimate(&Ok(p.centre_velocity)),
             ]);
         }
     }
