@@ -12,7 +12,7 @@
 
 use dem::{ContactLaws, DVec3, Interaction, Material, WallMaterial};
 
-use crate::impact::{Impact, Target};
+use crate::impact::{hertz_rows, Impact, Target};
 use crate::{Resolution, Row, VerifyError};
 
 const TEST: &str = "CO2";
@@ -61,27 +61,7 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
             steps_per_contact: resolution.steps_per_contact(),
         }
         .run()?;
-        rows.push(Row::relative(
-            TEST,
-            format!("{name}: peak overlap [m]"),
-            overlap,
-            record.peak_overlap,
-            0.01,
-        ));
-        rows.push(Row::relative(
-            TEST,
-            format!("{name}: peak normal force [N]"),
-            force,
-            record.peak_force,
-            0.01,
-        ));
-        rows.push(Row::relative(
-            TEST,
-            format!("{name}: contact duration [s]"),
-            duration,
-            record.duration,
-            0.01,
-        ));
+        rows.extend(hertz_rows(TEST, name, &record, (overlap, force, duration)));
         rows.push(Row::relative(
             TEST,
             format!("{name}: rebound speed [m/s]"),

@@ -300,3 +300,37 @@ pub fn oblique_on_rigid_plane(
         contact_tangential: record.velocity.x + spin_after * radius,
     })
 }
+
+/// The three Hertz rows of an elastic impact (CO1, CO2): peak overlap [m], peak normal force
+/// [N] and contact duration [s] against their closed forms, each at 1 % (physics.md §9 CO1).
+pub fn hertz_rows(
+    test: &str,
+    name: &str,
+    record: &ImpactRecord,
+    (overlap, force, duration): (f64, f64, f64),
+) -> [crate::Row; 3] {
+    use crate::Row;
+    [
+        Row::relative(
+            test,
+            format!("{name}: peak overlap [m]"),
+            overlap,
+            record.peak_overlap,
+            0.01,
+        ),
+        Row::relative(
+            test,
+            format!("{name}: peak normal force [N]"),
+            force,
+            record.peak_force,
+            0.01,
+        ),
+        Row::relative(
+            test,
+            format!("{name}: contact duration [s]"),
+            duration,
+            record.duration,
+            0.01,
+        ),
+    ]
+}
