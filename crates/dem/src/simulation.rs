@@ -459,24 +459,17 @@ impl Simulation {
     /// Rebuilds the neighbour lists, carrying contact history over.
     fn rebuild(&mut self, tagged: Option<&TaggedHistory>) {
         let s = &mut self.state;
+        let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
         if s.skin == 0.0 {
-            let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
             s.skin = 0.2 * r_max;
         }
-        let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
         let cell = 2.0 * r_max + s.skin;
         let resort =
             s.config.resort_every > 0 && s.rebuilds.is_multiple_of(s.config.resort_every as u64);
-        let mut owned = None;
-        let mut carry = tagged;
-        if resort && carry.is_none() {
-            owned = Some(TaggedHistory::collect(
-                &s.particles,
-                &s.pairs,
-                &s.wall_pairs,
-            ));
-            carry = owned.as_ref();
-        }
+        // A re-sort changes indices, so history must then travel by tag.
+        let owned = (resort && tagged.is_none())
+            .then(|| TaggedHistory::collect(&s.particles, &s.pairs, &s.wall_pairs));
+        let carry = tagged.or(owned.as_ref());
         if resort {
             self.grid
                 .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
@@ -498,7 +491,6 @@ impl Simulation {
             &mut s.pairs,
             &mut s.wall_pairs,
         );
-        drop(owned);
         s.reference.clear();
         s.reference.extend_from_slice(&s.particles.position);
         s.wall_drift = 0.0;

@@ -238,7 +238,6 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             "threads": options.threads,
         }),
     )?;
-    pictures.finish()?;
     write_json_atomic(&summary_path, &summary)?;
     let _ = std::fs::remove_file(&checkpoint_path);
     Ok(RunOutcome::Finished(Box::new(summary)))

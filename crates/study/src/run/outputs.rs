@@ -151,11 +151,6 @@ impl Pictures {
         }
         Ok(())
     }
-
-    /// Nothing is left open; the PVD is rewritten at every push.
-    pub fn finish(self) -> Result<(), RunError> {
-        Ok(())
-    }
 }
 
 fn or_nan(x: Option<f64>) -> f64 {
