@@ -106,7 +106,7 @@ fn kernels(c: &mut Criterion) {
         let fresh = batch.xi;
         b.iter(|| {
             batch.xi = fresh;
-            black_box(&mut batch).resolve(DT);
+            black_box(&mut batch).resolve_pairs(DT);
             batch.force[0][0]
         })
     });

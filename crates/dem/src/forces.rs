@@ -6,7 +6,7 @@
 //! thread in the same order. Both paths run the same kernel and the same sequence of
 //! floating-point additions (gravity, pairs in list order, walls in list order).
 
-use glam::DVec3;
+use glam::{BVec3, DVec3};
 use rayon::prelude::*;
 
 use crate::contact::batch::{Batch, BATCH};
@@ -58,11 +58,25 @@ impl WorstOverlap {
     }
 }
 
+/// Scratch of one chunk of candidate pairs, reused from step to step.
+#[derive(Debug, Default)]
+struct ChunkScratch {
+    /// Chunk-local indices of the touching candidates, in order.
+    touching: Vec<u32>,
+    /// The batch the chunk's contacts are resolved in.
+    batch: Box<Batch>,
+    /// Forces of the touching contacts, kept for the ordered scatter (several threads only).
+    out: Vec<(u32, u32, ContactForce)>,
+}
+
+/// A wall contact found by the wall filter: candidate index, normal (wall to particle), δ.
+type WallHit = (u32, DVec3, f64);
+
 /// Reusable buffers.
 #[derive(Debug, Default)]
 pub(crate) struct ForceBuffers {
-    pairs: Vec<ContactForce>,
-    active: Vec<bool>,
+    chunks: Vec<ChunkScratch>,
+    wall_hits: Vec<WallHit>,
     /// Accumulated forces [N], swapped into the particle set after evaluation.
     pub force: Vec<DVec3>,
     /// Accumulated torques [N m].
@@ -153,40 +167,55 @@ pub(crate) fn evaluate(
 
     let worst_pair = match pool {
         None => {
+            if buffers.chunks.is_empty() {
+                buffers.chunks.push(ChunkScratch::default());
+            }
+            let scratch = &mut buffers.chunks[0];
             let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
-            let worst = pair_loop(input, ids, 0, &mut pairs.history, |_, i, j, cf| {
-                acc.add(i, j, cf);
-                count.particle_particle += 1;
-            });
+            let worst = pair_loop(
+                input,
+                ids,
+                0,
+                &mut pairs.history,
+                (&mut scratch.touching, &mut scratch.batch),
+                |i, j, cf| {
+                    acc.add(i, j, cf);
+                    count.particle_particle += 1;
+                },
+            );
             acc.finish();
             worst
         }
         Some(pool) => {
-            buffers.pairs.resize(pairs.len(), ContactForce::default());
-            buffers.active.clear();
-            buffers.active.resize(pairs.len(), false);
+            let chunks = pairs.len().div_ceil(CHUNK);
+            buffers.chunks.resize_with(chunks, ChunkScratch::default);
             let worst = pool.install(|| {
                 pairs
                     .history
                     .par_chunks_mut(CHUNK)
-                    .zip(buffers.pairs.par_chunks_mut(CHUNK))
-                    .zip(buffers.active.par_chunks_mut(CHUNK))
+                    .zip(buffers.chunks.par_iter_mut())
                     .enumerate()
-                    .map(|(c, ((h, out), act))| {
-                        let base = c * CHUNK;
-                        pair_loop(input, ids, base, h, |k, _, _, cf| {
-                            out[k - base] = *cf;
-                            act[k - base] = true;
-                        })
+                    .map(|(c, (h, scratch))| {
+                        let out = &mut scratch.out;
+                        out.clear();
+                        pair_loop(
+                            input,
+                            ids,
+                            c * CHUNK,
+                            h,
+                            (&mut scratch.touching, &mut scratch.batch),
+                            |i, j, cf| out.push((i as u32, j as u32, *cf)),
+                        )
                     })
                     .reduce(WorstOverlap::default, WorstOverlap::merge)
             });
+            // The same additions in the same (pair) order as the one-thread path.
             let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
-            for k in 0..pairs.len() {
-                if buffers.active[k] {
-                    acc.add(pairs.i[k] as usize, pairs.j[k] as usize, &buffers.pairs[k]);
-                    count.particle_particle += 1;
+            for scratch in &buffers.chunks[..chunks] {
+                for (i, j, cf) in &scratch.out {
+                    acc.add(*i as usize, *j as usize, cf);
                 }
+                count.particle_particle += scratch.out.len();
             }
             acc.finish();
             worst
@@ -195,16 +224,26 @@ pub(crate) fn evaluate(
 
     // Few wall candidates: one sequential pass, accumulating directly, on every path.
     let (force, torque) = (&mut buffers.force, &mut buffers.torque);
-    let worst_wall = wall_loop(
-        input,
-        (&wall_pairs.particle, &wall_pairs.wall),
-        &mut wall_pairs.history,
-        |i, cf| {
-            force[i] += cf.force;
-            torque[i] += cf.torque_i;
-            count.particle_wall += 1;
-        },
-    );
+    let sink = |i: usize, cf: &ContactForce| {
+        force[i] += cf.force;
+        torque[i] += cf.torque_i;
+        count.particle_wall += 1;
+    };
+    let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
+    let worst_wall = if *input.laws == ContactLaws::default() {
+        if buffers.chunks.is_empty() {
+            buffers.chunks.push(ChunkScratch::default());
+        }
+        batched_wall_loop(
+            input,
+            wall_ids,
+            &mut wall_pairs.history,
+            (&mut buffers.wall_hits, &mut buffers.chunks[0].batch),
+            sink,
+        )
+    } else {
+        wall_loop(input, wall_ids, &mut wall_pairs.history, sink)
+    };
     Evaluation {
         count,
         worst_pair,
@@ -212,7 +251,7 @@ pub(crate) fn evaluate(
     }
 }
 
-/// Runs the kernel over pairs `base..base + history.len()`, calling `sink(k, i, j, force)` for
+/// Runs the kernel over pairs `base..base + history.len()`, calling `sink(i, j, force)` for
 /// each pair in contact, in order.
 ///
 /// The paper's laws (the default) get their own copy of the loop in which the law choices are
@@ -223,115 +262,210 @@ fn pair_loop(
     ids: (&[u32], &[u32]),
     base: usize,
     history: &mut [ContactHistory],
-    sink: impl FnMut(usize, usize, usize, &ContactForce),
+    scratch: (&mut Vec<u32>, &mut Batch),
+    sink: impl FnMut(usize, usize, &ContactForce),
 ) -> WorstOverlap {
     if *input.laws == ContactLaws::default() {
-        batched_pair_loop(input, ids, base, history, sink)
+        batched_pair_loop(input, ids, base, history, scratch, sink)
     } else {
         pair_loop_with(input, *input.laws, ids, base, history, sink)
     }
 }
 
-/// The paper's laws over a structure-of-arrays batch: touching pairs are gathered into a
-/// [`Batch`], resolved together, and handed to `sink` in pair order.
+/// The coefficients every contact shares when there is one material, in [`Batch::coeff`] order.
+fn uniform_coefficients(c: &[PairCoefficients], materials: usize) -> Option<[f64; 6]> {
+    (materials == 1).then(|| coefficient_row(&c[0]))
+}
+
+#[inline(always)]
+fn coefficient_row(c: &PairCoefficients) -> [f64; 6] {
+    [
+        c.e_star,
+        c.g_star,
+        c.friction,
+        c.rolling_friction,
+        c.damping,
+        c.stiffness_ratio_sqrt,
+    ]
+}
+
+/// The result of slot `m` of a resolved batch.
+#[inline(always)]
+fn batch_force(batch: &Batch, m: usize) -> ContactForce {
+    let v = |a: &[[f64; BATCH]; 3]| DVec3::new(a[0][m], a[1][m], a[2][m]);
+    ContactForce {
+        force: v(&batch.force),
+        torque_i: v(&batch.torque_i),
+        torque_j: v(&batch.torque_j),
+    }
+}
+
+/// The paper's laws over structure-of-arrays batches, in two passes.
+///
+/// 1. A branch-free filter lists the touching candidates and clears the history of the
+///    separated ones (physics.md §3.1: a contact that opens forgets its ξ). About half the
+///    candidates are not touching, and a branch on it is mispredicted about as often.
+/// 2. The touching pairs are gathered [`BATCH`] at a time, resolved together, and handed to
+///    `sink` in pair order.
 #[inline(always)]
 fn batched_pair_loop(
     input: &KernelInput,
     (pi, pj): (&[u32], &[u32]),
     base: usize,
     history: &mut [ContactHistory],
-    mut sink: impl FnMut(usize, usize, usize, &ContactForce),
+    (touching, batch): (&mut Vec<u32>, &mut Batch),
+    mut sink: impl FnMut(usize, usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
+    // One common length lets the compiler check an index once for all the arrays.
+    let n = p.len();
+    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
+    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+    let len = history.len();
+    let (pi, pj) = (&pi[base..base + len], &pj[base..base + len]);
+
+    touching.clear();
+    touching.resize(len, 0);
+    let mut count = 0;
+    for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let sum = radius[i] + radius[j];
+        let dist2 = (pos[i] - pos[j]).length_squared();
+        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
+        let touch = !(dist2 >= sum * sum);
+        touching[count.min(len - 1)] = k as u32;
+        count += touch as usize;
+        // The paper's laws keep no rolling history; only ξ needs clearing.
+        h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+    }
+    touching.truncate(count);
+
+    let uniform = uniform_coefficients(input.pair_coeffs, input.materials);
+    if let Some(c) = uniform {
+        batch.fill_coefficients(c);
+    }
     let mut worst = WorstOverlap::default();
-    let pi = &pi[base..base + history.len()];
-    let pj = &pj[base..base + history.len()];
-    let mut batch = Box::<Batch>::default();
-    let mut slot = [0u32; BATCH];
-    let mut flush = |batch: &mut Batch, slot: &[u32], history: &mut [ContactHistory]| {
-        batch.resolve(input.dt);
-        for (m, &k) in slot[..batch.len].iter().enumerate() {
+    for group in touching.chunks(BATCH) {
+        for (m, &k) in group.iter().enumerate() {
+            // `m < BATCH` already; the mask tells the compiler so.
+            let m = m & (BATCH - 1);
+            let k = k as usize;
+            let (i, j) = (pi[k] as usize, pj[k] as usize);
+            let d = pos[i] - pos[j];
+            let dv = vel[i] - vel[j];
+            let (wi, wj, xi) = (omega[i], omega[j], history[k].tangential);
+            for (a, (x, v, u, w, z)) in [
+                (d.x, dv.x, wi.x, wj.x, xi.x),
+                (d.y, dv.y, wi.y, wj.y, xi.y),
+                (d.z, dv.z, wi.z, wj.z, xi.z),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                batch.d[a][m] = x;
+                batch.dv[a][m] = v;
+                batch.omega[0][a][m] = u;
+                batch.omega[1][a][m] = w;
+                batch.xi[a][m] = z;
+            }
+            batch.dist2[m] = d.length_squared();
+            batch.radius[0][m] = radius[i];
+            batch.radius[1][m] = radius[j];
+            batch.mass[0][m] = mass[i];
+            batch.mass[1][m] = mass[j];
+            if uniform.is_none() {
+                let c = &input.pair_coeffs
+                    [material[i] as usize * input.materials + material[j] as usize];
+                for (a, v) in coefficient_row(c).into_iter().enumerate() {
+                    batch.coeff[a][m] = v;
+                }
+            }
+        }
+        batch.len = group.len();
+        batch.resolve_pairs(input.dt);
+        for (m, &k) in group.iter().enumerate() {
+            let m = m & (BATCH - 1);
             let k = k as usize;
             history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
-            let cf = ContactForce {
-                force: DVec3::new(batch.force[0][m], batch.force[1][m], batch.force[2][m]),
-                torque_i: DVec3::new(
-                    batch.torque_i[0][m],
-                    batch.torque_i[1][m],
-                    batch.torque_i[2][m],
-                ),
-                torque_j: DVec3::new(
-                    batch.torque_j[0][m],
-                    batch.torque_j[1][m],
-                    batch.torque_j[2][m],
-                ),
-            };
             worst.see(batch.overlap_fraction[m], base + k);
-            sink(base + k, pi[k] as usize, pj[k] as usize, &cf);
-        }
-        batch.len = 0;
-    };
-    for k in 0..history.len() {
-        let (i, j) = (pi[k] as usize, pj[k] as usize);
-        let d = p.position[i] - p.position[j];
-        let (ri, rj) = (p.radius[i], p.radius[j]);
-        let sum = ri + rj;
-        let dist2 = d.length_squared();
-        if dist2 >= sum * sum {
-            // Separated: the contact forgets its history (physics.md §3.1).
-            if !history[k].is_empty() {
-                history[k] = ContactHistory::default();
-            }
-            continue;
-        }
-        let m = batch.len;
-        let c =
-            &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
-        let (dv, wi, wj, xi) = (
-            p.velocity[i] - p.velocity[j],
-            p.omega[i],
-            p.omega[j],
-            history[k].tangential,
-        );
-        for (a, (x, v, u, w, z)) in [
-            (d.x, dv.x, wi.x, wj.x, xi.x),
-            (d.y, dv.y, wi.y, wj.y, xi.y),
-            (d.z, dv.z, wi.z, wj.z, xi.z),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            batch.d[a][m] = x;
-            batch.dv[a][m] = v;
-            batch.omega[0][a][m] = u;
-            batch.omega[1][a][m] = w;
-            batch.xi[a][m] = z;
-        }
-        batch.dist2[m] = dist2;
-        batch.radius[0][m] = ri;
-        batch.radius[1][m] = rj;
-        batch.mass[0][m] = p.mass[i];
-        batch.mass[1][m] = p.mass[j];
-        for (a, v) in [
-            c.e_star,
-            c.g_star,
-            c.friction,
-            c.rolling_friction,
-            c.damping,
-            c.stiffness_ratio_sqrt,
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            batch.coeff[a][m] = v;
-        }
-        slot[m] = k as u32;
-        batch.len = m + 1;
-        if batch.len == BATCH {
-            flush(&mut batch, &slot, history);
+            sink(pi[k] as usize, pj[k] as usize, &batch_force(batch, m));
         }
     }
-    flush(&mut batch, &slot, history);
+    worst
+}
+
+/// The paper's laws for particle–wall candidates: the closest point of each candidate's wall
+/// (scalar; faces, edges and corners differ), then the touching ones resolved in batches.
+#[inline(always)]
+fn batched_wall_loop(
+    input: &KernelInput,
+    (pi, pw): (&[u32], &[u32]),
+    history: &mut [ContactHistory],
+    (hits, batch): (&mut Vec<WallHit>, &mut Batch),
+    mut sink: impl FnMut(usize, &ContactForce),
+) -> WorstOverlap {
+    let p = input.particles;
+    let n = p.len();
+    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
+    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+    hits.clear();
+    for (k, ((&i, &w), h)) in pi.iter().zip(pw).zip(history.iter_mut()).enumerate() {
+        let (i, w) = (i as usize, w as usize);
+        let touching = input.walls[w].as_ref().and_then(|wall| {
+            let x = pos[i];
+            let (cp, dist) = wall.closest_point(x);
+            // `!(≥)`: a NaN distance counts as touching and reaches the NaN check.
+            (!(dist >= radius[i])).then(|| (wall.contact_normal(x, cp, dist), radius[i] - dist))
+        });
+        match touching {
+            Some((normal, overlap)) => hits.push((k as u32, normal, overlap)),
+            // Separated (or the wall is gone): the contact forgets its history (§3.1).
+            None => h.tangential = DVec3::ZERO,
+        }
+    }
+
+    let mut worst = WorstOverlap::default();
+    for group in hits.chunks(BATCH) {
+        for (m, &(k, normal, overlap)) in group.iter().enumerate() {
+            let m = m & (BATCH - 1);
+            let k = k as usize;
+            let (i, w) = (pi[k] as usize, pw[k] as usize);
+            // Only walls that exist produced hits.
+            let wall_velocity = input.walls[w].as_ref().map_or(DVec3::ZERO, |w| w.velocity);
+            let dv = vel[i] - wall_velocity;
+            let (wi, xi) = (omega[i], history[k].tangential);
+            for (a, (x, v, u, z)) in [
+                (normal.x, dv.x, wi.x, xi.x),
+                (normal.y, dv.y, wi.y, xi.y),
+                (normal.z, dv.z, wi.z, xi.z),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                batch.d[a][m] = x;
+                batch.dv[a][m] = v;
+                batch.omega[0][a][m] = u;
+                batch.omega[1][a][m] = 0.0;
+                batch.xi[a][m] = z;
+            }
+            batch.overlap[m] = overlap;
+            batch.radius[0][m] = radius[i];
+            batch.mass[0][m] = mass[i];
+            let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
+            for (a, v) in coefficient_row(c).into_iter().enumerate() {
+                batch.coeff[a][m] = v;
+            }
+        }
+        batch.len = group.len();
+        batch.resolve_walls(input.dt);
+        for (m, &(k, _, _)) in group.iter().enumerate() {
+            let m = m & (BATCH - 1);
+            let k = k as usize;
+            history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
+            worst.see(batch.overlap_fraction[m], k);
+            sink(pi[k] as usize, &batch_force(batch, m));
+        }
+    }
     worst
 }
 
@@ -342,7 +476,7 @@ fn pair_loop_with(
     (pi, pj): (&[u32], &[u32]),
     base: usize,
     history: &mut [ContactHistory],
-    mut sink: impl FnMut(usize, usize, usize, &ContactForce),
+    mut sink: impl FnMut(usize, usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
@@ -387,7 +521,7 @@ fn pair_loop_with(
             omega: p.omega[j],
         };
         let cf = laws.resolve(&g, &bi, &bj, c, h, input.dt);
-        sink(base + k, i, j, &cf);
+        sink(i, j, &cf);
     }
     worst
 }

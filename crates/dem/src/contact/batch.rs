@@ -15,17 +15,19 @@ pub const BATCH: usize = 64;
 
 /// One batch of touching pairs: inputs gathered by the caller, outputs filled by [`Batch::resolve`].
 /// All vectors are components x, y, z. Pair "i–j" follows `ContactGeometry`: n points from j to i.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Batch {
     /// Contacts filled in [-].
     pub len: usize,
     /// Centre offset x_i − x_j [m].
     pub d: [[f64; BATCH]; 3],
-    /// Squared centre distance [m²].
+    /// Squared centre distance [m²] (pairs only).
     pub dist2: [f64; BATCH],
+    /// Overlap δ_n [m] (walls only: there `d` holds the unit normal, wall to particle).
+    pub overlap: [f64; BATCH],
     /// Radii R_i, R_j [m].
     pub radius: [[f64; BATCH]; 2],
-    /// Masses m_i, m_j [kg].
+    /// Masses m_i, m_j [kg] (m_j unused for walls).
     pub mass: [[f64; BATCH]; 2],
     /// Velocity difference v_i − v_j [m/s].
     pub dv: [[f64; BATCH]; 3],
@@ -52,6 +54,7 @@ impl Default for Batch {
             len: 0,
             d: [z; 3],
             dist2: z,
+            overlap: z,
             radius: [z; 2],
             mass: [z; 2],
             dv: [z; 3],
@@ -67,9 +70,31 @@ impl Default for Batch {
 }
 
 impl Batch {
-    /// Evaluates every contact of the batch for time step `dt` [s], updating `xi`.
+    /// Sets the pair coefficients of every slot, for a batch whose contacts all share them
+    /// (one material): the gather then skips the six per-contact copies.
+    pub fn fill_coefficients(&mut self, c: [f64; 6]) {
+        for (row, v) in self.coeff.iter_mut().zip(c) {
+            row.fill(v);
+        }
+    }
+
+    /// Evaluates every particle–particle contact of the batch for time step `dt` [s],
+    /// updating `xi`.
     #[inline(never)]
-    pub fn resolve(&mut self, dt: f64) {
+    pub fn resolve_pairs(&mut self, dt: f64) {
+        self.resolve::<false>(dt);
+    }
+
+    /// Evaluates every particle–wall contact of the batch for time step `dt` [s], updating
+    /// `xi`. A wall is a body of infinite radius and mass at rest in rotation (physics.md §5):
+    /// R* = R_i, m* = m_i, lever a_j = 0, ω_j = 0 (the caller stores zero there).
+    #[inline(never)]
+    pub fn resolve_walls(&mut self, dt: f64) {
+        self.resolve::<true>(dt);
+    }
+
+    #[inline(always)]
+    fn resolve<const WALL: bool>(&mut self, dt: f64) {
         let n = self.len.min(BATCH);
         for k in 0..n {
             let (ri, rj) = (self.radius[0][k], self.radius[1][k]);
@@ -82,17 +107,26 @@ impl Batch {
                 self.coeff[4][k],
                 self.coeff[5][k],
             ];
-            // Geometry (forces.rs): n = d/|d|, δ = R_i + R_j − |d|, R* and m* harmonic.
-            let sum = ri + rj;
-            let dist = self.dist2[k].sqrt();
-            let overlap = sum - dist;
-            self.overlap_fraction[k] = overlap / ri.min(rj);
-            let inv = 1.0 / dist;
-            let n = [self.d[0][k] * inv, self.d[1][k] * inv, self.d[2][k] * inv];
-            let r_eff = ri * rj / sum;
-            let m_eff = mi * mj / (mi + mj);
-            let arm_i = ri - 0.5 * overlap;
-            let arm_j = rj - 0.5 * overlap;
+            let (n, overlap, r_eff, m_eff, arm_i, arm_j);
+            if WALL {
+                // The wall loop found the closest point: n and δ come in directly.
+                n = [self.d[0][k], self.d[1][k], self.d[2][k]];
+                overlap = self.overlap[k];
+                self.overlap_fraction[k] = overlap / ri;
+                (r_eff, m_eff, arm_i, arm_j) = (ri, mi, ri - 0.5 * overlap, 0.0);
+            } else {
+                // Geometry (forces.rs): n = d/|d|, δ = R_i + R_j − |d|, R* and m* harmonic.
+                let sum = ri + rj;
+                let dist = self.dist2[k].sqrt();
+                overlap = sum - dist;
+                self.overlap_fraction[k] = overlap / ri.min(rj);
+                let inv = 1.0 / dist;
+                n = [self.d[0][k] * inv, self.d[1][k] * inv, self.d[2][k] * inv];
+                r_eff = ri * rj / sum;
+                m_eff = mi * mj / (mi + mj);
+                arm_i = ri - 0.5 * overlap;
+                arm_j = rj - 0.5 * overlap;
+            }
 
             // Contact-point relative velocity (§1): v = Δv − (a_i ω_i + a_j ω_j) × n.
             let w = [
@@ -256,7 +290,7 @@ mod tests {
             cases.push((d, ri, rj, mi, mj, vi, vj, wi, wj, xi));
         }
         batch.len = BATCH;
-        batch.resolve(dt);
+        batch.resolve_pairs(dt);
         let mut slid = 0;
         for (k, &(d, ri, rj, mi, mj, vi, vj, wi, wj, xi)) in cases.iter().enumerate() {
             let dist = d.length();
