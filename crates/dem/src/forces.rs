@@ -14,7 +14,7 @@ use crate::contact::{BodyMotion, ContactForce, ContactGeometry, ContactHistory, 
 use crate::material::{harmonic, PairCoefficients};
 use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
-use crate::wall::Wall;
+use crate::wall::{Wall, WallShape};
 
 /// Pairs per parallel task: large enough to amortise scheduling, small enough to balance.
 const CHUNK: usize = 2048;
@@ -77,6 +77,7 @@ type WallHit = (u32, DVec3, f64);
 pub(crate) struct ForceBuffers {
     chunks: Vec<ChunkScratch>,
     wall_hits: Vec<WallHit>,
+    wall_probes: Vec<WallProbe>,
     /// Accumulated forces [N], swapped into the particle set after evaluation.
     pub force: Vec<DVec3>,
     /// Accumulated torques [N m].
@@ -238,7 +239,11 @@ pub(crate) fn evaluate(
             input,
             wall_ids,
             &mut wall_pairs.history,
-            (&mut buffers.wall_hits, &mut buffers.chunks[0].batch),
+            (
+                &mut buffers.wall_hits,
+                &mut buffers.wall_probes,
+                &mut buffers.chunks[0].batch,
+            ),
             sink,
         )
     } else {
@@ -324,21 +329,8 @@ fn batched_pair_loop(
     let len = history.len();
     let (pi, pj) = (&pi[base..base + len], &pj[base..base + len]);
 
-    touching.clear();
-    touching.resize(len, 0);
-    let mut count = 0;
-    for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
-        let (i, j) = (i as usize, j as usize);
-        let sum = radius[i] + radius[j];
-        let dist2 = (pos[i] - pos[j]).length_squared();
-        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
-        let touch = !(dist2 >= sum * sum);
-        touching[count.min(len - 1)] = k as u32;
-        count += touch as usize;
-        // The paper's laws keep no rolling history; only ξ needs clearing.
-        h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
-    }
-    touching.truncate(count);
+    let count = filter_touching(p, (pi, pj), history, touching);
+    let touching = &touching[..count];
 
     let uniform = uniform_coefficients(input.pair_coeffs, input.materials);
     if let Some(c) = uniform {
@@ -394,35 +386,103 @@ fn batched_pair_loop(
     worst
 }
 
+/// Lists (in `touching[..count]`, count returned) the candidates of `pi`/`pj` whose spheres overlap, without a branch
+/// on the outcome, and clears ξ of the others: the paper's laws keep no rolling history.
+#[inline(never)]
+fn filter_touching(
+    p: &ParticleSet,
+    (pi, pj): (&[u32], &[u32]),
+    history: &mut [ContactHistory],
+    touching: &mut Vec<u32>,
+) -> usize {
+    let n = p.len();
+    let (pos, radius) = (&p.position[..n], &p.radius[..n]);
+    let len = history.len();
+    // Only grown, never cleared: see `batched_wall_loop`.
+    if touching.len() < len {
+        touching.resize(len, 0);
+    }
+    let mut count = 0;
+    for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let sum = radius[i] + radius[j];
+        let dist2 = (pos[i] - pos[j]).length_squared();
+        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
+        let touch = !(dist2 >= sum * sum);
+        touching[count.min(len - 1)] = k as u32;
+        count += touch as usize;
+        h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+    }
+    count
+}
+
+/// What the wall filter needs of one wall, flattened so that planes need no closest-point call.
+#[derive(Debug, Clone, Copy)]
+enum WallProbe {
+    /// The wall was removed.
+    Absent,
+    /// An infinite plane: signed distance x·n − offset [m], unit normal n towards the particles.
+    Plane { normal: DVec3, offset: f64 },
+    /// A polygon: the general closest-point test.
+    Polygon,
+}
+
 /// The paper's laws for particle–wall candidates: the closest point of each candidate's wall
-/// (scalar; faces, edges and corners differ), then the touching ones resolved in batches.
-#[inline(always)]
+/// (planes without a branch on the outcome; polygons by the general face/edge/corner test),
+/// then the touching ones resolved in batches.
+#[inline(never)]
 fn batched_wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
     history: &mut [ContactHistory],
-    (hits, batch): (&mut Vec<WallHit>, &mut Batch),
+    (hits, probes, batch): (&mut Vec<WallHit>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
     let n = p.len();
     let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
     let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
-    hits.clear();
+    probes.clear();
+    probes.extend(input.walls.iter().map(|w| match w {
+        None => WallProbe::Absent,
+        Some(w) => match w.shape() {
+            WallShape::Plane { point, normal } => WallProbe::Plane {
+                normal: *normal,
+                offset: point.dot(*normal),
+            },
+            WallShape::Polygon { .. } => WallProbe::Polygon,
+        },
+    }));
+    let len = history.len();
+    // Only grown, never cleared: the filter overwrites what it uses, and refilling the whole
+    // buffer every step would cost as much as the filter itself.
+    if hits.len() < len {
+        hits.resize(len, (0, DVec3::ZERO, 0.0));
+    }
+    let mut count = 0;
     for (k, ((&i, &w), h)) in pi.iter().zip(pw).zip(history.iter_mut()).enumerate() {
         let (i, w) = (i as usize, w as usize);
-        let touching = input.walls[w].as_ref().and_then(|wall| {
-            let x = pos[i];
-            let (cp, dist) = wall.closest_point(x);
-            // `!(≥)`: a NaN distance counts as touching and reaches the NaN check.
-            (!(dist >= radius[i])).then(|| (wall.contact_normal(x, cp, dist), radius[i] - dist))
-        });
-        match touching {
-            Some((normal, overlap)) => hits.push((k as u32, normal, overlap)),
-            // Separated (or the wall is gone): the contact forgets its history (§3.1).
-            None => h.tangential = DVec3::ZERO,
-        }
+        let (x, r) = (pos[i], radius[i]);
+        // `!(≥)`: a NaN distance counts as touching and reaches the NaN check.
+        let (hit, touch) = match probes[w] {
+            WallProbe::Plane { normal, offset } => {
+                let s = x.dot(normal) - offset;
+                ((k as u32, normal, r - s), !(s >= r))
+            }
+            WallProbe::Polygon => {
+                // Only polygons in the list reach here, and they exist.
+                let wall = input.walls[w].as_ref().expect("probe of a present wall");
+                let (cp, dist) = wall.closest_point(x);
+                ((k as u32, wall.contact_normal(x, cp, dist), r - dist), !(dist >= r))
+            }
+            WallProbe::Absent => ((k as u32, DVec3::ZERO, 0.0), false),
+        };
+        hits[count.min(len - 1)] = hit;
+        count += touch as usize;
+        // Separated (or the wall is gone): the contact forgets its history (§3.1).
+        h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
     }
+    let hits = &hits[..count];
 
     let mut worst = WorstOverlap::default();
     for group in hits.chunks(BATCH) {

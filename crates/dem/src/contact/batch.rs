@@ -11,7 +11,7 @@
 //! it matters; a test checks the two against each other.
 
 /// Contacts per batch: the arrays (≈ 40 × 8 × BATCH bytes) stay in the L1 cache.
-pub const BATCH: usize = 64;
+pub const BATCH: usize = 32;
 
 /// One batch of touching pairs: inputs gathered by the caller, outputs filled by [`Batch::resolve`].
 /// All vectors are components x, y, z. Pair "i–j" follows `ContactGeometry`: n points from j to i.
