@@ -11,7 +11,7 @@ use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyEvent, StudyOpt
 
 #[derive(Args)]
 pub struct StudyArgs {
-    /// A built-in sweep (`fan2023`, `fan2023-quick`) or a sweep file (TOML).
+    /// A built-in sweep (`fan2023`, `fan2023-sensitivity`, `fan2023-quick`) or a sweep file (TOML).
     sweep: String,
     /// Output directory (default: `study-<sweep name>`). An existing one is resumed.
     #[arg(long)]

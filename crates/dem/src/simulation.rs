@@ -87,6 +87,9 @@ pub struct Simulation {
     buffers: ForceBuffers,
     pair_coeffs: Vec<PairCoefficients>,
     wall_coeffs: Vec<PairCoefficients>,
+    /// Radius [m] and mass [kg] shared by every particle, when they are all alike; found at
+    /// each list rebuild (which every addition or removal of a particle forces).
+    uniform_body: Option<(f64, f64)>,
     prepared: bool,
 }
 
@@ -181,6 +184,7 @@ impl Simulation {
             buffers: ForceBuffers::default(),
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
+            uniform_body: None,
             prepared: false,
         })
     }
@@ -452,6 +456,7 @@ impl Simulation {
                 });
             }
         }
+        self.uniform_body = uniform_body(&s.particles);
         self.prepared = true;
         Ok(())
     }
@@ -491,6 +496,7 @@ impl Simulation {
             &mut s.pairs,
             &mut s.wall_pairs,
         );
+        self.uniform_body = uniform_body(&s.particles);
         s.reference.clear();
         s.reference.extend_from_slice(&s.particles.position);
         s.wall_drift = 0.0;
@@ -544,6 +550,7 @@ impl Simulation {
             materials: s.materials.len(),
             walls: &s.walls,
             wall_coeffs: &self.wall_coeffs,
+            uniform_body: self.uniform_body,
             dt,
         };
         let eval = forces::evaluate(
@@ -723,6 +730,12 @@ fn kick(p: &mut ParticleSet, half: f64) -> bool {
         probe += (*v + *w).element_sum() * 0.0;
     }
     probe == 0.0
+}
+
+/// The radius [m] and mass [kg] every particle shares, if they all do.
+fn uniform_body(p: &ParticleSet) -> Option<(f64, f64)> {
+    let (&r, &m) = (p.radius.first()?, p.mass.first()?);
+    (p.radius.iter().all(|&x| x == r) && p.mass.iter().all(|&x| x == m)).then_some((r, m))
 }
 
 fn check_interaction(i: &Interaction) -> Result<(), DemError> {

@@ -4,11 +4,29 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use study::config::{
-    builtin_sweep, load_case, load_sweep, parse_sweep, Case, FAN2023_QUICK_SWEEP, FAN2023_SWEEP,
+    builtin_sweep, load_case, load_sweep, parse_sweep, Case, FAN2023_QUICK_SWEEP,
+    FAN2023_SENSITIVITY_SWEEP, FAN2023_SWEEP,
 };
 
+/// The paper's programme and the sensitivity series, as one plan.
 fn fan2023() -> study::config::SweepPlan {
-    parse_sweep(FAN2023_SWEEP, "fan2023", None, &[]).expect("fan2023 must expand")
+    let mut plan = parse_sweep(FAN2023_SWEEP, "fan2023", None, &[]).expect("fan2023 must expand");
+    let extra = parse_sweep(FAN2023_SENSITIVITY_SWEEP, "fan2023-sensitivity", None, &[])
+        .expect("fan2023-sensitivity must expand");
+    plan.cases.extend(extra.cases);
+    plan.skipped.extend(extra.skipped);
+    plan
+}
+
+#[test]
+fn fan2023_is_the_papers_44_cases() {
+    // Table 1 of the paper: 5 angles × 4 widths and 6 gaps × 4 widths.
+    let plan = parse_sweep(FAN2023_SWEEP, "fan2023", None, &[]).unwrap();
+    assert_eq!(plan.cases.len(), 44);
+    assert!(plan
+        .cases
+        .iter()
+        .all(|c| ["angle", "eccentric"].contains(&c.labels["series"].as_str())));
 }
 
 #[test]
@@ -202,6 +220,7 @@ fn shipped_case_files_match_the_built_ins_and_are_valid() {
     let cases = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
     let read = |name: &str| std::fs::read_to_string(cases.join(name)).unwrap();
     assert_eq!(read("fan2023.toml"), FAN2023_SWEEP);
+    assert_eq!(read("fan2023-sensitivity.toml"), FAN2023_SENSITIVITY_SWEEP);
     assert_eq!(read("fan2023-quick.toml"), FAN2023_QUICK_SWEEP);
     assert_eq!(read("base.toml"), study::config::CASE_TEMPLATE);
     assert_eq!(

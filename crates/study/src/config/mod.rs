@@ -26,7 +26,10 @@ mod write;
 use std::path::Path;
 use std::sync::Arc;
 
-pub use builtin::{builtin_sweep, BUILTIN_SWEEP_NAMES, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
+pub use builtin::{
+    builtin_sweep, BUILTIN_SWEEP_NAMES, FAN2023_QUICK_SWEEP, FAN2023_SENSITIVITY_SWEEP,
+    FAN2023_SWEEP,
+};
 pub use case::{
     Case, ContactSpec, Interaction, MeasureSpec, OutputSpec, Protocol, RollingLaw, TangentialLaw,
     WallMaterial, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION, MAX_RAYLEIGH_FRACTION,
