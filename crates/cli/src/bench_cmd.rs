@@ -30,7 +30,8 @@ pub struct BenchArgs {
     /// Particles in the bed (default 3000) or the scaling packing (default 10^4, 10^5, 10^6).
     #[arg(long)]
     particles: Option<usize>,
-    /// Steps timed (bed: default 4000; scaling: default 2·10^7 particle-steps per size).
+    /// Steps timed (bed: default 4000; scaling: default 20 per repetition, repeated from a fresh
+    /// packing until each size has 2·10^7 particle-steps).
     #[arg(long)]
     steps: Option<u64>,
     /// Checkpoint of the filled, settled hopper, reused between hopper benchmarks.
@@ -58,8 +59,9 @@ fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
             // Sizes in increasing order, so the process's peak memory belongs to the current one.
             let mut out = Vec::new();
             for n in sizes {
-                let steps = args.steps.unwrap_or((20_000_000 / n.max(1) as u64).max(10));
-                out.push(scaling_benchmark(n, steps, threads)?);
+                let steps = args.steps.unwrap_or(20).max(1);
+                let repeats = (20_000_000 / (n.max(1) as u64 * steps)).clamp(1, 1000) as u32;
+                out.push(scaling_benchmark(n, steps, repeats, threads)?);
             }
             Ok(out)
         }

@@ -506,6 +506,16 @@ impl Simulation {
 
     /// Advances one step of velocity Verlet (physics.md §6.2).
     pub fn step(&mut self) -> Result<(), DemError> {
+        self.advance(false, true)
+    }
+
+    /// One step. `kick_pending`: the previous step left its second half kick undone, to be
+    /// done here in the same pass as this step's first half kick and drift. `final_kick`:
+    /// finish this step's second half kick now (otherwise the next call must be pending).
+    ///
+    /// The fused pass performs the same additions in the same order as two separate
+    /// passes, so the trajectory is bit-identical; it only saves a sweep over the particles.
+    fn advance(&mut self, kick_pending: bool, final_kick: bool) -> Result<(), DemError> {
         if !self.prepared {
             self.prepare()?;
         }
@@ -520,7 +530,21 @@ impl Simulation {
             self.state.reference.clear();
             self.state.reference.extend_from_slice(&p.position);
         }
-        let (max_disp2, finite) = kick_drift(p, &self.state.reference, half, dt);
+        let (max_disp2, finite, kicked_finite) =
+            kick_drift(p, &self.state.reference, half, dt, kick_pending);
+        if !kicked_finite {
+            // The previous step's deferred kick: reported as `kick` below would have.
+            if let Some(k) =
+                (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite()))
+            {
+                return Err(DemError::NonFinite {
+                    tag: p.tag[k],
+                    position: p.position[k],
+                    quantity: "velocity",
+                    time: self.state.time,
+                });
+            }
+        }
         if !finite {
             // The fast check flags a non-finite or absurdly distant (|Δx|² overflowing)
             // particle; only a truly non-finite one is an error.
@@ -590,9 +614,9 @@ impl Simulation {
         std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
         s.contacts = eval.count;
 
-        // Second half kick.
+        // Second half kick, unless the next step does it.
         let p = &mut s.particles;
-        if !kick(p, half) {
+        if final_kick && !kick(p, half) {
             if let Some(k) =
                 (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite()))
             {
@@ -609,10 +633,14 @@ impl Simulation {
         Ok(())
     }
 
-    /// Takes `n` steps.
+    /// Takes `n` steps, each one's second half kick fused with the next one's first.
+    ///
+    /// Bit-identical to `n` calls of [`Simulation::step`]. If a step fails, every kick
+    /// before the failing step was applied, as with `step`; a non-finite velocity is
+    /// reported half a step later than `step` reports it, by the next step's pass.
     pub fn run(&mut self, n: u64) -> Result<(), DemError> {
-        for _ in 0..n {
-            self.step()?;
+        for k in 0..n {
+            self.advance(k > 0, k + 1 == n)?;
         }
         Ok(())
     }
@@ -669,14 +697,23 @@ impl Simulation {
     }
 }
 
-/// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2). Returns the
-/// largest squared displacement from `reference` [m²] and whether every displacement was finite.
+/// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2), preceded
+/// when `pending` by the previous step's second half kick. Returns the largest squared
+/// displacement from `reference` [m²], whether every displacement was finite, and whether
+/// the pending kick left every velocity finite.
 ///
 /// Written over zipped slices so that the loop carries no bounds checks; a non-finite position
 /// makes its squared displacement NaN or infinite, which one comparison per particle catches.
-fn kick_drift(p: &mut ParticleSet, reference: &[DVec3], half: f64, dt: f64) -> (f64, bool) {
+fn kick_drift(
+    p: &mut ParticleSet,
+    reference: &[DVec3],
+    half: f64,
+    dt: f64,
+    pending: bool,
+) -> (f64, bool, bool) {
     let mut max_disp2: f64 = 0.0;
     let mut finite = true;
+    let mut probe = 0.0;
     let bodies = p
         .flags
         .iter()
@@ -694,8 +731,17 @@ fn kick_drift(p: &mut ParticleSet, reference: &[DVec3], half: f64, dt: f64) -> (
         if flags & FLAG_FROZEN != 0 {
             continue;
         }
+        let rotates = flags & FLAG_ROTATION_LOCKED == 0;
+        if pending {
+            // Exactly `kick`'s operations, then the same check.
+            *v += (half * inv_m) * f;
+            if rotates {
+                *w += (half * inv_i) * t;
+            }
+            probe += (*v + *w).element_sum() * 0.0;
+        }
         *v += (half * inv_m) * f;
-        if flags & FLAG_ROTATION_LOCKED == 0 {
+        if rotates {
             *w += (half * inv_i) * t;
         }
         *x += dt * *v;
@@ -703,7 +749,7 @@ fn kick_drift(p: &mut ParticleSet, reference: &[DVec3], half: f64, dt: f64) -> (
         max_disp2 = max_disp2.max(d2);
         finite &= d2 <= f64::MAX;
     }
-    (max_disp2, finite)
+    (max_disp2, finite, probe == 0.0)
 }
 
 /// Second half kick of every free particle. Returns false when some velocity or spin may be

@@ -158,17 +158,46 @@ pub fn dense_packing(count: usize, threads: usize) -> Result<(Simulation, Option
 }
 
 /// Times `steps` steps of a [`dense_packing`] of `count` spheres (after 10 untimed steps that
-/// build the lists) and reports the peak memory of the process.
+/// build the lists), `repeats` times from a fresh packing, and reports the mean figures and
+/// the peak memory of the process.
+///
+/// Every size is timed over the same stretch of simulated time (the same steps after the
+/// packing is made), so all sizes are compared in the same physical state: a packing left to
+/// run longer relaxes and loses contacts, which would make small sizes look cheaper. Small
+/// sizes repeat the stretch instead of running longer.
 pub fn scaling_benchmark(
     count: usize,
     steps: u64,
+    repeats: u32,
     threads: usize,
 ) -> Result<BenchResult, DemError> {
-    let (mut sim, before) = dense_packing(count, threads)?;
-    sim.run(10)?;
-    let mut r = time_steps(&mut sim, steps, "scaling", threads)?;
+    let repeats = repeats.max(1);
+    let mut runs = Vec::with_capacity(repeats as usize);
+    let mut first_before = None;
+    for k in 0..repeats {
+        let (mut sim, before) = dense_packing(count, threads)?;
+        if k == 0 {
+            first_before = before;
+        }
+        sim.run(10)?;
+        runs.push(time_steps(&mut sim, steps, "scaling", threads)?);
+    }
+    let mean =
+        |f: &dyn Fn(&BenchResult) -> f64| runs.iter().map(f).sum::<f64>() / runs.len() as f64;
+    let mut r = runs[0].clone();
+    r.steps = steps * repeats as u64;
+    r.ns_per_particle_step = mean(&|r| r.ns_per_particle_step);
+    r.particle_steps_per_second = 1e9 / r.ns_per_particle_step;
+    r.contacts_per_particle = mean(&|r| r.contacts_per_particle);
+    r.wall_contacts_per_particle = mean(&|r| r.wall_contacts_per_particle);
+    r.rebuilds = runs.iter().map(|r| r.rebuilds).sum();
+    r.cpu_ns_per_particle_step = runs
+        .iter()
+        .map(|r| r.cpu_ns_per_particle_step)
+        .sum::<Option<f64>>()
+        .map(|total| total / runs.len() as f64);
     r.peak_memory_bytes = process_memory("VmHWM:");
-    r.bytes_per_particle = match (r.peak_memory_bytes, before) {
+    r.bytes_per_particle = match (r.peak_memory_bytes, first_before) {
         (Some(peak), Some(before)) => {
             Some(peak.saturating_sub(before) as f64 / count.max(1) as f64)
         }
