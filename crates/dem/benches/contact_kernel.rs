@@ -34,7 +34,7 @@ fn kernels(c: &mut Criterion) {
     let mut group = c.benchmark_group("contact_kernel");
     group.throughput(Throughput::Elements(BATCH as u64));
 
-    group.bench_function("scalar_resolve_64_contacts", |b| {
+    group.bench_function("scalar_resolve_one_batch", |b| {
         let laws = ContactLaws::default();
         b.iter(|| {
             let mut sum = DVec3::ZERO;
@@ -72,7 +72,7 @@ fn kernels(c: &mut Criterion) {
         })
     });
 
-    group.bench_function("batch_resolve_64_contacts", |b| {
+    group.bench_function("batch_resolve_one_batch", |b| {
         let mut batch = Batch::default();
         for k in 0..BATCH {
             let (d, dv, wi, wj, xi) = contact(k);

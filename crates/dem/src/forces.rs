@@ -403,7 +403,10 @@ fn batched_pair_loop(
             }
         }
         batch.len = group.len();
-        batch.resolve_pairs(input.dt);
+        match input.uniform_body {
+            Some((r, m)) => batch.resolve_pairs_uniform(input.dt, r, m),
+            None => batch.resolve_pairs(input.dt),
+        }
         worst.see_batch(batch, group.iter().map(|&k| base + k as usize));
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
