@@ -90,14 +90,13 @@ struct ChunkScratch {
     out: Vec<(u32, u32, ContactForce)>,
 }
 
-/// A wall contact found by the wall filter: candidate index, normal (wall to particle), δ.
-type WallHit = (u32, DVec3, f64);
 
 /// Reusable buffers.
 #[derive(Debug, Default)]
 pub(crate) struct ForceBuffers {
     chunks: Vec<ChunkScratch>,
-    wall_hits: Vec<WallHit>,
+    /// Indices of the touching wall candidates.
+    wall_hits: Vec<u32>,
     wall_probes: Vec<WallProbe>,
     /// Accumulated forces [N], swapped into the particle set after evaluation.
     pub force: Vec<DVec3>,
@@ -459,6 +458,32 @@ enum WallProbe {
     Polygon,
 }
 
+/// The contact of a sphere at `x` with radius `r` [m] with wall `w`, if they overlap: the
+/// normal from the wall to the sphere and the overlap δ [m]. A NaN distance counts as
+/// touching (`!(≥)`), so that it reaches the NaN check.
+#[inline(always)]
+fn wall_contact(
+    input: &KernelInput,
+    probe: &WallProbe,
+    w: usize,
+    x: DVec3,
+    r: f64,
+) -> Option<(DVec3, f64)> {
+    match *probe {
+        WallProbe::Plane { normal, offset } => {
+            let s = x.dot(normal) - offset;
+            (!(s >= r)).then_some((normal, r - s))
+        }
+        WallProbe::Polygon => {
+            // Only polygons present in the simulation get this probe.
+            let wall = input.walls[w].as_ref().expect("probe of a present wall");
+            let (cp, dist) = wall.closest_point(x);
+            (!(dist >= r)).then(|| (wall.contact_normal(x, cp, dist), r - dist))
+        }
+        WallProbe::Absent => None,
+    }
+}
+
 /// The paper's laws for particle–wall candidates: the closest point of each candidate's wall
 /// (planes without a branch on the outcome; polygons by the general face/edge/corner test),
 /// then the touching ones resolved in batches.
@@ -467,7 +492,7 @@ fn batched_wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
     history: &mut [ContactHistory],
-    (hits, probes, batch): (&mut Vec<WallHit>, &mut Vec<WallProbe>, &mut Batch),
+    (hits, probes, batch): (&mut Vec<u32>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
@@ -489,30 +514,15 @@ fn batched_wall_loop(
     // Only grown, never cleared: the filter overwrites what it uses, and refilling the whole
     // buffer every step would cost as much as the filter itself.
     if hits.len() < len {
-        hits.resize(len, (0, DVec3::ZERO, 0.0));
+        hits.resize(len, 0);
     }
     let mut count = 0;
     for (k, ((&i, &w), h)) in pi.iter().zip(pw).zip(history.iter_mut()).enumerate() {
         let (i, w) = (i as usize, w as usize);
-        let (x, r) = (pos[i], radius[i]);
-        // `!(≥)`: a NaN distance counts as touching and reaches the NaN check.
-        let (hit, touch) = match probes[w] {
-            WallProbe::Plane { normal, offset } => {
-                let s = x.dot(normal) - offset;
-                ((k as u32, normal, r - s), !(s >= r))
-            }
-            WallProbe::Polygon => {
-                // Only polygons in the list reach here, and they exist.
-                let wall = input.walls[w].as_ref().expect("probe of a present wall");
-                let (cp, dist) = wall.closest_point(x);
-                (
-                    (k as u32, wall.contact_normal(x, cp, dist), r - dist),
-                    !(dist >= r),
-                )
-            }
-            WallProbe::Absent => ((k as u32, DVec3::ZERO, 0.0), false),
-        };
-        hits[count.min(len - 1)] = hit;
+        let touch = wall_contact(input, &probes[w], w, pos[i], radius[i]).is_some();
+        // Only the index is kept: the few touching contacts recompute their normal and
+        // overlap below, which is cheaper than storing them for every candidate.
+        hits[count.min(len - 1)] = k as u32;
         count += touch as usize;
         // Separated (or the wall is gone): the contact forgets its history (§3.1).
         h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
@@ -521,10 +531,12 @@ fn batched_wall_loop(
 
     let mut worst = WorstOverlap::default();
     for group in hits.chunks(BATCH) {
-        for (m, &(k, normal, overlap)) in group.iter().enumerate() {
+        for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;
             let (i, w) = (pi[k] as usize, pw[k] as usize);
+            let (normal, overlap) =
+                wall_contact(input, &probes[w], w, pos[i], radius[i]).unwrap_or_default();
             // Only walls that exist produced hits.
             let wall_velocity = input.walls[w].as_ref().map_or(DVec3::ZERO, |w| w.velocity);
             let dv = vel[i] - wall_velocity;
@@ -553,8 +565,8 @@ fn batched_wall_loop(
         }
         batch.len = group.len();
         batch.resolve_walls(input.dt);
-        worst.see_batch(batch, group.iter().map(|&(k, _, _)| k as usize));
-        for (m, &(k, _, _)) in group.iter().enumerate() {
+        worst.see_batch(batch, group.iter().map(|&k| k as usize));
+        for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;
             history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
