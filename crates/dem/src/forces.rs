@@ -127,6 +127,8 @@ pub(crate) struct Evaluation {
 struct Accumulator<'a> {
     force: &'a mut [DVec3],
     torque: &'a mut [DVec3],
+    /// Contacts added.
+    contacts: usize,
     current: usize,
     sum_force: DVec3,
     sum_torque: DVec3,
@@ -137,6 +139,7 @@ impl<'a> Accumulator<'a> {
         Self {
             force,
             torque,
+            contacts: 0,
             current: usize::MAX,
             sum_force: DVec3::ZERO,
             sum_torque: DVec3::ZERO,
@@ -145,6 +148,7 @@ impl<'a> Accumulator<'a> {
 
     #[inline(always)]
     fn add(&mut self, i: usize, j: usize, cf: &ContactForce) {
+        self.contacts += 1;
         if i != self.current {
             self.finish();
             self.current = i;
@@ -164,6 +168,27 @@ impl<'a> Accumulator<'a> {
         }
         self.sum_force = DVec3::ZERO;
         self.sum_torque = DVec3::ZERO;
+    }
+}
+
+/// Where the pair loops hand each contact's force, in pair order. A trait rather than a
+/// closure so that the call is always inlined into the loop.
+trait PairSink {
+    fn contact(&mut self, i: usize, j: usize, cf: &ContactForce);
+}
+
+impl PairSink for Accumulator<'_> {
+    #[inline(always)]
+    fn contact(&mut self, i: usize, j: usize, cf: &ContactForce) {
+        self.add(i, j, cf);
+    }
+}
+
+/// The several-thread path keeps the forces for the ordered scatter.
+impl PairSink for Vec<(u32, u32, ContactForce)> {
+    #[inline(always)]
+    fn contact(&mut self, i: usize, j: usize, cf: &ContactForce) {
+        self.push((i as u32, j as u32, *cf));
     }
 }
 
@@ -199,12 +224,10 @@ pub(crate) fn evaluate(
                 0,
                 &mut pairs.history,
                 (&mut scratch.touching, &mut scratch.batch),
-                |i, j, cf| {
-                    acc.add(i, j, cf);
-                    count.particle_particle += 1;
-                },
+                &mut acc,
             );
             acc.finish();
+            count.particle_particle = acc.contacts;
             worst
         }
         Some(pool) => {
@@ -225,7 +248,7 @@ pub(crate) fn evaluate(
                             c * CHUNK,
                             h,
                             (&mut scratch.touching, &mut scratch.batch),
-                            |i, j, cf| out.push((i as u32, j as u32, *cf)),
+                            out,
                         )
                     })
                     .reduce(WorstOverlap::default, WorstOverlap::merge)
@@ -288,7 +311,7 @@ fn pair_loop(
     base: usize,
     history: &mut [ContactHistory],
     scratch: (&mut Vec<u32>, &mut Batch),
-    sink: impl FnMut(usize, usize, &ContactForce),
+    sink: &mut impl PairSink,
 ) -> WorstOverlap {
     if *input.laws == ContactLaws::default() {
         batched_pair_loop(input, ids, base, history, scratch, sink)
@@ -339,7 +362,7 @@ fn batched_pair_loop(
     base: usize,
     history: &mut [ContactHistory],
     (touching, batch): (&mut Vec<u32>, &mut Batch),
-    mut sink: impl FnMut(usize, usize, &ContactForce),
+    sink: &mut impl PairSink,
 ) -> WorstOverlap {
     let p = input.particles;
     // One common length lets the compiler check an index once for all the arrays.
@@ -411,7 +434,7 @@ fn batched_pair_loop(
             let m = m & (BATCH - 1);
             let k = k as usize;
             history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
-            sink(pi[k] as usize, pj[k] as usize, &batch_force(batch, m));
+            sink.contact(pi[k] as usize, pj[k] as usize, &batch_force(batch, m));
         }
     }
     worst
@@ -583,7 +606,7 @@ fn pair_loop_with(
     (pi, pj): (&[u32], &[u32]),
     base: usize,
     history: &mut [ContactHistory],
-    mut sink: impl FnMut(usize, usize, &ContactForce),
+    sink: &mut impl PairSink,
 ) -> WorstOverlap {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
@@ -628,7 +651,7 @@ fn pair_loop_with(
             omega: p.omega[j],
         };
         let cf = laws.resolve(&g, &bi, &bj, c, h, input.dt);
-        sink(i, j, &cf);
+        sink.contact(i, j, &cf);
     }
     worst
 }
@@ -836,12 +859,15 @@ mod tests {
             let n = set.len();
             let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
             let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
-            let worst = pair_loop_with(&input, laws, ids, 0, &mut p2.history, |a, b, cf| {
+            let mut contacts = Vec::new();
+            let worst = pair_loop_with(&input, laws, ids, 0, &mut p2.history, &mut contacts);
+            for (a, b, cf) in contacts {
+                let (a, b) = (a as usize, b as usize);
                 force[a] += cf.force;
                 force[b] -= cf.force;
                 torque[a] += cf.torque_i;
                 torque[b] += cf.torque_j;
-            });
+            }
             let wids = (&w2.particle.clone()[..], &w2.wall.clone()[..]);
             wall_loop(&input, wids, &mut w2.history, |a, cf| {
                 force[a] += cf.force;
