@@ -9,7 +9,7 @@
 use glam::{BVec3, DVec3};
 use rayon::prelude::*;
 
-use crate::contact::batch::{Batch, BATCH};
+use crate::contact::batch::{coefficient_row, Batch, BATCH};
 use crate::contact::{BodyMotion, ContactForce, ContactGeometry, ContactHistory, ContactLaws};
 use crate::material::{harmonic, PairCoefficients};
 use crate::neighbour::{PairList, WallPairList};
@@ -89,7 +89,6 @@ struct ChunkScratch {
     /// Forces of the touching contacts, kept for the ordered scatter (several threads only).
     out: Vec<(u32, u32, ContactForce)>,
 }
-
 
 /// Reusable buffers.
 #[derive(Debug, Default)]
@@ -323,18 +322,6 @@ fn pair_loop(
 /// The coefficients every contact shares when there is one material, in [`Batch::coeff`] order.
 fn uniform_coefficients(c: &[PairCoefficients], materials: usize) -> Option<[f64; 6]> {
     (materials == 1).then(|| coefficient_row(&c[0]))
-}
-
-#[inline(always)]
-fn coefficient_row(c: &PairCoefficients) -> [f64; 6] {
-    [
-        c.e_star,
-        c.g_star,
-        c.friction,
-        c.rolling_friction,
-        c.damping,
-        c.stiffness_ratio_sqrt,
-    ]
 }
 
 /// The result of slot `m` of a resolved batch.

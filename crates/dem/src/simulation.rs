@@ -534,15 +534,8 @@ impl Simulation {
             kick_drift(p, &self.state.reference, half, dt, kick_pending);
         if !kicked_finite {
             // The previous step's deferred kick: reported as `kick` below would have.
-            if let Some(k) =
-                (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite()))
-            {
-                return Err(DemError::NonFinite {
-                    tag: p.tag[k],
-                    position: p.position[k],
-                    quantity: "velocity",
-                    time: self.state.time,
-                });
+            if let Some(e) = non_finite_velocity(p, self.state.time) {
+                return Err(e);
             }
         }
         if !finite {
@@ -617,15 +610,8 @@ impl Simulation {
         // Second half kick, unless the next step does it.
         let p = &mut s.particles;
         if final_kick && !kick(p, half) {
-            if let Some(k) =
-                (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite()))
-            {
-                return Err(DemError::NonFinite {
-                    tag: p.tag[k],
-                    position: p.position[k],
-                    quantity: "velocity",
-                    time: s.time,
-                });
+            if let Some(e) = non_finite_velocity(p, s.time) {
+                return Err(e);
             }
         }
         s.steps += 1;
@@ -776,6 +762,17 @@ fn kick(p: &mut ParticleSet, half: f64) -> bool {
         probe += (*v + *w).element_sum() * 0.0;
     }
     probe == 0.0
+}
+
+/// The error for the first particle with a non-finite velocity or spin, if any; `time` [s].
+fn non_finite_velocity(p: &ParticleSet, time: f64) -> Option<DemError> {
+    let k = (0..p.len()).find(|&k| !(p.velocity[k].is_finite() && p.omega[k].is_finite()))?;
+    Some(DemError::NonFinite {
+        tag: p.tag[k],
+        position: p.position[k],
+        quantity: "velocity",
+        time,
+    })
 }
 
 /// The radius [m] and mass [kg] every particle shares, if they all do.

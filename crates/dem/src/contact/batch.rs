@@ -227,6 +227,19 @@ impl Batch {
     }
 }
 
+/// A pair's coefficients in [`Batch::coeff`] order.
+#[inline(always)]
+pub fn coefficient_row(c: &crate::material::PairCoefficients) -> [f64; 6] {
+    [
+        c.e_star,
+        c.g_star,
+        c.friction,
+        c.rolling_friction,
+        c.damping,
+        c.stiffness_ratio_sqrt,
+    ]
+}
+
 /// R* [m], m* [kg] and 1/R [1/m] of a batch of equal spheres.
 #[derive(Clone, Copy, Default)]
 struct SharedBody {
@@ -303,17 +316,7 @@ mod tests {
             batch.radius[1][k] = rj;
             batch.mass[0][k] = mi;
             batch.mass[1][k] = mj;
-            for (a, v) in [
-                c.e_star,
-                c.g_star,
-                c.friction,
-                c.rolling_friction,
-                c.damping,
-                c.stiffness_ratio_sqrt,
-            ]
-            .into_iter()
-            .enumerate()
-            {
+            for (a, v) in coefficient_row(&c).into_iter().enumerate() {
                 batch.coeff[a][k] = v;
             }
             cases.push((d, ri, rj, mi, mj, vi, vj, wi, wj, xi));
@@ -396,14 +399,7 @@ mod uniform_tests {
         let c = PairCoefficients::new(&m, Some(&m), &Interaction::fan2023());
         let (r, mass) = (1.5e-3, 2500.0 * 4.18879 * 1.5e-3f64.powi(3));
         let mut batch = Batch::default();
-        batch.fill_coefficients([
-            c.e_star,
-            c.g_star,
-            c.friction,
-            c.rolling_friction,
-            c.damping,
-            c.stiffness_ratio_sqrt,
-        ]);
+        batch.fill_coefficients(coefficient_row(&c));
         for k in 0..BATCH {
             let mut u = || rng.gen::<f64>() - 0.5;
             let dir = [u(), u(), u()];
