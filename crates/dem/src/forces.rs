@@ -481,7 +481,7 @@ fn wall_contact(
 ) -> Option<(DVec3, f64)> {
     match *probe {
         WallProbe::Plane { normal, offset } => {
-            let s = x.dot(normal) - offset;
+            let s = plane_distance(x, normal, offset);
             (!(s >= r)).then_some((normal, r - s))
         }
         WallProbe::Polygon => {
@@ -494,9 +494,13 @@ fn wall_contact(
     }
 }
 
-/// The paper's laws for particle–wall candidates: the closest point of each candidate's wall
-/// (planes without a branch on the outcome; polygons by the general face/edge/corner test),
-/// then the touching ones resolved in batches.
+/// The paper's laws for particle–wall candidates, one run of equal wall at a time (the list
+/// is wall-major): the wall's probe, velocity and coefficients are looked up once per run,
+/// planes are filtered with one dot product per candidate and no branch on the outcome, and
+/// the touching candidates are resolved in batches.
+///
+/// Each particle still receives its wall forces in increasing wall order, the order of the
+/// particle-major list this replaced, so the sums are unchanged.
 #[inline(never)]
 fn batched_wall_loop(
     input: &KernelInput,
@@ -505,10 +509,6 @@ fn batched_wall_loop(
     (hits, probes, batch): (&mut Vec<u32>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
-    let p = input.particles;
-    let n = p.len();
-    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
-    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
     probes.clear();
     probes.extend(input.walls.iter().map(|w| match w {
         None => WallProbe::Absent,
@@ -520,62 +520,166 @@ fn batched_wall_loop(
             WallShape::Polygon { .. } => WallProbe::Polygon,
         },
     }));
-    let len = history.len();
-    // Only grown, never cleared: the filter overwrites what it uses, and refilling the whole
+    // Only grown, never cleared: the filters overwrite what they use, and refilling the whole
     // buffer every step would cost as much as the filter itself.
-    if hits.len() < len {
-        hits.resize(len, 0);
+    if hits.len() < history.len() {
+        hits.resize(history.len(), 0);
     }
+    // A wall does not spin (§5): ω_j = 0 for every slot.
+    for row in &mut batch.omega[1] {
+        row.fill(0.0);
+    }
+    if let Some((r, m)) = input.uniform_body {
+        batch.radius[0].fill(r);
+        batch.mass[0].fill(m);
+    }
+    let mut worst = WorstOverlap::default();
+    let mut start = 0;
+    while start < pi.len() {
+        let w = pw[start];
+        let len = pw[start..].iter().take_while(|&&x| x == w).count();
+        let run = start..start + len;
+        let wall = WallRun {
+            probe: probes[w as usize],
+            index: w as usize,
+            base: start,
+        };
+        wall_run(
+            input,
+            &wall,
+            &pi[run.clone()],
+            &mut history[run],
+            (&mut hits[..len], batch),
+            &mut worst,
+            &mut sink,
+        );
+        start += len;
+    }
+    worst
+}
+
+/// One run of the wall-major candidate list: its wall and where it starts.
+struct WallRun {
+    probe: WallProbe,
+    /// The wall's index.
+    index: usize,
+    /// Index of the run's first candidate in the whole list.
+    base: usize,
+}
+
+/// Signed distance x·n − offset [m] of a point from a plane.
+#[inline(always)]
+fn plane_distance(x: DVec3, normal: DVec3, offset: f64) -> f64 {
+    x.dot(normal) - offset
+}
+
+/// Filters and resolves the candidates `pi` of one wall.
+#[inline(always)]
+fn wall_run(
+    input: &KernelInput,
+    wall: &WallRun,
+    pi: &[u32],
+    history: &mut [ContactHistory],
+    (hits, batch): (&mut [u32], &mut Batch),
+    worst: &mut WorstOverlap,
+    sink: &mut impl FnMut(usize, &ContactForce),
+) {
+    let p = input.particles;
+    let n = p.len();
+    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
+    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+    let len = history.len();
     let mut count = 0;
-    for (k, ((&i, &w), h)) in pi.iter().zip(pw).zip(history.iter_mut()).enumerate() {
-        let (i, w) = (i as usize, w as usize);
-        let touch = wall_contact(input, &probes[w], w, pos[i], radius[i]).is_some();
-        // Only the index is kept: the few touching contacts recompute their normal and
-        // overlap below, which is cheaper than storing them for every candidate.
-        hits[count.min(len - 1)] = k as u32;
-        count += touch as usize;
-        // Separated (or the wall is gone): the contact forgets its history (§3.1).
-        h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+    // Pass 1: which candidates touch. A separated contact (or one with a removed wall)
+    // forgets its history (§3.1).
+    match wall.probe {
+        WallProbe::Plane { normal, offset } => {
+            for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
+                let i = i as usize;
+                // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
+                let touch = !(plane_distance(pos[i], normal, offset) >= radius[i]);
+                hits[count.min(len - 1)] = k as u32;
+                count += touch as usize;
+                h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+            }
+        }
+        WallProbe::Polygon => {
+            for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
+                let i = i as usize;
+                let touch =
+                    wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some();
+                hits[count.min(len - 1)] = k as u32;
+                count += touch as usize;
+                h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+            }
+        }
+        WallProbe::Absent => {
+            for h in history.iter_mut() {
+                *h = ContactHistory::default();
+            }
+            return;
+        }
     }
     let hits = &hits[..count];
 
-    let mut worst = WorstOverlap::default();
+    // Pass 2: the touching ones, in batches. What the run shares is written once.
+    let w = wall.index;
+    let wall_velocity = input.walls[w].as_ref().map_or(DVec3::ZERO, |w| w.velocity);
+    let uniform = (input.materials == 1).then(|| coefficient_row(&input.wall_coeffs[w]));
+    if let Some(c) = uniform {
+        batch.fill_coefficients(c);
+    }
+    let plane = match wall.probe {
+        WallProbe::Plane { normal, offset } => {
+            for (row, v) in batch.d.iter_mut().zip(normal.to_array()) {
+                row.fill(v);
+            }
+            Some((normal, offset))
+        }
+        _ => None,
+    };
     for group in hits.chunks(BATCH) {
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;
-            let (i, w) = (pi[k] as usize, pw[k] as usize);
-            let (normal, overlap) =
-                wall_contact(input, &probes[w], w, pos[i], radius[i]).unwrap_or_default();
-            // Only walls that exist produced hits.
-            let wall_velocity = input.walls[w].as_ref().map_or(DVec3::ZERO, |w| w.velocity);
+            let i = pi[k] as usize;
+            let (x, r) = (pos[i], radius[i]);
+            match plane {
+                // The same expression as the filter's, so the same overlap.
+                Some((normal, offset)) => batch.overlap[m] = r - plane_distance(x, normal, offset),
+                None => {
+                    let (normal, overlap) =
+                        wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
+                    for (a, v) in normal.to_array().into_iter().enumerate() {
+                        batch.d[a][m] = v;
+                    }
+                    batch.overlap[m] = overlap;
+                }
+            }
             let dv = vel[i] - wall_velocity;
             let (wi, xi) = (omega[i], history[k].tangential);
-            for (a, (x, v, u, z)) in [
-                (normal.x, dv.x, wi.x, xi.x),
-                (normal.y, dv.y, wi.y, xi.y),
-                (normal.z, dv.z, wi.z, xi.z),
-            ]
-            .into_iter()
-            .enumerate()
+            for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
+                .into_iter()
+                .enumerate()
             {
-                batch.d[a][m] = x;
                 batch.dv[a][m] = v;
                 batch.omega[0][a][m] = u;
-                batch.omega[1][a][m] = 0.0;
                 batch.xi[a][m] = z;
             }
-            batch.overlap[m] = overlap;
-            batch.radius[0][m] = radius[i];
-            batch.mass[0][m] = mass[i];
-            let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
-            for (a, v) in coefficient_row(c).into_iter().enumerate() {
-                batch.coeff[a][m] = v;
+            if input.uniform_body.is_none() {
+                batch.radius[0][m] = r;
+                batch.mass[0][m] = mass[i];
+            }
+            if uniform.is_none() {
+                let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
+                for (a, v) in coefficient_row(c).into_iter().enumerate() {
+                    batch.coeff[a][m] = v;
+                }
             }
         }
         batch.len = group.len();
         batch.resolve_walls(input.dt);
-        worst.see_batch(batch, group.iter().map(|&k| k as usize));
+        worst.see_batch(batch, group.iter().map(|&k| wall.base + k as usize));
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;
@@ -583,7 +687,6 @@ fn batched_wall_loop(
             sink(pi[k] as usize, &batch_force(batch, m));
         }
     }
-    worst
 }
 
 #[inline(always)]

@@ -141,6 +141,28 @@ pub struct WallPairList {
     pub(crate) history: Vec<ContactHistory>,
 }
 
+impl WallPairList {
+    /// True when sorted by (wall, particle), the order `build_lists` writes.
+    fn is_wall_major(&self) -> bool {
+        self.wall
+            .iter()
+            .zip(&self.particle)
+            .zip(self.wall.iter().zip(&self.particle).skip(1))
+            .all(|(a, b)| a <= b)
+    }
+
+    /// The same candidates sorted by (wall, particle).
+    fn to_wall_major(&self) -> Self {
+        let mut order: Vec<usize> = (0..self.particle.len()).collect();
+        order.sort_unstable_by_key(|&k| (self.wall[k], self.particle[k]));
+        Self {
+            particle: order.iter().map(|&k| self.particle[k]).collect(),
+            wall: order.iter().map(|&k| self.wall[k]).collect(),
+            history: order.iter().map(|&k| self.history[k]).collect(),
+        }
+    }
+}
+
 impl PairList {
     /// Number of candidate pairs.
     pub fn len(&self) -> usize {
@@ -283,10 +305,20 @@ pub(crate) fn build_lists(
     wall_pairs.particle.clear();
     wall_pairs.wall.clear();
     wall_pairs.history.clear();
+    // Wall-major, particles in index order within a wall: the force loop then treats one
+    // wall at a time, and each particle still meets its walls in increasing order.
+    let sorted_old;
+    let old_walls = if old_walls.is_wall_major() {
+        old_walls
+    } else {
+        // A list from before the wall-major order (an old checkpoint): sort it once.
+        sorted_old = old_walls.to_wall_major();
+        &sorted_old
+    };
     let mut wcursor = 0usize;
-    for i in 0..n {
-        for (w, wall) in walls.iter().enumerate() {
-            let Some(wall) = wall else { continue };
+    for (w, wall) in walls.iter().enumerate() {
+        let Some(wall) = wall else { continue };
+        for i in 0..n {
             let (_, dist) = wall.closest_point(pos[i]);
             let near = match wall.shape() {
                 WallShape::Plane { .. } => dist < rad[i] + skin && dist > -rad[i],
@@ -298,14 +330,14 @@ pub(crate) fn build_lists(
             let h = match carry {
                 Some(tagged) => tagged.wall(particles.tag[i], w as u32),
                 None => {
-                    let key = (i as u32, w as u32);
+                    let key = (w as u32, i as u32);
                     while wcursor < old_walls.particle.len()
-                        && (old_walls.particle[wcursor], old_walls.wall[wcursor]) < key
+                        && (old_walls.wall[wcursor], old_walls.particle[wcursor]) < key
                     {
                         wcursor += 1;
                     }
                     if wcursor < old_walls.particle.len()
-                        && (old_walls.particle[wcursor], old_walls.wall[wcursor]) == key
+                        && (old_walls.wall[wcursor], old_walls.particle[wcursor]) == key
                     {
                         old_walls.history[wcursor]
                     } else {
@@ -369,5 +401,69 @@ mod tests {
             .zip(pairs.j.iter().copied())
             .collect();
         assert_eq!(found, brute);
+    }
+
+    #[test]
+    fn wall_candidates_are_wall_major_and_carry_history_from_either_order() {
+        // Particles along a box of four planes: each particle is a candidate of several
+        // walls. The list must come out sorted by (wall, particle), and a rebuild must carry
+        // every history exactly, whether the old list is wall-major or particle-major (the
+        // order of lists in checkpoints written before the change).
+        use crate::material::{Interaction, Material, WallMaterial};
+        let mut set = ParticleSet::default();
+        for k in 0..50 {
+            let x = DVec3::new(0.001 + 0.0005 * (k % 10) as f64, 0.0017, 0.0005 * k as f64);
+            let init =
+                crate::particles::ParticleInit::at_rest(x, 0.0015, crate::particles::MaterialId(0));
+            set.push(&init, 1000.0);
+        }
+        let m = WallMaterial::Elastic(Material::fan2023());
+        let i = Interaction::fan2023();
+        let walls: Vec<Option<Wall>> = vec![
+            Some(Wall::plane(DVec3::ZERO, DVec3::X, m, i).unwrap()),
+            None,
+            Some(Wall::plane(DVec3::ZERO, DVec3::Y, m, i).unwrap()),
+            Some(Wall::plane(DVec3::new(0.0, 0.0034, 0.0), -DVec3::Y, m, i).unwrap()),
+        ];
+        let skin = 3e-4;
+        let grid = CellGrid::build(&set.position, 0.003 + skin);
+        let build = |old: &WallPairList| {
+            let (mut p, mut w) = (PairList::default(), WallPairList::default());
+            build_lists(
+                &grid,
+                &set,
+                &walls,
+                skin,
+                &PairList::default(),
+                old,
+                None,
+                &mut p,
+                &mut w,
+            );
+            w
+        };
+        let mut first = build(&WallPairList::default());
+        assert!(first.is_wall_major());
+        let walls_seen: std::collections::BTreeSet<u32> = first.wall.iter().copied().collect();
+        assert_eq!(walls_seen.len(), 3, "every present wall has candidates");
+        for (k, h) in first.history.iter_mut().enumerate() {
+            h.tangential = DVec3::new(k as f64 + 1.0, 0.0, 0.0);
+        }
+        let particle_major = {
+            let mut order: Vec<usize> = (0..first.particle.len()).collect();
+            order.sort_by_key(|&k| (first.particle[k], first.wall[k]));
+            WallPairList {
+                particle: order.iter().map(|&k| first.particle[k]).collect(),
+                wall: order.iter().map(|&k| first.wall[k]).collect(),
+                history: order.iter().map(|&k| first.history[k]).collect(),
+            }
+        };
+        assert!(!particle_major.is_wall_major());
+        for old in [&first, &particle_major] {
+            let again = build(old);
+            assert_eq!(again.particle, first.particle);
+            assert_eq!(again.wall, first.wall);
+            assert_eq!(again.history, first.history, "history lost in the carry");
+        }
     }
 }
