@@ -688,8 +688,11 @@ impl Simulation {
 /// displacement from `reference` [m²], whether every displacement was finite, and whether
 /// the pending kick left every velocity finite.
 ///
-/// Written over zipped slices so that the loop carries no bounds checks; a non-finite position
-/// makes its squared displacement NaN or infinite, which one comparison per particle catches.
+/// The three reductions (largest displacement, finiteness of positions and of velocities)
+/// are kept in [`LANES`] independent accumulators, merged at the end: one accumulator per
+/// reduction made each particle wait on the previous one's `max` and additions. The maximum
+/// of a set does not depend on the order it is taken in, and the two finiteness probes are
+/// sums of zeros unless something is not finite, so the results are the same as one pass.
 fn kick_drift(
     p: &mut ParticleSet,
     reference: &[DVec3],
@@ -697,45 +700,114 @@ fn kick_drift(
     dt: f64,
     pending: bool,
 ) -> (f64, bool, bool) {
-    let mut max_disp2: f64 = 0.0;
-    let mut finite = true;
-    let mut probe = 0.0;
-    let bodies = p
-        .flags
-        .iter()
-        .zip(&p.force)
-        .zip(&p.torque)
-        .zip(&p.inv_mass)
-        .zip(&p.inv_inertia);
-    let state = p
-        .velocity
-        .iter_mut()
-        .zip(p.omega.iter_mut())
-        .zip(p.position.iter_mut())
-        .zip(reference);
-    for (((((&flags, &f), &t), &inv_m), &inv_i), (((v, w), x), &x0)) in bodies.zip(state) {
+    let n = p.len();
+    let mut body = KickDrift {
+        flags: &p.flags[..n],
+        force: &p.force[..n],
+        torque: &p.torque[..n],
+        inv_mass: &p.inv_mass[..n],
+        inv_inertia: &p.inv_inertia[..n],
+        velocity: &mut p.velocity[..n],
+        omega: &mut p.omega[..n],
+        position: &mut p.position[..n],
+        reference: &reference[..n],
+        half,
+        dt,
+    };
+    let mut acc = [Reduction::default(); LANES];
+    let whole = n - n % LANES;
+    for start in (0..whole).step_by(LANES) {
+        for (lane, acc) in acc.iter_mut().enumerate() {
+            body.one(start + lane, pending, acc);
+        }
+    }
+    for k in whole..n {
+        body.one(k, pending, &mut acc[0]);
+    }
+    let all = acc.iter().fold(Reduction::default(), |a, b| Reduction {
+        max_disp2: if b.max_disp2 > a.max_disp2 {
+            b.max_disp2
+        } else {
+            a.max_disp2
+        },
+        position_probe: a.position_probe + b.position_probe,
+        velocity_probe: a.velocity_probe + b.velocity_probe,
+    });
+    (
+        all.max_disp2,
+        all.position_probe == 0.0,
+        all.velocity_probe == 0.0,
+    )
+}
+
+/// Independent accumulators of [`kick_drift`].
+const LANES: usize = 4;
+
+/// One lane's reductions.
+#[derive(Clone, Copy, Default)]
+struct Reduction {
+    /// Largest squared displacement seen [m²] (non-finite ones are caught by the probe).
+    max_disp2: f64,
+    /// Σ |Δx|²·0: zero unless some displacement is NaN or infinite.
+    position_probe: f64,
+    /// Σ (v + ω)·0 after the pending kick: zero unless some velocity or spin is not finite.
+    velocity_probe: f64,
+}
+
+/// The slices [`kick_drift`] works on, cut to one length so that indexing is checked once.
+struct KickDrift<'a> {
+    flags: &'a [u8],
+    force: &'a [DVec3],
+    torque: &'a [DVec3],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+    velocity: &'a mut [DVec3],
+    omega: &'a mut [DVec3],
+    position: &'a mut [DVec3],
+    reference: &'a [DVec3],
+    /// Δt/2 [s].
+    half: f64,
+    /// Δt [s].
+    dt: f64,
+}
+
+impl KickDrift<'_> {
+    #[inline(always)]
+    fn one(&mut self, k: usize, pending: bool, acc: &mut Reduction) {
+        let flags = self.flags[k];
         if flags & FLAG_FROZEN != 0 {
-            continue;
+            return;
         }
         let rotates = flags & FLAG_ROTATION_LOCKED == 0;
+        let (f, t) = (self.force[k], self.torque[k]);
+        let (kv, kw) = (
+            self.half * self.inv_mass[k],
+            self.half * self.inv_inertia[k],
+        );
+        let (mut v, mut w) = (self.velocity[k], self.omega[k]);
         if pending {
             // Exactly `kick`'s operations, then the same check.
-            *v += (half * inv_m) * f;
+            v += kv * f;
             if rotates {
-                *w += (half * inv_i) * t;
+                w += kw * t;
             }
-            probe += (*v + *w).element_sum() * 0.0;
+            acc.velocity_probe += (v + w).element_sum() * 0.0;
         }
-        *v += (half * inv_m) * f;
+        v += kv * f;
         if rotates {
-            *w += (half * inv_i) * t;
+            w += kw * t;
         }
-        *x += dt * *v;
-        let d2 = (*x - x0).length_squared();
-        max_disp2 = max_disp2.max(d2);
-        finite &= d2 <= f64::MAX;
+        let x = self.position[k] + self.dt * v;
+        self.velocity[k] = v;
+        self.omega[k] = w;
+        self.position[k] = x;
+        let d2 = (x - self.reference[k]).length_squared();
+        // `!(≤)` would let a NaN in; the probe reports those instead.
+        if d2 > acc.max_disp2 {
+            acc.max_disp2 = d2;
+        }
+        acc.position_probe += d2 * 0.0;
     }
-    (max_disp2, finite, probe == 0.0)
 }
 
 /// Second half kick of every free particle. Returns false when some velocity or spin may be
