@@ -537,7 +537,8 @@ fn batched_wall_loop(
     let mut start = 0;
     while start < pi.len() {
         let w = pw[start];
-        let len = pw[start..].iter().take_while(|&&x| x == w).count();
+        // The list is wall-major (`build_lists`, `Simulation::from_state`).
+        let len = pw[start..].partition_point(|&x| x <= w);
         let run = start..start + len;
         let wall = WallRun {
             probe: probes[w as usize],

@@ -143,7 +143,7 @@ pub struct WallPairList {
 
 impl WallPairList {
     /// True when sorted by (wall, particle), the order `build_lists` writes.
-    fn is_wall_major(&self) -> bool {
+    pub(crate) fn is_wall_major(&self) -> bool {
         self.wall
             .iter()
             .zip(&self.particle)
@@ -151,8 +151,13 @@ impl WallPairList {
             .all(|(a, b)| a <= b)
     }
 
-    /// The same candidates sorted by (wall, particle).
-    fn to_wall_major(&self) -> Self {
+    /// The same candidates sorted by (wall, particle). Lists in checkpoints written before
+    /// this order was introduced are particle-major; the force loop and `build_lists` need
+    /// wall-major ones.
+    pub(crate) fn into_wall_major(self) -> Self {
+        if self.is_wall_major() {
+            return self;
+        }
         let mut order: Vec<usize> = (0..self.particle.len()).collect();
         order.sort_unstable_by_key(|&k| (self.wall[k], self.particle[k]));
         Self {
@@ -307,18 +312,14 @@ pub(crate) fn build_lists(
     wall_pairs.history.clear();
     // Wall-major, particles in index order within a wall: the force loop then treats one
     // wall at a time, and each particle still meets its walls in increasing order.
-    let sorted_old;
-    let old_walls = if old_walls.is_wall_major() {
-        old_walls
-    } else {
-        // A list from before the wall-major order (an old checkpoint): sort it once.
-        sorted_old = old_walls.to_wall_major();
-        &sorted_old
-    };
+    debug_assert!(old_walls.is_wall_major());
     let mut wcursor = 0usize;
     for (w, wall) in walls.iter().enumerate() {
         let Some(wall) = wall else { continue };
         for i in 0..n {
+            if wall.certainly_beyond(pos[i], rad[i] + skin) {
+                continue;
+            }
             let (_, dist) = wall.closest_point(pos[i]);
             let near = match wall.shape() {
                 WallShape::Plane { .. } => dist < rad[i] + skin && dist > -rad[i],
@@ -408,7 +409,7 @@ mod tests {
         // Particles along a box of four planes: each particle is a candidate of several
         // walls. The list must come out sorted by (wall, particle), and a rebuild must carry
         // every history exactly, whether the old list is wall-major or particle-major (the
-        // order of lists in checkpoints written before the change).
+        // order of lists in checkpoints written before the change) and sorted on restore.
         use crate::material::{Interaction, Material, WallMaterial};
         let mut set = ParticleSet::default();
         for k in 0..50 {
@@ -459,7 +460,8 @@ mod tests {
             }
         };
         assert!(!particle_major.is_wall_major());
-        for old in [&first, &particle_major] {
+        let sorted = particle_major.into_wall_major();
+        for old in [&first, &sorted] {
             let again = build(old);
             assert_eq!(again.particle, first.particle);
             assert_eq!(again.wall, first.wall);

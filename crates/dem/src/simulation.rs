@@ -176,7 +176,9 @@ impl Simulation {
     }
 
     /// Restores a saved state with `threads` worker threads (0 = every core).
-    pub fn from_state(state: SimulationState, threads: usize) -> Result<Self, DemError> {
+    pub fn from_state(mut state: SimulationState, threads: usize) -> Result<Self, DemError> {
+        // Checkpoints from before the wall-major candidate order hold particle-major lists.
+        state.wall_pairs = std::mem::take(&mut state.wall_pairs).into_wall_major();
         Ok(Self {
             pool: make_pool(threads)?,
             state,

@@ -182,6 +182,17 @@ impl Wall {
         }
     }
 
+    /// True when `x` is certainly farther than `reach` [m] from a polygon, by its distance
+    /// from the polygon's plane alone, which never exceeds the distance to the polygon.
+    /// A cheap test to skip `closest_point`; always false for a plane.
+    #[inline(always)]
+    pub fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
+        match &self.shape {
+            WallShape::Plane { .. } => false,
+            WallShape::Polygon { vertices } => (x - vertices[0]).dot(self.normal).abs() >= reach,
+        }
+    }
+
     /// Contact normal (wall to particle) for a particle at `x` whose closest wall point is `p`
     /// at distance `dist`.
     #[inline(always)]
@@ -298,5 +309,48 @@ mod tests {
             0.5,
             epsilon = GEOM_TOL
         );
+    }
+
+    #[test]
+    fn the_plane_test_never_rejects_a_point_within_reach_of_a_polygon() {
+        // `certainly_beyond` may only skip points whose true distance is at least `reach`;
+        // points all around a tilted quadrilateral, at distances on both sides of the reach,
+        // must each be skipped only when `closest_point` puts them that far. Some must be
+        // skipped, or the test would pass with a test that never skips.
+        use rand::{Rng, SeedableRng};
+        let w = Wall::polygon(
+            vec![
+                DVec3::new(0.0, 0.0, 0.2),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.2),
+            ],
+            WallMaterial::Rigid,
+            Interaction::fan2023(),
+        )
+        .unwrap();
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+        let mut skipped = 0;
+        for _ in 0..20_000 {
+            let x = DVec3::new(
+                3.0 * rng.gen::<f64>() - 1.0,
+                3.0 * rng.gen::<f64>() - 1.0,
+                2.0 * rng.gen::<f64>() - 1.0,
+            );
+            let reach = 0.5 * rng.gen::<f64>();
+            if w.certainly_beyond(x, reach) {
+                skipped += 1;
+                assert!(w.closest_point(x).1 >= reach, "{x} skipped within {reach}");
+            }
+        }
+        assert!(skipped > 1000, "only {skipped} skipped");
+        let plane = Wall::plane(
+            DVec3::ZERO,
+            DVec3::Z,
+            WallMaterial::Rigid,
+            Interaction::fan2023(),
+        )
+        .unwrap();
+        assert!(!plane.certainly_beyond(DVec3::new(0.0, 0.0, 9.0), 1.0));
     }
 }
