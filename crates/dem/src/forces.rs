@@ -221,7 +221,7 @@ pub(crate) fn evaluate(
                 input,
                 ids,
                 0,
-                &mut pairs.history,
+                pairs.history.split_mut(),
                 (&mut scratch.touching, &mut scratch.batch),
                 &mut acc,
             );
@@ -233,9 +233,10 @@ pub(crate) fn evaluate(
             let chunks = pairs.len().div_ceil(CHUNK);
             buffers.chunks.resize_with(chunks, ChunkScratch::default);
             let worst = pool.install(|| {
-                pairs
-                    .history
+                let (tangential, rolling) = pairs.history.split_mut();
+                tangential
                     .par_chunks_mut(CHUNK)
+                    .zip(rolling.par_chunks_mut(CHUNK))
                     .zip(buffers.chunks.par_iter_mut())
                     .enumerate()
                     .map(|(c, (h, scratch))| {
@@ -280,7 +281,7 @@ pub(crate) fn evaluate(
         batched_wall_loop(
             input,
             wall_ids,
-            &mut wall_pairs.history,
+            &mut wall_pairs.history.tangential,
             (
                 &mut buffers.wall_hits,
                 &mut buffers.wall_probes,
@@ -289,7 +290,7 @@ pub(crate) fn evaluate(
             sink,
         )
     } else {
-        wall_loop(input, wall_ids, &mut wall_pairs.history, sink)
+        wall_loop(input, wall_ids, wall_pairs.history.split_mut(), sink)
     };
     Evaluation {
         count,
@@ -308,12 +309,13 @@ fn pair_loop(
     input: &KernelInput,
     ids: (&[u32], &[u32]),
     base: usize,
-    history: &mut [ContactHistory],
+    history: (&mut [DVec3], &mut [DVec3]),
     scratch: (&mut Vec<u32>, &mut Batch),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
     if *input.laws == ContactLaws::default() {
-        batched_pair_loop(input, ids, base, history, scratch, sink)
+        // The paper's laws keep no rolling history: only ξ is passed.
+        batched_pair_loop(input, ids, base, history.0, scratch, sink)
     } else {
         pair_loop_with(input, *input.laws, ids, base, history, sink)
     }
@@ -347,7 +349,7 @@ fn batched_pair_loop(
     input: &KernelInput,
     (pi, pj): (&[u32], &[u32]),
     base: usize,
-    history: &mut [ContactHistory],
+    history: &mut [DVec3],
     (touching, batch): (&mut Vec<u32>, &mut Batch),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
@@ -381,7 +383,7 @@ fn batched_pair_loop(
             let (i, j) = (pi[k] as usize, pj[k] as usize);
             let d = pos[i] - pos[j];
             let dv = vel[i] - vel[j];
-            let (wi, wj, xi) = (omega[i], omega[j], history[k].tangential);
+            let (wi, wj, xi) = (omega[i], omega[j], history[k]);
             for (a, (x, v, u, w, z)) in [
                 (d.x, dv.x, wi.x, wj.x, xi.x),
                 (d.y, dv.y, wi.y, wj.y, xi.y),
@@ -420,7 +422,7 @@ fn batched_pair_loop(
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;
-            history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
+            history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
             sink.contact(pi[k] as usize, pj[k] as usize, &batch_force(batch, m));
         }
     }
@@ -433,7 +435,7 @@ fn batched_pair_loop(
 fn filter_touching(
     p: &ParticleSet,
     (pi, pj): (&[u32], &[u32]),
-    history: &mut [ContactHistory],
+    history: &mut [DVec3],
     touching: &mut Vec<u32>,
 ) -> usize {
     let n = p.len();
@@ -452,7 +454,7 @@ fn filter_touching(
         let touch = !(dist2 >= sum * sum);
         touching[count.min(len - 1)] = k as u32;
         count += touch as usize;
-        h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+        *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
     }
     count
 }
@@ -505,7 +507,7 @@ fn wall_contact(
 fn batched_wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
-    history: &mut [ContactHistory],
+    history: &mut [DVec3],
     (hits, probes, batch): (&mut Vec<u32>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
@@ -580,7 +582,7 @@ fn wall_run(
     input: &KernelInput,
     wall: &WallRun,
     pi: &[u32],
-    history: &mut [ContactHistory],
+    history: &mut [DVec3],
     (hits, batch): (&mut [u32], &mut Batch),
     worst: &mut WorstOverlap,
     sink: &mut impl FnMut(usize, &ContactForce),
@@ -601,7 +603,7 @@ fn wall_run(
                 let touch = !(plane_distance(pos[i], normal, offset) >= radius[i]);
                 hits[count.min(len - 1)] = k as u32;
                 count += touch as usize;
-                h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+                *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
             }
         }
         WallProbe::Polygon => {
@@ -611,13 +613,11 @@ fn wall_run(
                     wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some();
                 hits[count.min(len - 1)] = k as u32;
                 count += touch as usize;
-                h.tangential = DVec3::select(BVec3::splat(touch), h.tangential, DVec3::ZERO);
+                *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
             }
         }
         WallProbe::Absent => {
-            for h in history.iter_mut() {
-                *h = ContactHistory::default();
-            }
+            history.fill(DVec3::ZERO);
             return;
         }
     }
@@ -658,7 +658,7 @@ fn wall_run(
                 }
             }
             let dv = vel[i] - wall_velocity;
-            let (wi, xi) = (omega[i], history[k].tangential);
+            let (wi, xi) = (omega[i], history[k]);
             for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
                 .into_iter()
                 .enumerate()
@@ -684,7 +684,7 @@ fn wall_run(
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;
-            history[k].tangential = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
+            history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
             sink(pi[k] as usize, &batch_force(batch, m));
         }
     }
@@ -696,14 +696,15 @@ fn pair_loop_with(
     laws: ContactLaws,
     (pi, pj): (&[u32], &[u32]),
     base: usize,
-    history: &mut [ContactHistory],
+    (tangential, rolling): (&mut [DVec3], &mut [DVec3]),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
-    let pi = &pi[base..base + history.len()];
-    let pj = &pj[base..base + history.len()];
-    for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
+    let pi = &pi[base..base + tangential.len()];
+    let pj = &pj[base..base + tangential.len()];
+    let history = tangential.iter_mut().zip(rolling.iter_mut());
+    for (k, ((&i, &j), (t, r))) in pi.iter().zip(pj).zip(history).enumerate() {
         let (i, j) = (i as usize, j as usize);
         let d = p.position[i] - p.position[j];
         let (ri, rj) = (p.radius[i], p.radius[j]);
@@ -711,9 +712,7 @@ fn pair_loop_with(
         let dist2 = d.length_squared();
         if dist2 >= sum * sum {
             // Separated: the contact forgets its history (physics.md §3.1).
-            if !h.is_empty() {
-                *h = ContactHistory::default();
-            }
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         }
         let dist = dist2.sqrt();
@@ -741,7 +740,12 @@ fn pair_loop_with(
             velocity: p.velocity[j],
             omega: p.omega[j],
         };
-        let cf = laws.resolve(&g, &bi, &bj, c, h, input.dt);
+        let mut h = ContactHistory {
+            tangential: *t,
+            rolling: *r,
+        };
+        let cf = laws.resolve(&g, &bi, &bj, c, &mut h, input.dt);
+        (*t, *r) = (h.tangential, h.rolling);
         sink.contact(i, j, &cf);
     }
     worst
@@ -752,24 +756,23 @@ fn pair_loop_with(
 fn wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
-    history: &mut [ContactHistory],
+    (tangential, rolling): (&mut [DVec3], &mut [DVec3]),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
-    for (k, ((&i, &w), h)) in pi.iter().zip(pw).zip(history.iter_mut()).enumerate() {
+    let history = tangential.iter_mut().zip(rolling.iter_mut());
+    for (k, ((&i, &w), (t, r))) in pi.iter().zip(pw).zip(history).enumerate() {
         let (i, w) = (i as usize, w as usize);
         let Some(wall) = &input.walls[w] else {
-            *h = ContactHistory::default();
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         };
         let x = p.position[i];
         let ri = p.radius[i];
         let (cp, dist) = wall.closest_point(x);
         if dist >= ri {
-            if !h.is_empty() {
-                *h = ContactHistory::default();
-            }
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         }
         let overlap = ri - dist;
@@ -794,7 +797,12 @@ fn wall_loop(
             velocity: wall.velocity,
             omega: DVec3::ZERO,
         };
-        let cf = input.laws.resolve(&g, &bi, &bw, c, h, input.dt);
+        let mut h = ContactHistory {
+            tangential: *t,
+            rolling: *r,
+        };
+        let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
+        (*t, *r) = (h.tangential, h.rolling);
         sink(i, &cf);
     }
     worst
@@ -912,12 +920,13 @@ mod tests {
                 &mut wall_pairs,
             );
             let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(9);
-            for h in pairs
+            for t in pairs
                 .history
+                .tangential
                 .iter_mut()
-                .chain(wall_pairs.history.iter_mut())
+                .chain(wall_pairs.history.tangential.iter_mut())
             {
-                h.tangential = DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 2e-6;
+                *t = DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 2e-6;
             }
             let uniform_body = (!poly).then(|| (set.radius[0], set.mass[0]));
             let laws = ContactLaws::default();
@@ -951,7 +960,7 @@ mod tests {
             let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
             let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
             let mut contacts = Vec::new();
-            let worst = pair_loop_with(&input, laws, ids, 0, &mut p2.history, &mut contacts);
+            let worst = pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
             for (a, b, cf) in contacts {
                 let (a, b) = (a as usize, b as usize);
                 force[a] += cf.force;
@@ -960,7 +969,7 @@ mod tests {
                 torque[b] += cf.torque_j;
             }
             let wids = (&w2.particle.clone()[..], &w2.wall.clone()[..]);
-            wall_loop(&input, wids, &mut w2.history, |a, cf| {
+            wall_loop(&input, wids, w2.history.split_mut(), |a, cf| {
                 force[a] += cf.force;
                 torque[a] += cf.torque_i;
             });
@@ -980,8 +989,8 @@ mod tests {
             for (a, b) in pairs
                 .history
                 .iter()
-                .zip(&p2.history)
-                .chain(wall_pairs.history.iter().zip(&w2.history))
+                .zip(p2.history.iter())
+                .chain(wall_pairs.history.iter().zip(w2.history.iter()))
             {
                 assert!(
                     (a.tangential - b.tangential).length() <= 1e-12 * b.tangential.length(),

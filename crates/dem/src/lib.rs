@@ -11,6 +11,7 @@
 pub mod contact;
 mod error;
 mod forces;
+pub mod history;
 pub mod material;
 pub mod neighbour;
 pub mod particles;

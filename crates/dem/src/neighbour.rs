@@ -9,6 +9,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactHistory;
+use crate::history::HistoryArrays;
 use crate::particles::ParticleSet;
 use crate::wall::{Wall, WallShape};
 
@@ -130,7 +131,7 @@ impl CellGrid {
 pub struct PairList {
     pub(crate) i: Vec<u32>,
     pub(crate) j: Vec<u32>,
-    pub(crate) history: Vec<ContactHistory>,
+    pub(crate) history: HistoryArrays,
 }
 
 /// Candidate particle–wall pairs with their contact history.
@@ -138,7 +139,7 @@ pub struct PairList {
 pub struct WallPairList {
     pub(crate) particle: Vec<u32>,
     pub(crate) wall: Vec<u32>,
-    pub(crate) history: Vec<ContactHistory>,
+    pub(crate) history: HistoryArrays,
 }
 
 impl WallPairList {
@@ -163,7 +164,7 @@ impl WallPairList {
         Self {
             particle: order.iter().map(|&k| self.particle[k]).collect(),
             wall: order.iter().map(|&k| self.wall[k]).collect(),
-            history: order.iter().map(|&k| self.history[k]).collect(),
+            history: order.iter().map(|&k| self.history.get(k)).collect(),
         }
     }
 }
@@ -192,7 +193,7 @@ impl TaggedHistory {
         let tag = &particles.tag;
         let mut out = Self::default();
         for k in 0..pairs.len() {
-            let h = pairs.history[k];
+            let h = pairs.history.get(k);
             if h.is_empty() {
                 continue;
             }
@@ -204,7 +205,7 @@ impl TaggedHistory {
             }
         }
         for k in 0..walls.particle.len() {
-            let h = walls.history[k];
+            let h = walls.history.get(k);
             if !h.is_empty() {
                 out.walls
                     .push((tag[walls.particle[k] as usize], walls.wall[k], h));
@@ -295,7 +296,7 @@ pub(crate) fn build_lists(
                     }
                     if cursor < old_pairs.len() && (old_pairs.i[cursor], old_pairs.j[cursor]) == key
                     {
-                        old_pairs.history[cursor]
+                        old_pairs.history.get(cursor)
                     } else {
                         ContactHistory::default()
                     }
@@ -340,7 +341,7 @@ pub(crate) fn build_lists(
                     if wcursor < old_walls.particle.len()
                         && (old_walls.wall[wcursor], old_walls.particle[wcursor]) == key
                     {
-                        old_walls.history[wcursor]
+                        old_walls.history.get(wcursor)
                     } else {
                         ContactHistory::default()
                     }
@@ -447,8 +448,8 @@ mod tests {
         assert!(first.is_wall_major());
         let walls_seen: std::collections::BTreeSet<u32> = first.wall.iter().copied().collect();
         assert_eq!(walls_seen.len(), 3, "every present wall has candidates");
-        for (k, h) in first.history.iter_mut().enumerate() {
-            h.tangential = DVec3::new(k as f64 + 1.0, 0.0, 0.0);
+        for (k, t) in first.history.tangential.iter_mut().enumerate() {
+            *t = DVec3::new(k as f64 + 1.0, 0.0, 0.0);
         }
         let particle_major = {
             let mut order: Vec<usize> = (0..first.particle.len()).collect();
@@ -456,7 +457,7 @@ mod tests {
             WallPairList {
                 particle: order.iter().map(|&k| first.particle[k]).collect(),
                 wall: order.iter().map(|&k| first.wall[k]).collect(),
-                history: order.iter().map(|&k| first.history[k]).collect(),
+                history: order.iter().map(|&k| first.history.get(k)).collect(),
             }
         };
         assert!(!particle_major.is_wall_major());
