@@ -196,3 +196,27 @@ fn study_refuses_a_directory_that_holds_another_sweep() {
     );
     assert_eq!(fake.calls.load(Ordering::SeqCst), 0, "nothing was run");
 }
+
+#[test]
+fn one_worker_runs_the_smallest_outlets_first() {
+    // The expected cost falls with the outlet width, so one worker must take the 18 mm
+    // cases, then the 30 mm ones, then the 45 mm ones, whatever the plan's order.
+    let plan = small_plan();
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner::new();
+    let widths = std::sync::Mutex::new(Vec::new());
+    let record = |e: &StudyEvent| {
+        if let StudyEvent::CaseEnded { outlet_width, .. } = e {
+            widths.lock().unwrap().push(*outlet_width);
+        }
+    };
+    run_study(&plan, dir.path(), &fake, &options(1), &record).unwrap();
+    let widths = widths.into_inner().unwrap();
+    assert_eq!(widths, vec![0.018, 0.018, 0.030, 0.030, 0.045, 0.045]);
+    let costs: Vec<f64> = plan
+        .cases
+        .iter()
+        .map(|c| study::sweep::expected_cost(&c.case))
+        .collect();
+    assert!(costs.iter().all(|c| c.is_finite() && *c > 0.0));
+}

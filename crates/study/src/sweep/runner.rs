@@ -36,6 +36,18 @@ pub trait CaseRunner: Sync {
     fn run(&self, case: &SweepCase, dir: &Path) -> Result<CaseSummary, String>;
 }
 
+/// A case's expected cost, for scheduling only (arbitrary units): the number of
+/// particles times the time they take to drain, N / W, with the two-dimensional Beverloo
+/// rate W ∝ (D − 1.5 d)^{3/2}. In the paper's study the 11 cases with D = 18 mm take
+/// 2–5 min each and those with D = 60 mm under one; they now start first.
+pub fn expected_cost(case: &crate::config::Case) -> f64 {
+    let d = case.particles.size.mean_diameter();
+    // Outlets of 1.5 d or less clog at once; keep the estimate finite and large.
+    let opening = (case.geometry.outlet_width - 1.5 * d).max(0.1 * d);
+    let n = case.particles.count as f64;
+    n * n / opening.powf(1.5)
+}
+
 /// How a study runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StudyOptions {
@@ -188,6 +200,9 @@ pub fn run_study(
             None => pending.push(case),
         }
     }
+    // Longest first, so that no worker is left with a long case while the others idle.
+    // Only the order of execution changes; every case's results and the tables do not.
+    pending.sort_by(|a, b| expected_cost(&b.case).total_cmp(&expected_cost(&a.case)));
     let reused = rows.len();
     write_results_table(&paths.results(), &rows)?;
     let total = plan.cases.len();
