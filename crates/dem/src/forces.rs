@@ -148,12 +148,19 @@ impl<'a> Accumulator<'a> {
     #[inline(always)]
     fn add(&mut self, i: usize, j: usize, cf: &ContactForce) {
         self.contacts += 1;
-        if i != self.current {
-            self.finish();
-            self.current = i;
-        }
-        self.sum_force += cf.force;
-        self.sum_torque += cf.torque_i;
+        // Without a branch (runs are short, about one contact, so a branch on the end of a
+        // run is mispredicted often): the open run is always written back, with its sum
+        // added when it ends and unchanged otherwise; the same additions as `finish`.
+        // (Before the first contact no run is open and the sum is already zero.)
+        let ends = i != self.current && self.current != usize::MAX;
+        let mask = BVec3::splat(ends);
+        let c = self.current.min(self.force.len() - 1);
+        let (f, t) = (self.force[c], self.torque[c]);
+        self.force[c] = DVec3::select(mask, f + self.sum_force, f);
+        self.torque[c] = DVec3::select(mask, t + self.sum_torque, t);
+        self.sum_force = DVec3::select(mask, DVec3::ZERO, self.sum_force) + cf.force;
+        self.sum_torque = DVec3::select(mask, DVec3::ZERO, self.sum_torque) + cf.torque_i;
+        self.current = i;
         self.force[j] -= cf.force;
         self.torque[j] += cf.torque_j;
     }
