@@ -368,7 +368,13 @@ fn batched_pair_loop(
     let len = history.len();
     let (pi, pj) = (&pi[base..base + len], &pj[base..base + len]);
 
-    let count = filter_touching(p, (pi, pj), history, touching);
+    let count = filter_touching(
+        p,
+        (pi, pj),
+        history,
+        touching,
+        input.uniform_body.map(|(r, _)| r),
+    );
     let touching = &touching[..count];
 
     let uniform = uniform_coefficients(input.pair_coeffs, input.materials);
@@ -441,12 +447,36 @@ fn batched_pair_loop(
 #[inline(never)]
 fn filter_touching(
     p: &ParticleSet,
+    ids: (&[u32], &[u32]),
+    history: &mut [DVec3],
+    touching: &mut Vec<u32>,
+    uniform_radius: Option<f64>,
+) -> usize {
+    let radius = &p.radius[..p.len()];
+    match uniform_radius {
+        // Equal spheres: the contact distance is a constant, and (r + r)² is the same number
+        // as the general branch computes for every pair.
+        Some(r) => {
+            let cut2 = (r + r) * (r + r);
+            filter_touching_with(p, ids, history, touching, |_, _| cut2)
+        }
+        None => filter_touching_with(p, ids, history, touching, |i, j| {
+            let sum = radius[i] + radius[j];
+            sum * sum
+        }),
+    }
+}
+
+/// [`filter_touching`] with `cut2(i, j)` the squared contact distance (R_i + R_j)² [m²].
+#[inline(always)]
+fn filter_touching_with(
+    p: &ParticleSet,
     (pi, pj): (&[u32], &[u32]),
     history: &mut [DVec3],
     touching: &mut Vec<u32>,
+    cut2: impl Fn(usize, usize) -> f64,
 ) -> usize {
-    let n = p.len();
-    let (pos, radius) = (&p.position[..n], &p.radius[..n]);
+    let pos = &p.position[..p.len()];
     let len = history.len();
     // Only grown, never cleared: see `batched_wall_loop`.
     if touching.len() < len {
@@ -455,10 +485,9 @@ fn filter_touching(
     let mut count = 0;
     for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
         let (i, j) = (i as usize, j as usize);
-        let sum = radius[i] + radius[j];
         let dist2 = (pos[i] - pos[j]).length_squared();
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
-        let touch = !(dist2 >= sum * sum);
+        let touch = !(dist2 >= cut2(i, j));
         touching[count.min(len - 1)] = k as u32;
         count += touch as usize;
         *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
@@ -583,6 +612,31 @@ fn plane_distance(x: DVec3, normal: DVec3, offset: f64) -> f64 {
     x.dot(normal) - offset
 }
 
+/// Lists in `hits` (count returned) the candidates `pi` that touch the plane x·n = offset,
+/// `radius_of(i)` being particle i's radius [m], without a branch on the outcome, and
+/// clears ξ of the others.
+#[inline(always)]
+fn plane_filter(
+    pos: &[DVec3],
+    pi: &[u32],
+    history: &mut [DVec3],
+    hits: &mut [u32],
+    (normal, offset): (DVec3, f64),
+    radius_of: impl Fn(usize) -> f64,
+) -> usize {
+    let len = history.len();
+    let mut count = 0;
+    for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
+        let i = i as usize;
+        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
+        let touch = !(plane_distance(pos[i], normal, offset) >= radius_of(i));
+        hits[count.min(len - 1)] = k as u32;
+        count += touch as usize;
+        *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
+    }
+    count
+}
+
 /// Filters and resolves the candidates `pi` of one wall.
 #[inline(always)]
 fn wall_run(
@@ -604,14 +658,10 @@ fn wall_run(
     // forgets its history (§3.1).
     match wall.probe {
         WallProbe::Plane { normal, offset } => {
-            for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
-                let i = i as usize;
-                // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
-                let touch = !(plane_distance(pos[i], normal, offset) >= radius[i]);
-                hits[count.min(len - 1)] = k as u32;
-                count += touch as usize;
-                *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
-            }
+            count = match input.uniform_body {
+                Some((r, _)) => plane_filter(pos, pi, history, hits, (normal, offset), |_| r),
+                None => plane_filter(pos, pi, history, hits, (normal, offset), |i| radius[i]),
+            };
         }
         WallProbe::Polygon => {
             for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
