@@ -477,18 +477,32 @@ fn filter_touching_with(
     cut2: impl Fn(usize, usize) -> f64,
 ) -> usize {
     let pos = &p.position[..p.len()];
-    let len = history.len();
     // Only grown, never cleared: see `batched_wall_loop`.
-    if touching.len() < len {
-        touching.resize(len, 0);
+    if touching.len() < history.len() {
+        touching.resize(history.len(), 0);
     }
-    let mut count = 0;
-    for (k, ((&i, &j), h)) in pi.iter().zip(pj).zip(history.iter_mut()).enumerate() {
+    let touches = pi.iter().zip(pj).map(|(&i, &j)| {
         let (i, j) = (i as usize, j as usize);
-        let dist2 = (pos[i] - pos[j]).length_squared();
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
-        let touch = !(dist2 >= cut2(i, j));
-        touching[count.min(len - 1)] = k as u32;
+        !((pos[i] - pos[j]).length_squared() >= cut2(i, j))
+    });
+    compact_touching(touches, history, touching)
+}
+
+/// Lists in `hits` (count returned) the indices of the candidates for which `touches` yields
+/// true, in order, and clears ξ of the others (physics.md §3.1: a contact that opens forgets
+/// its history). Branch-free: every index is stored and the count advances only for a
+/// touching one, because a branch on the outcome is mispredicted about as often as taken.
+#[inline(always)]
+fn compact_touching(
+    touches: impl Iterator<Item = bool>,
+    history: &mut [DVec3],
+    hits: &mut [u32],
+) -> usize {
+    let len = history.len();
+    let mut count = 0;
+    for (k, (touch, h)) in touches.zip(history.iter_mut()).enumerate() {
+        hits[count.min(len - 1)] = k as u32;
         count += touch as usize;
         *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
     }
@@ -612,31 +626,6 @@ fn plane_distance(x: DVec3, normal: DVec3, offset: f64) -> f64 {
     x.dot(normal) - offset
 }
 
-/// Lists in `hits` (count returned) the candidates `pi` that touch the plane x·n = offset,
-/// `radius_of(i)` being particle i's radius [m], without a branch on the outcome, and
-/// clears ξ of the others.
-#[inline(always)]
-fn plane_filter(
-    pos: &[DVec3],
-    pi: &[u32],
-    history: &mut [DVec3],
-    hits: &mut [u32],
-    (normal, offset): (DVec3, f64),
-    radius_of: impl Fn(usize) -> f64,
-) -> usize {
-    let len = history.len();
-    let mut count = 0;
-    for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
-        let i = i as usize;
-        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
-        let touch = !(plane_distance(pos[i], normal, offset) >= radius_of(i));
-        hits[count.min(len - 1)] = k as u32;
-        count += touch as usize;
-        *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
-    }
-    count
-}
-
 /// Filters and resolves the candidates `pi` of one wall.
 #[inline(always)]
 fn wall_run(
@@ -652,32 +641,37 @@ fn wall_run(
     let n = p.len();
     let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
     let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
-    let len = history.len();
-    let mut count = 0;
     // Pass 1: which candidates touch. A separated contact (or one with a removed wall)
     // forgets its history (§3.1).
-    match wall.probe {
-        WallProbe::Plane { normal, offset } => {
-            count = match input.uniform_body {
-                Some((r, _)) => plane_filter(pos, pi, history, hits, (normal, offset), |_| r),
-                None => plane_filter(pos, pi, history, hits, (normal, offset), |i| radius[i]),
-            };
-        }
-        WallProbe::Polygon => {
-            for (k, (&i, h)) in pi.iter().zip(history.iter_mut()).enumerate() {
-                let i = i as usize;
-                let touch =
-                    wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some();
-                hits[count.min(len - 1)] = k as u32;
-                count += touch as usize;
-                *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
+    let count = match wall.probe {
+        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
+        WallProbe::Plane { normal, offset } => match input.uniform_body {
+            Some((r, _)) => {
+                let touches = pi
+                    .iter()
+                    .map(|&i| !(plane_distance(pos[i as usize], normal, offset) >= r));
+                compact_touching(touches, history, hits)
             }
+            None => {
+                let touches = pi.iter().map(|&i| {
+                    let i = i as usize;
+                    !(plane_distance(pos[i], normal, offset) >= radius[i])
+                });
+                compact_touching(touches, history, hits)
+            }
+        },
+        WallProbe::Polygon => {
+            let touches = pi.iter().map(|&i| {
+                let i = i as usize;
+                wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some()
+            });
+            compact_touching(touches, history, hits)
         }
         WallProbe::Absent => {
             history.fill(DVec3::ZERO);
             return;
         }
-    }
+    };
     let hits = &hits[..count];
 
     // Pass 2: the touching ones, in batches. What the run shares is written once.

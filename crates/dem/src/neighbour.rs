@@ -161,6 +161,11 @@ impl WallPairList {
         }
         let mut order: Vec<usize> = (0..self.particle.len()).collect();
         order.sort_unstable_by_key(|&k| (self.wall[k], self.particle[k]));
+        self.permuted(&order)
+    }
+
+    /// The candidates in the order `order` (indices into this list) gives.
+    fn permuted(&self, order: &[usize]) -> Self {
         Self {
             particle: order.iter().map(|&k| self.particle[k]).collect(),
             wall: order.iter().map(|&k| self.wall[k]).collect(),
@@ -454,11 +459,7 @@ mod tests {
         let particle_major = {
             let mut order: Vec<usize> = (0..first.particle.len()).collect();
             order.sort_by_key(|&k| (first.particle[k], first.wall[k]));
-            WallPairList {
-                particle: order.iter().map(|&k| first.particle[k]).collect(),
-                wall: order.iter().map(|&k| first.wall[k]).collect(),
-                history: order.iter().map(|&k| first.history.get(k)).collect(),
-            }
+            first.permuted(&order)
         };
         assert!(!particle_major.is_wall_major());
         let sorted = particle_major.into_wall_major();
