@@ -3,7 +3,8 @@
 //!
 //! The engine knows nothing of hoppers, files or fits. Its contract is in physics.md §1–6:
 //! contact laws (`contact`), materials and mixing (`material`), walls (`wall`), storage
-//! (`particles`), neighbour search (`neighbour`) and the integrator (`simulation`).
+//! (`particles`), neighbour search (`neighbour`), velocity Verlet (`integrator`) and the
+//! simulation that owns the state (`simulation`).
 
 // Input checks are written `!(x > 0.0)` on purpose: unlike `x <= 0.0`, they also refuse NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
@@ -12,6 +13,7 @@ pub mod contact;
 mod error;
 mod forces;
 pub mod history;
+mod integrator;
 pub mod material;
 pub mod neighbour;
 pub mod particles;

@@ -6,11 +6,10 @@ use serde::{Deserialize, Serialize};
 use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
+use crate::integrator::{kick, kick_drift, uniform_free_body};
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
-use crate::particles::{
-    MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
-};
+use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::timescale::rayleigh_time;
 use crate::wall::{Wall, WallId};
 
@@ -90,6 +89,9 @@ pub struct Simulation {
     /// Radius [m] and mass [kg] shared by every particle, when they are all alike; found at
     /// each list rebuild (which every addition or removal of a particle forces).
     uniform_body: Option<(f64, f64)>,
+    /// 1/m [1/kg] and 1/I [1/(kg m²)] shared by every particle when all are alike and free
+    /// (`integrator::uniform_free_body`); found with `uniform_body`, and after a change of flags.
+    uniform_free: Option<(f64, f64)>,
     prepared: bool,
 }
 
@@ -187,6 +189,7 @@ impl Simulation {
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
             uniform_body: None,
+            uniform_free: None,
             prepared: false,
         })
     }
@@ -377,6 +380,8 @@ impl Simulation {
     /// Sets the flags of particle `index` (`FLAG_*`).
     pub fn set_particle_flags(&mut self, index: usize, flags: u8) {
         self.state.particles.flags[index] = flags;
+        // The integrator's shared-body form holds only while no particle has flags.
+        self.prepared = false;
     }
 
     /// The configuration.
@@ -459,6 +464,7 @@ impl Simulation {
             }
         }
         self.uniform_body = uniform_body(&s.particles);
+        self.uniform_free = uniform_free_body(&s.particles);
         self.prepared = true;
         Ok(())
     }
@@ -499,6 +505,7 @@ impl Simulation {
             &mut s.wall_pairs,
         );
         self.uniform_body = uniform_body(&s.particles);
+        self.uniform_free = uniform_free_body(&s.particles);
         s.reference.clear();
         s.reference.extend_from_slice(&s.particles.position);
         s.wall_drift = 0.0;
@@ -532,8 +539,14 @@ impl Simulation {
             self.state.reference.clear();
             self.state.reference.extend_from_slice(&p.position);
         }
-        let (max_disp2, finite, kicked_finite) =
-            kick_drift(p, &self.state.reference, half, dt, kick_pending);
+        let (max_disp2, finite, kicked_finite) = kick_drift(
+            p,
+            &self.state.reference,
+            half,
+            dt,
+            kick_pending,
+            self.uniform_free,
+        );
         if !kicked_finite {
             // The previous step's deferred kick: reported as `kick` below would have.
             if let Some(e) = non_finite_velocity(p, self.state.time) {
@@ -611,7 +624,7 @@ impl Simulation {
 
         // Second half kick, unless the next step does it.
         let p = &mut s.particles;
-        if final_kick && !kick(p, half) {
+        if final_kick && !kick(p, half, self.uniform_free) {
             if let Some(e) = non_finite_velocity(p, s.time) {
                 return Err(e);
             }
@@ -683,159 +696,6 @@ impl Simulation {
         }
         e
     }
-}
-
-/// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2), preceded
-/// when `pending` by the previous step's second half kick. Returns the largest squared
-/// displacement from `reference` [m²], whether every displacement was finite, and whether
-/// the pending kick left every velocity finite.
-///
-/// The three reductions (largest displacement, finiteness of positions and of velocities)
-/// are kept in [`LANES`] independent accumulators, merged at the end: one accumulator per
-/// reduction made each particle wait on the previous one's `max` and additions. The maximum
-/// of a set does not depend on the order it is taken in, and the two finiteness probes are
-/// sums of zeros unless something is not finite, so the results are the same as one pass.
-fn kick_drift(
-    p: &mut ParticleSet,
-    reference: &[DVec3],
-    half: f64,
-    dt: f64,
-    pending: bool,
-) -> (f64, bool, bool) {
-    let n = p.len();
-    let mut body = KickDrift {
-        flags: &p.flags[..n],
-        force: &p.force[..n],
-        torque: &p.torque[..n],
-        inv_mass: &p.inv_mass[..n],
-        inv_inertia: &p.inv_inertia[..n],
-        velocity: &mut p.velocity[..n],
-        omega: &mut p.omega[..n],
-        position: &mut p.position[..n],
-        reference: &reference[..n],
-        half,
-        dt,
-    };
-    let mut acc = [Reduction::default(); LANES];
-    let whole = n - n % LANES;
-    for start in (0..whole).step_by(LANES) {
-        for (lane, acc) in acc.iter_mut().enumerate() {
-            body.one(start + lane, pending, acc);
-        }
-    }
-    for k in whole..n {
-        body.one(k, pending, &mut acc[0]);
-    }
-    let all = acc.iter().fold(Reduction::default(), |a, b| Reduction {
-        max_disp2: if b.max_disp2 > a.max_disp2 {
-            b.max_disp2
-        } else {
-            a.max_disp2
-        },
-        position_probe: a.position_probe + b.position_probe,
-        velocity_probe: a.velocity_probe + b.velocity_probe,
-    });
-    (
-        all.max_disp2,
-        all.position_probe == 0.0,
-        all.velocity_probe == 0.0,
-    )
-}
-
-/// Independent accumulators of [`kick_drift`].
-const LANES: usize = 4;
-
-/// One lane's reductions.
-#[derive(Clone, Copy, Default)]
-struct Reduction {
-    /// Largest squared displacement seen [m²] (non-finite ones are caught by the probe).
-    max_disp2: f64,
-    /// Σ |Δx|²·0: zero unless some displacement is NaN or infinite.
-    position_probe: f64,
-    /// Σ (v + ω)·0 after the pending kick: zero unless some velocity or spin is not finite.
-    velocity_probe: f64,
-}
-
-/// The slices [`kick_drift`] works on, cut to one length so that indexing is checked once.
-struct KickDrift<'a> {
-    flags: &'a [u8],
-    force: &'a [DVec3],
-    torque: &'a [DVec3],
-    inv_mass: &'a [f64],
-    inv_inertia: &'a [f64],
-    velocity: &'a mut [DVec3],
-    omega: &'a mut [DVec3],
-    position: &'a mut [DVec3],
-    reference: &'a [DVec3],
-    /// Δt/2 [s].
-    half: f64,
-    /// Δt [s].
-    dt: f64,
-}
-
-impl KickDrift<'_> {
-    #[inline(always)]
-    fn one(&mut self, k: usize, pending: bool, acc: &mut Reduction) {
-        let flags = self.flags[k];
-        if flags & FLAG_FROZEN != 0 {
-            return;
-        }
-        let rotates = flags & FLAG_ROTATION_LOCKED == 0;
-        let (f, t) = (self.force[k], self.torque[k]);
-        let (kv, kw) = (
-            self.half * self.inv_mass[k],
-            self.half * self.inv_inertia[k],
-        );
-        let (mut v, mut w) = (self.velocity[k], self.omega[k]);
-        if pending {
-            // Exactly `kick`'s operations, then the same check.
-            v += kv * f;
-            if rotates {
-                w += kw * t;
-            }
-            acc.velocity_probe += (v + w).element_sum() * 0.0;
-        }
-        v += kv * f;
-        if rotates {
-            w += kw * t;
-        }
-        let x = self.position[k] + self.dt * v;
-        self.velocity[k] = v;
-        self.omega[k] = w;
-        self.position[k] = x;
-        let d2 = (x - self.reference[k]).length_squared();
-        // `!(≤)` would let a NaN in; the probe reports those instead.
-        if d2 > acc.max_disp2 {
-            acc.max_disp2 = d2;
-        }
-        acc.position_probe += d2 * 0.0;
-    }
-}
-
-/// Second half kick of every free particle. Returns false when some velocity or spin may be
-/// non-finite: x·0 is 0 for finite x and NaN otherwise, so one sum checks all six components.
-fn kick(p: &mut ParticleSet, half: f64) -> bool {
-    let mut probe = 0.0;
-    let bodies = p
-        .flags
-        .iter()
-        .zip(&p.force)
-        .zip(&p.torque)
-        .zip(&p.inv_mass)
-        .zip(&p.inv_inertia);
-    for (((((&flags, &f), &t), &inv_m), &inv_i), (v, w)) in
-        bodies.zip(p.velocity.iter_mut().zip(p.omega.iter_mut()))
-    {
-        if flags & FLAG_FROZEN != 0 {
-            continue;
-        }
-        *v += (half * inv_m) * f;
-        if flags & FLAG_ROTATION_LOCKED == 0 {
-            *w += (half * inv_i) * t;
-        }
-        probe += (*v + *w).element_sum() * 0.0;
-    }
-    probe == 0.0
 }
 
 /// The error for the first particle with a non-finite velocity or spin, if any; `time` [s].

@@ -1,0 +1,416 @@
+//! Velocity Verlet (physics.md §6.2): the half kicks and the drift, with the reductions the
+//! simulation needs from the same pass (largest displacement since the last list build,
+//! finiteness probes).
+//!
+//! Two forms of the same arithmetic:
+//! - the general one walks particle by particle, honouring each one's flags, mass and
+//!   moment of inertia;
+//! - when every particle is free (no flags) and all share one mass and one moment of inertia
+//!   (the paper's monodisperse beds), the kicks and the drift are the same operation on
+//!   every component of every particle, so they run over the vectors as flat arrays of
+//!   numbers, which the compiler vectorises. Each component goes through exactly the
+//!   operations of the general form, in the same order, so the trajectory is bit-identical
+//!   (a test checks it).
+
+use glam::DVec3;
+
+use crate::particles::{ParticleSet, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+
+/// 1/m [1/kg] and 1/I [1/(kg m²)] shared by every particle, when every particle is free
+/// (no flags) and they are all alike; `None` otherwise.
+pub(crate) fn uniform_free_body(p: &ParticleSet) -> Option<(f64, f64)> {
+    let (&m, &i) = (p.inv_mass.first()?, p.inv_inertia.first()?);
+    let alike = p.flags.iter().all(|&f| f == 0)
+        && p.inv_mass.iter().all(|&x| x == m)
+        && p.inv_inertia.iter().all(|&x| x == i);
+    alike.then_some((m, i))
+}
+
+/// Half kick and drift (see [`kick_drift_general`] for the contract). `uniform`: the result
+/// of [`uniform_free_body`] for the current particles.
+pub(crate) fn kick_drift(
+    p: &mut ParticleSet,
+    reference: &[DVec3],
+    half: f64,
+    dt: f64,
+    pending: bool,
+    uniform: Option<(f64, f64)>,
+) -> (f64, bool, bool) {
+    match uniform {
+        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
+            p,
+            reference,
+            (half * inv_mass, half * inv_inertia),
+            dt,
+            pending,
+        ),
+        None => kick_drift_general(p, reference, half, dt, pending),
+    }
+}
+
+/// Second half kick of every free particle; false when some velocity or spin may be
+/// non-finite. `uniform` as in [`kick_drift`].
+pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) -> bool {
+    match uniform {
+        Some((inv_mass, inv_inertia)) => {
+            let (kv, kw) = (half * inv_mass, half * inv_inertia);
+            flat_pass::<true, false>(p, (kv, kw, 0.0)) == 0.0
+        }
+        None => kick_general(p, half),
+    }
+}
+
+/// [`kick_drift`] for free particles sharing `kv` = Δt/2m [s/kg] and `kw` = Δt/2I
+/// [s/(kg m²)]: per component, v += kv F (pending), v += kv F, x += Δt v, and the same for
+/// ω with kw and the torque; then the displacements in a second pass.
+fn kick_drift_uniform(
+    p: &mut ParticleSet,
+    reference: &[DVec3],
+    (kv, kw): (f64, f64),
+    dt: f64,
+    pending: bool,
+) -> (f64, bool, bool) {
+    let n = p.len();
+    let velocity_probe = if pending {
+        flat_pass::<true, true>(p, (kv, kw, dt))
+    } else {
+        flat_pass::<false, true>(p, (kv, kw, dt))
+    };
+    let (max_disp2, position_probe) = largest_displacement(&p.position[..n], &reference[..n]);
+    (max_disp2, position_probe == 0.0, velocity_probe == 0.0)
+}
+
+/// Numbers per vector of the flat loops (eight f64 fill a 512-bit register).
+const WIDTH: usize = 8;
+
+/// One pass over every component of every particle, with kv = Δt/2m, kw = Δt/2I and Δt
+/// in `k`: with `KICK`, `kick`'s v += kv F, ω += kw T and its check on v + ω; with
+/// `KICK_DRIFT`, this step's v += kv F, ω += kw T and x += Δt v. Returns the check's sum,
+/// zero unless some velocity or spin is not finite (0 without `KICK`).
+fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
+    p: &mut ParticleSet,
+    (kv, kw, dt): (f64, f64, f64),
+) -> f64 {
+    let v: &mut [f64] = bytemuck::cast_slice_mut(&mut p.velocity);
+    let w: &mut [f64] = bytemuck::cast_slice_mut(&mut p.omega);
+    let x: &mut [f64] = bytemuck::cast_slice_mut(&mut p.position);
+    let f: &[f64] = bytemuck::cast_slice(&p.force);
+    let t: &[f64] = bytemuck::cast_slice(&p.torque);
+    let mut probe = [0.0; WIDTH];
+    // Whole vectors of WIDTH numbers, each lane with its own probe, copied into registers
+    // (which tells the compiler that the five arrays do not overlap), then the remainder.
+    let chunks = v
+        .chunks_exact_mut(WIDTH)
+        .zip(w.chunks_exact_mut(WIDTH))
+        .zip(x.chunks_exact_mut(WIDTH))
+        .zip(f.chunks_exact(WIDTH).zip(t.chunks_exact(WIDTH)));
+    for (((vc, wc), xc), (fc, tc)) in chunks {
+        let mut vv: [f64; WIDTH] = (&*vc).try_into().expect("whole chunk");
+        let mut ww: [f64; WIDTH] = (&*wc).try_into().expect("whole chunk");
+        let mut xx: [f64; WIDTH] = (&*xc).try_into().expect("whole chunk");
+        for l in 0..WIDTH {
+            one::<KICK, KICK_DRIFT>(
+                (&mut vv[l], &mut ww[l], &mut xx[l]),
+                (fc[l], tc[l]),
+                (kv, kw, dt),
+                &mut probe[l],
+            );
+        }
+        vc.copy_from_slice(&vv);
+        wc.copy_from_slice(&ww);
+        xc.copy_from_slice(&xx);
+    }
+    let whole = v.len() - v.len() % WIDTH;
+    let rest = v[whole..]
+        .iter_mut()
+        .zip(&mut w[whole..])
+        .zip(&mut x[whole..])
+        .zip(f[whole..].iter().zip(&t[whole..]));
+    for (((v, w), x), (&f, &t)) in rest {
+        one::<KICK, KICK_DRIFT>((v, w, x), (f, t), (kv, kw, dt), &mut probe[0]);
+    }
+    probe.iter().sum()
+}
+
+/// [`flat_pass`] on one number of v, ω and x.
+#[inline(always)]
+fn one<const KICK: bool, const KICK_DRIFT: bool>(
+    (v, w, x): (&mut f64, &mut f64, &mut f64),
+    (f, t): (f64, f64),
+    (kv, kw, dt): (f64, f64, f64),
+    probe: &mut f64,
+) {
+    if KICK {
+        *v += kv * f;
+        *w += kw * t;
+        *probe += (*v + *w) * 0.0;
+    }
+    if KICK_DRIFT {
+        *v += kv * f;
+        *w += kw * t;
+        *x += dt * *v;
+    }
+}
+
+/// Largest |x − x_ref|² [m²] and a probe that is zero unless some displacement is not
+/// finite, in [`LANES`] independent accumulators.
+fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
+    let mut acc = [(0.0f64, 0.0f64); LANES];
+    let chunks = position
+        .chunks_exact(LANES)
+        .zip(reference.chunks_exact(LANES));
+    let rest = position.len() - position.len() % LANES;
+    for (x, r) in chunks {
+        for (lane, a) in acc.iter_mut().enumerate() {
+            let d2 = (x[lane] - r[lane]).length_squared();
+            if d2 > a.0 {
+                a.0 = d2;
+            }
+            a.1 += d2 * 0.0;
+        }
+    }
+    for (x, r) in position[rest..].iter().zip(&reference[rest..]) {
+        let d2 = (*x - *r).length_squared();
+        if d2 > acc[0].0 {
+            acc[0].0 = d2;
+        }
+        acc[0].1 += d2 * 0.0;
+    }
+    acc.iter().fold((0.0, 0.0), |(m, probe), &(d2, p)| {
+        (if d2 > m { d2 } else { m }, probe + p)
+    })
+}
+
+/// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2), preceded
+/// when `pending` by the previous step's second half kick. Returns the largest squared
+/// displacement from `reference` [m²], whether every displacement was finite, and whether
+/// the pending kick left every velocity finite.
+///
+/// The three reductions (largest displacement, finiteness of positions and of velocities)
+/// are kept in [`LANES`] independent accumulators, merged at the end: one accumulator per
+/// reduction made each particle wait on the previous one's `max` and additions. The maximum
+/// of a set does not depend on the order it is taken in, and the two finiteness probes are
+/// sums of zeros unless something is not finite, so the results are the same as one pass.
+fn kick_drift_general(
+    p: &mut ParticleSet,
+    reference: &[DVec3],
+    half: f64,
+    dt: f64,
+    pending: bool,
+) -> (f64, bool, bool) {
+    let n = p.len();
+    let mut body = KickDrift {
+        flags: &p.flags[..n],
+        force: &p.force[..n],
+        torque: &p.torque[..n],
+        inv_mass: &p.inv_mass[..n],
+        inv_inertia: &p.inv_inertia[..n],
+        velocity: &mut p.velocity[..n],
+        omega: &mut p.omega[..n],
+        position: &mut p.position[..n],
+        reference: &reference[..n],
+        half,
+        dt,
+    };
+    let mut acc = [Reduction::default(); LANES];
+    let whole = n - n % LANES;
+    for start in (0..whole).step_by(LANES) {
+        for (lane, acc) in acc.iter_mut().enumerate() {
+            body.one(start + lane, pending, acc);
+        }
+    }
+    for k in whole..n {
+        body.one(k, pending, &mut acc[0]);
+    }
+    let all = acc.iter().fold(Reduction::default(), |a, b| Reduction {
+        max_disp2: if b.max_disp2 > a.max_disp2 {
+            b.max_disp2
+        } else {
+            a.max_disp2
+        },
+        position_probe: a.position_probe + b.position_probe,
+        velocity_probe: a.velocity_probe + b.velocity_probe,
+    });
+    (
+        all.max_disp2,
+        all.position_probe == 0.0,
+        all.velocity_probe == 0.0,
+    )
+}
+
+/// Independent accumulators of [`kick_drift`].
+const LANES: usize = 4;
+
+/// One lane's reductions.
+#[derive(Clone, Copy, Default)]
+struct Reduction {
+    /// Largest squared displacement seen [m²] (non-finite ones are caught by the probe).
+    max_disp2: f64,
+    /// Σ |Δx|²·0: zero unless some displacement is NaN or infinite.
+    position_probe: f64,
+    /// Σ (v + ω)·0 after the pending kick: zero unless some velocity or spin is not finite.
+    velocity_probe: f64,
+}
+
+/// The slices [`kick_drift`] works on, cut to one length so that indexing is checked once.
+struct KickDrift<'a> {
+    flags: &'a [u8],
+    force: &'a [DVec3],
+    torque: &'a [DVec3],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+    velocity: &'a mut [DVec3],
+    omega: &'a mut [DVec3],
+    position: &'a mut [DVec3],
+    reference: &'a [DVec3],
+    /// Δt/2 [s].
+    half: f64,
+    /// Δt [s].
+    dt: f64,
+}
+
+impl KickDrift<'_> {
+    #[inline(always)]
+    fn one(&mut self, k: usize, pending: bool, acc: &mut Reduction) {
+        let flags = self.flags[k];
+        if flags & FLAG_FROZEN != 0 {
+            return;
+        }
+        let rotates = flags & FLAG_ROTATION_LOCKED == 0;
+        let (f, t) = (self.force[k], self.torque[k]);
+        let (kv, kw) = (
+            self.half * self.inv_mass[k],
+            self.half * self.inv_inertia[k],
+        );
+        let (mut v, mut w) = (self.velocity[k], self.omega[k]);
+        if pending {
+            // Exactly `kick`'s operations, then the same check.
+            v += kv * f;
+            if rotates {
+                w += kw * t;
+            }
+            acc.velocity_probe += (v + w).element_sum() * 0.0;
+        }
+        v += kv * f;
+        if rotates {
+            w += kw * t;
+        }
+        let x = self.position[k] + self.dt * v;
+        self.velocity[k] = v;
+        self.omega[k] = w;
+        self.position[k] = x;
+        let d2 = (x - self.reference[k]).length_squared();
+        // `!(≤)` would let a NaN in; the probe reports those instead.
+        if d2 > acc.max_disp2 {
+            acc.max_disp2 = d2;
+        }
+        acc.position_probe += d2 * 0.0;
+    }
+}
+
+/// Second half kick of every free particle. Returns false when some velocity or spin may be
+/// non-finite: x·0 is 0 for finite x and NaN otherwise, so one sum checks all six components.
+fn kick_general(p: &mut ParticleSet, half: f64) -> bool {
+    let mut probe = 0.0;
+    let bodies = p
+        .flags
+        .iter()
+        .zip(&p.force)
+        .zip(&p.torque)
+        .zip(&p.inv_mass)
+        .zip(&p.inv_inertia);
+    for (((((&flags, &f), &t), &inv_m), &inv_i), (v, w)) in
+        bodies.zip(p.velocity.iter_mut().zip(p.omega.iter_mut()))
+    {
+        if flags & FLAG_FROZEN != 0 {
+            continue;
+        }
+        *v += (half * inv_m) * f;
+        if flags & FLAG_ROTATION_LOCKED == 0 {
+            *w += (half * inv_i) * t;
+        }
+        probe += (*v + *w).element_sum() * 0.0;
+    }
+    probe == 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::particles::{MaterialId, ParticleInit};
+    use rand::{Rng, SeedableRng};
+
+    /// 203 equal free spheres (not a multiple of the vector width, so the remainder loop
+    /// runs too) with random positions, velocities, spins, forces and torques.
+    fn bed(seed: u64) -> (ParticleSet, Vec<DVec3>) {
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+        let mut u = move |s: f64| DVec3::new(rng.gen(), rng.gen(), rng.gen()) * s - s / 2.0;
+        let mut p = ParticleSet::default();
+        let mut reference = Vec::new();
+        for _ in 0..203 {
+            let mut init = ParticleInit::at_rest(u(0.1), 1.5e-3, MaterialId(0));
+            init.velocity = u(2.0);
+            init.angular_velocity = u(500.0);
+            p.push(&init, 2500.0);
+            reference.push(init.position + u(1e-4));
+        }
+        for k in 0..p.len() {
+            p.force[k] = u(1e-2);
+            p.torque[k] = u(1e-5);
+        }
+        (p, reference)
+    }
+
+    #[test]
+    fn flat_form_is_bit_identical_to_the_particle_by_particle_form() {
+        // The flat form claims the same operations per component in the same order, so
+        // every number must agree exactly, with and without a pending kick.
+        for (seed, pending) in [(1, false), (2, true)] {
+            let (mut general, reference) = bed(seed);
+            let mut flat = general.clone();
+            let uniform = uniform_free_body(&flat);
+            assert!(uniform.is_some(), "equal free spheres share one body");
+            let (half, dt) = (1.25e-6, 2.5e-6);
+            let a = kick_drift_general(&mut general, &reference, half, dt, pending);
+            let b = kick_drift(&mut flat, &reference, half, dt, pending, uniform);
+            assert_eq!(a, b, "displacement and probes");
+            assert_eq!(general.position, flat.position);
+            assert_eq!(general.velocity, flat.velocity);
+            assert_eq!(general.omega, flat.omega);
+            assert_eq!(kick_general(&mut general, half), kick(&mut flat, half, uniform));
+            assert_eq!(general.velocity, flat.velocity);
+            assert_eq!(general.omega, flat.omega);
+        }
+    }
+
+    #[test]
+    fn flat_form_reports_what_the_general_form_reports() {
+        // A NaN force must fail the velocity probe of `kick`, and a displaced particle
+        // must give the largest displacement, in both forms.
+        let (mut general, _) = bed(3);
+        general.force[150].y = f64::NAN;
+        let mut flat = general.clone();
+        let uniform = uniform_free_body(&flat);
+        assert!(!kick_general(&mut general, 1e-6));
+        assert!(!kick(&mut flat, 1e-6, uniform));
+        let (mut general, mut reference2) = bed(4);
+        reference2[77] -= DVec3::new(0.0, 0.0, 5e-3);
+        let mut flat = general.clone();
+        let uniform = uniform_free_body(&flat);
+        let a = kick_drift_general(&mut general, &reference2, 1e-6, 2e-6, false);
+        let b = kick_drift(&mut flat, &reference2, 1e-6, 2e-6, false, uniform);
+        assert_eq!(a, b);
+        assert!(a.0 >= 2.4e-5, "the moved particle sets the maximum: {}", a.0);
+    }
+
+    #[test]
+    fn flags_or_unequal_bodies_take_the_general_form() {
+        let (mut p, _) = bed(5);
+        assert!(uniform_free_body(&p).is_some());
+        p.flags[10] = FLAG_ROTATION_LOCKED;
+        assert!(uniform_free_body(&p).is_none(), "a flag");
+        let (mut p, _) = bed(5);
+        p.inv_mass[3] *= 2.0;
+        assert!(uniform_free_body(&p).is_none(), "a different mass");
+    }
+}
