@@ -377,7 +377,10 @@ mod tests {
             assert_eq!(general.position, flat.position);
             assert_eq!(general.velocity, flat.velocity);
             assert_eq!(general.omega, flat.omega);
-            assert_eq!(kick_general(&mut general, half), kick(&mut flat, half, uniform));
+            assert_eq!(
+                kick_general(&mut general, half),
+                kick(&mut flat, half, uniform)
+            );
             assert_eq!(general.velocity, flat.velocity);
             assert_eq!(general.omega, flat.omega);
         }
@@ -400,7 +403,11 @@ mod tests {
         let a = kick_drift_general(&mut general, &reference2, 1e-6, 2e-6, false);
         let b = kick_drift(&mut flat, &reference2, 1e-6, 2e-6, false, uniform);
         assert_eq!(a, b);
-        assert!(a.0 >= 2.4e-5, "the moved particle sets the maximum: {}", a.0);
+        assert!(
+            a.0 >= 2.4e-5,
+            "the moved particle sets the maximum: {}",
+            a.0
+        );
     }
 
     #[test]
