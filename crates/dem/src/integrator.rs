@@ -153,32 +153,23 @@ fn one<const KICK: bool, const KICK_DRIFT: bool>(
 }
 
 /// Largest |x − x_ref|² [m²] and a probe that is zero unless some displacement is not
-/// finite, in [`LANES`] independent accumulators.
+/// finite, in [`LANES`] independent accumulators, as [`kick_drift_general`] takes them.
 fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
-    let mut acc = [(0.0f64, 0.0f64); LANES];
+    let mut acc = [Reduction::default(); LANES];
     let chunks = position
         .chunks_exact(LANES)
         .zip(reference.chunks_exact(LANES));
     let rest = position.len() - position.len() % LANES;
     for (x, r) in chunks {
         for (lane, a) in acc.iter_mut().enumerate() {
-            let d2 = (x[lane] - r[lane]).length_squared();
-            if d2 > a.0 {
-                a.0 = d2;
-            }
-            a.1 += d2 * 0.0;
+            a.see_displacement((x[lane] - r[lane]).length_squared());
         }
     }
     for (x, r) in position[rest..].iter().zip(&reference[rest..]) {
-        let d2 = (*x - *r).length_squared();
-        if d2 > acc[0].0 {
-            acc[0].0 = d2;
-        }
-        acc[0].1 += d2 * 0.0;
+        acc[0].see_displacement((*x - *r).length_squared());
     }
-    acc.iter().fold((0.0, 0.0), |(m, probe), &(d2, p)| {
-        (if d2 > m { d2 } else { m }, probe + p)
-    })
+    let all = Reduction::merge_lanes(&acc);
+    (all.max_disp2, all.position_probe)
 }
 
 /// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2), preceded
@@ -222,15 +213,7 @@ fn kick_drift_general(
     for k in whole..n {
         body.one(k, pending, &mut acc[0]);
     }
-    let all = acc.iter().fold(Reduction::default(), |a, b| Reduction {
-        max_disp2: if b.max_disp2 > a.max_disp2 {
-            b.max_disp2
-        } else {
-            a.max_disp2
-        },
-        position_probe: a.position_probe + b.position_probe,
-        velocity_probe: a.velocity_probe + b.velocity_probe,
-    });
+    let all = Reduction::merge_lanes(&acc);
     (
         all.max_disp2,
         all.position_probe == 0.0,
@@ -250,6 +233,31 @@ struct Reduction {
     position_probe: f64,
     /// Σ (v + ω)·0 after the pending kick: zero unless some velocity or spin is not finite.
     velocity_probe: f64,
+}
+
+impl Reduction {
+    /// Takes one particle's squared displacement |Δx|² [m²].
+    #[inline(always)]
+    fn see_displacement(&mut self, d2: f64) {
+        // `!(≤)` would let a NaN in; the probe reports those instead.
+        if d2 > self.max_disp2 {
+            self.max_disp2 = d2;
+        }
+        self.position_probe += d2 * 0.0;
+    }
+
+    /// The lanes merged in order: the largest displacement and the sums of the probes.
+    fn merge_lanes(lanes: &[Self]) -> Self {
+        lanes.iter().fold(Self::default(), |a, b| Self {
+            max_disp2: if b.max_disp2 > a.max_disp2 {
+                b.max_disp2
+            } else {
+                a.max_disp2
+            },
+            position_probe: a.position_probe + b.position_probe,
+            velocity_probe: a.velocity_probe + b.velocity_probe,
+        })
+    }
 }
 
 /// The slices [`kick_drift`] works on, cut to one length so that indexing is checked once.
@@ -299,12 +307,7 @@ impl KickDrift<'_> {
         self.velocity[k] = v;
         self.omega[k] = w;
         self.position[k] = x;
-        let d2 = (x - self.reference[k]).length_squared();
-        // `!(≤)` would let a NaN in; the probe reports those instead.
-        if d2 > acc.max_disp2 {
-            acc.max_disp2 = d2;
-        }
-        acc.position_probe += d2 * 0.0;
+        acc.see_displacement((x - self.reference[k]).length_squared());
     }
 }
 
