@@ -96,6 +96,8 @@ pub(crate) struct ForceBuffers {
     chunks: Vec<ChunkScratch>,
     /// Indices of the touching wall candidates.
     wall_hits: Vec<u32>,
+    /// Whether each wall candidate touches (1) or not (0), for the split plane filter.
+    wall_touch: Vec<u8>,
     wall_probes: Vec<WallProbe>,
     /// Accumulated forces [N], swapped into the particle set after evaluation.
     pub force: Vec<DVec3>,
@@ -291,6 +293,7 @@ pub(crate) fn evaluate(
             &mut wall_pairs.history.tangential,
             (
                 &mut buffers.wall_hits,
+                &mut buffers.wall_touch,
                 &mut buffers.wall_probes,
                 &mut buffers.chunks[0].batch,
             ),
@@ -509,6 +512,62 @@ fn compact_touching(
     count
 }
 
+/// Pass 1 of the plane filter for equal spheres of radius `r` [m]: `touch[k]` is 1 when
+/// candidate `pi[k]` reaches the plane x·n = offset, 0 otherwise; a NaN distance counts as
+/// touching (`!(≥)`), so that it reaches the NaN check.
+///
+/// Apart from compaction, so that it vectorises: with no count to carry from one candidate
+/// to the next, the compiler evaluates eight distances at once. The slab faces have every
+/// particle as a candidate, in index order, so their runs read the positions as one
+/// contiguous stream with no index lookup.
+#[inline(always)]
+fn plane_touches(
+    pos: &[DVec3],
+    pi: &[u32],
+    (normal, offset, r): (DVec3, f64, f64),
+    touch: &mut [u8],
+) {
+    let Some(&first) = pi.first() else { return };
+    // Exact test (not a short-circuit, so that it too vectorises): is `pi` first, first + 1, …?
+    let contiguous = pi
+        .iter()
+        .zip(first..)
+        .fold(true, |all, (&i, k)| all & (i == k));
+    let flag = |x: DVec3| u8::from(!(plane_distance(x, normal, offset) >= r));
+    if contiguous {
+        let run = &pos[first as usize..first as usize + pi.len()];
+        for (t, &x) in touch.iter_mut().zip(run) {
+            *t = flag(x);
+        }
+    } else {
+        for (t, &i) in touch.iter_mut().zip(pi) {
+            *t = flag(pos[i as usize]);
+        }
+    }
+}
+
+/// Clears ξ of the candidates that do not touch (physics.md §3.1: a contact that opens
+/// forgets its history); the others keep theirs bit for bit.
+#[inline(always)]
+fn clear_separated(touch: &[u8], history: &mut [DVec3]) {
+    for (h, &t) in history.iter_mut().zip(touch) {
+        *h = DVec3::select(BVec3::splat(t != 0), *h, DVec3::ZERO);
+    }
+}
+
+/// Lists in `hits` (count returned) the indices k with `touch[k] = 1`, in order, without a
+/// branch on the outcome (see [`compact_touching`]).
+#[inline(always)]
+fn compact_flags(touch: &[u8], hits: &mut [u32]) -> usize {
+    let len = touch.len();
+    let mut count = 0;
+    for (k, &t) in touch.iter().enumerate() {
+        hits[count.min(len - 1)] = k as u32;
+        count += usize::from(t);
+    }
+    count
+}
+
 /// What the wall filter needs of one wall, flattened so that planes need no closest-point call.
 #[derive(Debug, Clone, Copy)]
 enum WallProbe {
@@ -558,7 +617,7 @@ fn batched_wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
     history: &mut [DVec3],
-    (hits, probes, batch): (&mut Vec<u32>, &mut Vec<WallProbe>, &mut Batch),
+    (hits, touch, probes, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
     probes.clear();
@@ -576,6 +635,7 @@ fn batched_wall_loop(
     // buffer every step would cost as much as the filter itself.
     if hits.len() < history.len() {
         hits.resize(history.len(), 0);
+        touch.resize(history.len(), 0);
     }
     // A wall does not spin (§5): ω_j = 0 for every slot.
     for row in &mut batch.omega[1] {
@@ -602,7 +662,7 @@ fn batched_wall_loop(
             &wall,
             &pi[run.clone()],
             &mut history[run],
-            (&mut hits[..len], batch),
+            (&mut hits[..len], &mut touch[..len], batch),
             &mut worst,
             &mut sink,
         );
@@ -633,7 +693,7 @@ fn wall_run(
     wall: &WallRun,
     pi: &[u32],
     history: &mut [DVec3],
-    (hits, batch): (&mut [u32], &mut Batch),
+    (hits, touch, batch): (&mut [u32], &mut [u8], &mut Batch),
     worst: &mut WorstOverlap,
     sink: &mut impl FnMut(usize, &ContactForce),
 ) {
@@ -647,10 +707,10 @@ fn wall_run(
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
         WallProbe::Plane { normal, offset } => match input.uniform_body {
             Some((r, _)) => {
-                let touches = pi
-                    .iter()
-                    .map(|&i| !(plane_distance(pos[i as usize], normal, offset) >= r));
-                compact_touching(touches, history, hits)
+                let touch = &mut touch[..pi.len()];
+                plane_touches(pos, pi, (normal, offset, r), touch);
+                clear_separated(touch, history);
+                compact_flags(touch, hits)
             }
             None => {
                 let touches = pi.iter().map(|&i| {
@@ -924,6 +984,58 @@ mod tests {
         ];
         walls[0].as_mut().unwrap().velocity = DVec3::new(0.1, 0.0, 0.0);
         (set, walls)
+    }
+
+    #[test]
+    fn split_plane_filter_matches_the_per_candidate_test() {
+        // The three passes of the equal-sphere plane filter against the one-candidate-at-a-
+        // time definition: the same touching list, histories kept bit for bit or cleared,
+        // for a contiguous run (the slab faces' stream) and for a run with gaps (the
+        // gathered path), with a NaN position counted as touching. Exact equality: both
+        // evaluate the same expression on the same numbers.
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(3);
+        let r = 1.5e-3;
+        let mut pos: Vec<DVec3> = (0..200)
+            .map(|_| DVec3::new(rng.gen(), rng.gen::<f64>() * 4e-3, rng.gen()))
+            .collect();
+        pos[17] = DVec3::new(0.5, f64::NAN, 0.5);
+        let (normal, offset) = (DVec3::new(0.0, 1.0, 0.0), 0.0);
+        let contiguous: Vec<u32> = (10..150).collect();
+        let gapped: Vec<u32> = (0..200).filter(|k| k % 3 != 1).collect();
+        for pi in [contiguous, gapped] {
+            let old: Vec<DVec3> = (0..pi.len())
+                .map(|k| DVec3::splat(k as f64 + 1.0))
+                .collect();
+            let expect_touch: Vec<bool> = pi
+                .iter()
+                .map(|&i| !(plane_distance(pos[i as usize], normal, offset) >= r))
+                .collect();
+            let (mut touch, mut hits, mut history) =
+                (vec![9u8; pi.len()], vec![0u32; pi.len()], old.clone());
+            plane_touches(&pos, &pi, (normal, offset, r), &mut touch);
+            clear_separated(&touch, &mut history);
+            let count = compact_flags(&touch, &mut hits);
+            let expect_hits: Vec<u32> = (0..pi.len() as u32)
+                .filter(|&k| expect_touch[k as usize])
+                .collect();
+            assert!(count > 10 && count < pi.len(), "both outcomes occur");
+            assert_eq!(&hits[..count], &expect_hits[..]);
+            let nan = pi
+                .iter()
+                .position(|&i| i == 17)
+                .expect("both runs hold particle 17");
+            assert!(
+                hits[..count].contains(&(nan as u32)),
+                "a NaN distance counts as touching"
+            );
+            for (k, (h, o)) in history.iter().zip(&old).enumerate() {
+                let kept = if expect_touch[k] { *o } else { DVec3::ZERO };
+                assert_eq!(
+                    h.to_array().map(f64::to_bits),
+                    kept.to_array().map(f64::to_bits)
+                );
+            }
+        }
     }
 
     #[test]
