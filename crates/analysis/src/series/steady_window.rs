@@ -1,8 +1,11 @@
 //! Automatic detection of the steady discharge window (the plateau of paper Fig. 2a).
 //!
 //! The window is first placed by discharged mass (physics spec §7: from 15 % to 70 % of the
-//! mass that leaves during the series), which skips the start-up transient and the final
-//! emptying whatever the orifice size. It is then refined by cutting it past outlying bins near
+//! particles discharged), which skips the start-up transient and the final emptying whatever
+//! the orifice size. The fractions refer to a reference mass, the fill's when the caller
+//! gives it: then the window does not depend on when the run was stopped, as long as it ran
+//! past the window's end. Without one, or when the series stops short of the window's end
+//! (a clog, a time limit), they refer to the mass that left during the series. It is then refined by cutting it past outlying bins near
 //! its ends (robust median/MAD test), and verified by the relative drift of a
 //! straight line fitted through the rates inside it.
 
@@ -16,10 +19,16 @@ use crate::series::rate_series::RateSeries;
 /// Settings of [`find_steady_window`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SteadyWindowOptions {
-    /// Fraction of the total discharged mass at which the window starts (default 0.15).
+    /// Fraction of the reference mass discharged when the window starts (default 0.15).
     pub start_fraction: f64,
-    /// Fraction of the total discharged mass at which the window ends (default 0.70).
+    /// Fraction of the reference mass discharged when the window ends (default 0.70).
     pub end_fraction: f64,
+    /// The mass the fractions refer to [kg], normally the whole fill's (default `None`: the
+    /// mass discharged during the series). When the series discharges less than
+    /// `end_fraction` of it, the series' own total is used instead: the flow stopped before
+    /// the window's end, and a window reaching past the stop would average the stall in.
+    #[serde(default)]
+    pub reference_mass: Option<f64>,
     /// Fewest bins a window may have and still count as a plateau (default 5: a drift
     /// line through fewer bins has too few degrees of freedom to mean anything).
     pub minimum_bins: usize,
@@ -38,6 +47,7 @@ impl Default for SteadyWindowOptions {
         Self {
             start_fraction: 0.15,
             end_fraction: 0.70,
+            reference_mass: None,
             minimum_bins: 5,
             outlier_threshold: 3.0,
             edge_fraction: 0.2,
@@ -98,13 +108,16 @@ pub fn find_steady_window(
         && options.start_fraction < options.end_fraction
         && options.end_fraction <= 1.0
         && (0.0..=0.5).contains(&options.edge_fraction)
-        && options.outlier_threshold > 0.0;
+        && options.outlier_threshold > 0.0
+        && options
+            .reference_mass
+            .is_none_or(|m| m.is_finite() && m > 0.0);
     if !fractions_ok {
         return Err(AnalysisError::InvalidArgument {
             context: CONTEXT,
             reason: format!(
-                "need 0 ≤ start_fraction < end_fraction ≤ 1, 0 ≤ edge_fraction ≤ 0.5 and \
-                 outlier_threshold > 0, got {options:?}"
+                "need 0 ≤ start_fraction < end_fraction ≤ 1, 0 ≤ edge_fraction ≤ 0.5, \
+                 outlier_threshold > 0 and a finite reference_mass > 0, got {options:?}"
             ),
         });
     }
@@ -116,8 +129,12 @@ pub fn find_steady_window(
         });
     }
     let (_, cumulative) = series.cumulative_mass();
-    let start_mass = options.start_fraction * total;
-    let end_mass = options.end_fraction * total;
+    let reference = match options.reference_mass {
+        Some(m) if total >= options.end_fraction * m => m,
+        _ => total,
+    };
+    let start_mass = options.start_fraction * reference;
+    let end_mass = options.end_fraction * reference;
     // Whole bins only: the first bin starting at or after the start mass, the last bin
     // ending at or before the end mass.
     let first_bin = cumulative
@@ -262,6 +279,70 @@ pub(crate) mod tests {
         assert!(after.trimmed_bins >= 1, "{after:?}");
         assert!(after.first_bin > before.first_bin, "{after:?}");
         assert!(after.is_plateau);
+    }
+
+    /// The first `bins` bins of `series`: the same run stopped earlier.
+    fn stopped_after(series: &RateSeries, bins: usize) -> RateSeries {
+        RateSeries::new(0.0, series.bin_width, series.rates[..bins].to_vec()).unwrap()
+    }
+
+    /// Number of whole bins until at least `fraction` of `reference` [kg] has left.
+    fn bins_until(series: &RateSeries, fraction: f64, reference: f64) -> usize {
+        let (_, cumulative) = series.cumulative_mass();
+        cumulative
+            .iter()
+            .position(|&m| m >= fraction * reference)
+            .unwrap()
+    }
+
+    #[test]
+    fn with_the_fill_as_reference_the_window_ignores_when_the_run_stopped() {
+        // The same discharge stopped at 75 %, 90 % and 100 % of its mass: fractions of the
+        // fill place the window identically (exact equality, the same bins), whereas
+        // fractions of each series' own total move its end with the stop.
+        let full = synthetic_discharge(0.058, 0.1, 4);
+        let fill = full.total_mass();
+        let options = SteadyWindowOptions {
+            reference_mass: Some(fill),
+            ..SteadyWindowOptions::default()
+        };
+        let reference = find_steady_window(&full, &options).unwrap();
+        for stop in [0.75, 0.9] {
+            let stopped = stopped_after(&full, bins_until(&full, stop, fill));
+            assert_eq!(find_steady_window(&stopped, &options).unwrap(), reference);
+            let own = find_steady_window(&stopped, &SteadyWindowOptions::default()).unwrap();
+            assert!(own.end_bin < reference.end_bin, "stop {stop}: {own:?}");
+        }
+    }
+
+    #[test]
+    fn a_series_that_stops_before_the_window_end_falls_back_to_its_own_total() {
+        // A clog after 50 % of the fill: 70 % of the fill is never reached, so the window
+        // is placed on the series' own total (15–70 % of what left), as without a reference.
+        let full = synthetic_discharge(0.058, 0.1, 5);
+        let fill = full.total_mass();
+        let clogged = stopped_after(&full, bins_until(&full, 0.5, fill));
+        let with_fill = SteadyWindowOptions {
+            reference_mass: Some(fill),
+            ..SteadyWindowOptions::default()
+        };
+        assert_eq!(
+            find_steady_window(&clogged, &with_fill).unwrap(),
+            find_steady_window(&clogged, &SteadyWindowOptions::default()).unwrap()
+        );
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let options = SteadyWindowOptions {
+                reference_mass: Some(bad),
+                ..SteadyWindowOptions::default()
+            };
+            assert!(
+                matches!(
+                    find_steady_window(&full, &options),
+                    Err(AnalysisError::InvalidArgument { .. })
+                ),
+                "reference {bad}"
+            );
+        }
     }
 
     #[test]

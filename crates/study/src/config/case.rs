@@ -125,8 +125,9 @@ pub struct Protocol {
     /// Longest simulated discharge time after the gate opens [s].
     pub time_limit: f64,
     /// Stop once this fraction of the fill's mass has left through the outlet [-], in
-    /// (0, 1]. 1 runs until the hopper is empty, drained or clogged; a study may stop at
-    /// 0.9, after the steady window (15–70 % discharged) is complete.
+    /// (0, 1], and at least `measure.steady_end_fraction`. 1 runs until the hopper is
+    /// empty, drained or clogged; the studies stop at 0.75, once the steady window (15–70 %
+    /// of the fill discharged) is complete.
     pub stop_fraction: f64,
 }
 

@@ -91,6 +91,7 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         d_max,
         geometry.as_ref().map(|g| g.outlet_width),
         time_step,
+        protocol.as_ref().map(|p| p.stop_fraction),
         &mut errors,
     );
     let output = read_output(&mut root.section("output", &mut errors), &mut errors);

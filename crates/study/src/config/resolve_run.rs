@@ -159,6 +159,7 @@ pub(crate) fn read_measure(
     d_max: f64,
     outlet_width: Option<f64>,
     time_step: Option<f64>,
+    stop_fraction: Option<f64>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<MeasureSpec> {
     let base = Case::paper_base().measure;
@@ -235,6 +236,21 @@ pub(crate) fn read_measure(
             ),
         ));
         ok = false;
+    }
+    // The window is measured in fractions of the fill (`run::outputs`): a run stopped
+    // before its end could not measure it, and would silently fall back to a shorter one.
+    if let Some(stop) = stop_fraction {
+        if ok && end.value > stop {
+            errors.push(end.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be ≤ protocol.stop_fraction ({}): the run would stop before the \
+                     steady window ends; lower it or raise protocol.stop_fraction",
+                    number(stop)
+                ),
+            ));
+            ok = false;
+        }
     }
     ok.then_some(MeasureSpec {
         rate_bin_width: rate_bin.value,

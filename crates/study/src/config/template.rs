@@ -74,7 +74,7 @@ fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 # deletion_depth = 0.015 # [m], particles this far below the outlet are removed; default 5 d, ≥ d
 clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
 time_limit = 20.0        # [s], longest simulated discharge after the gate opens
-stop_fraction = 1.0      # [-], stop once this fraction of the fill's mass has left, in (0, 1]
+stop_fraction = 1.0      # [-], stop once this fraction of the fill's mass has left, in [steady_end_fraction, 1]
 
 [measure]
 rate_bin_width = 0.02    # [s], time bins of the discharge rate W(t), ≥ Δt
@@ -82,8 +82,8 @@ rate_bin_width = 0.02    # [s], time bins of the discharge rate W(t), ≥ Δt
 # strip_height = 0.003   # [m], height h of the outlet strip for φ(x); default d
 frame_interval = 0.001   # [s], time between snapshot frames, ≥ Δt
 crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
-steady_start_fraction = 0.15  # [-], steady window starts when this fraction has left
-steady_end_fraction = 0.7     # [-], and ends at this fraction; 0 ≤ start < end ≤ 1
+steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
+steady_end_fraction = 0.7     # [-], and ends at this fraction; 0 ≤ start < end ≤ stop_fraction ≤ 1
 
 [output]
 vtu_interval = 0.1       # [s], time between VTU particle snapshots (particles.pvd); 0 writes none

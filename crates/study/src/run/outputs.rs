@@ -179,6 +179,9 @@ pub fn finish(
     let options = SteadyWindowOptions {
         start_fraction: case.measure.steady_start_fraction,
         end_fraction: case.measure.steady_end_fraction,
+        // Fractions of the fill (physics.md §7: "15 % to 70 % of the particles
+        // discharged"), so that `protocol.stop_fraction` cannot move the window.
+        reference_mass: (state.fill_mass > 0.0).then_some(state.fill_mass),
         ..SteadyWindowOptions::default()
     };
     let window = find_steady_window(&series, &options).ok();
