@@ -5,9 +5,11 @@
 //! the orifice size. The fractions refer to a reference mass, the fill's when the caller
 //! gives it: then the window does not depend on when the run was stopped, as long as it ran
 //! past the window's end. Without one, or when the series stops short of the window's end
-//! (a clog, a time limit), they refer to the mass that left during the series. It is then refined by cutting it past outlying bins near
-//! its ends (robust median/MAD test), and verified by the relative drift of a
-//! straight line fitted through the rates inside it.
+//! (a clog, a time limit), they refer to the mass that left during the series.
+//!
+//! The window is then refined by cutting it past outlying bins near its ends (robust
+//! median/MAD test), and verified by the relative drift of a straight line fitted through
+//! the rates inside it.
 
 use serde::{Deserialize, Serialize};
 
