@@ -24,6 +24,42 @@ fn contact(k: usize) -> (DVec3, DVec3, DVec3, DVec3, DVec3) {
     (d, dv, wi, wj, xi)
 }
 
+/// A full batch of the contacts of [`contact`] between Table-1 spheres of radius `r` [m] and
+/// mass `mass` [kg].
+fn batch_of_table1_contacts(coeff: &PairCoefficients, r: f64, mass: f64) -> Batch {
+    let mut batch = Batch::default();
+    for k in 0..BATCH {
+        let (d, dv, wi, wj, xi) = contact(k);
+        for a in 0..3 {
+            batch.d[a][k] = d[a];
+            batch.dv[a][k] = dv[a];
+            batch.omega[0][a][k] = wi[a];
+            batch.omega[1][a][k] = wj[a];
+            batch.xi[a][k] = xi[a];
+        }
+        batch.dist2[k] = d.length_squared();
+        batch.radius[0][k] = r;
+        batch.radius[1][k] = r;
+        batch.mass[0][k] = mass;
+        batch.mass[1][k] = mass;
+        for (a, v) in [
+            coeff.e_star,
+            coeff.g_star,
+            coeff.friction,
+            coeff.rolling_friction,
+            coeff.damping,
+            coeff.stiffness_ratio_sqrt,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            batch.coeff[a][k] = v;
+        }
+    }
+    batch.len = BATCH;
+    batch
+}
+
 fn kernels(c: &mut Criterion) {
     let m = Material::fan2023();
     let coeff = PairCoefficients::new(&m, Some(&m), &Interaction::fan2023());
@@ -73,41 +109,22 @@ fn kernels(c: &mut Criterion) {
     });
 
     group.bench_function("batch_resolve_one_batch", |b| {
-        let mut batch = Batch::default();
-        for k in 0..BATCH {
-            let (d, dv, wi, wj, xi) = contact(k);
-            for a in 0..3 {
-                batch.d[a][k] = d[a];
-                batch.dv[a][k] = dv[a];
-                batch.omega[0][a][k] = wi[a];
-                batch.omega[1][a][k] = wj[a];
-                batch.xi[a][k] = xi[a];
-            }
-            batch.dist2[k] = d.length_squared();
-            batch.radius[0][k] = r;
-            batch.radius[1][k] = r;
-            batch.mass[0][k] = mass;
-            batch.mass[1][k] = mass;
-            for (a, v) in [
-                coeff.e_star,
-                coeff.g_star,
-                coeff.friction,
-                coeff.rolling_friction,
-                coeff.damping,
-                coeff.stiffness_ratio_sqrt,
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                batch.coeff[a][k] = v;
-            }
-        }
-        batch.len = BATCH;
+        let mut batch = batch_of_table1_contacts(&coeff, r, mass);
         let fresh = batch.xi;
         b.iter(|| {
             batch.xi = fresh;
             black_box(&mut batch).resolve_pairs(DT);
             batch.force[0][0]
+        })
+    });
+    // The equal-sphere kernel the paper's beds use (R* and m* constants).
+    let mut uniform = batch_of_table1_contacts(&coeff, r, mass);
+    let fresh = uniform.xi;
+    group.bench_function("batch_resolve_uniform_one_batch", |b| {
+        b.iter(|| {
+            uniform.xi = fresh;
+            black_box(&mut uniform).resolve_pairs_uniform(DT, r, mass);
+            uniform.force[0][0]
         })
     });
     group.finish();
