@@ -1,5 +1,7 @@
 //! The simulation: one owner of the whole state, advanced by velocity Verlet (physics.md §6.2).
 
+use std::sync::Arc;
+
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -81,7 +83,7 @@ pub struct SimulationState {
 /// A DEM simulation of spheres and walls.
 pub struct Simulation {
     state: SimulationState,
-    pool: Option<rayon::ThreadPool>,
+    pool: Option<Arc<rayon::ThreadPool>>,
     grid: CellGrid,
     buffers: ForceBuffers,
     pair_coeffs: Vec<PairCoefficients>,
@@ -128,14 +130,14 @@ pub struct RemovedParticle {
     pub mass: f64,
 }
 
-fn make_pool(threads: usize) -> Result<Option<rayon::ThreadPool>, DemError> {
+fn make_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>, DemError> {
     if threads == 1 {
         return Ok(None);
     }
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map(Some)
+        .map(|pool| Some(Arc::new(pool)))
         .map_err(|_| DemError::ThreadPool(threads))
 }
 
@@ -591,7 +593,7 @@ impl Simulation {
             &mut s.wall_pairs,
             s.config.gravity,
             &mut self.buffers,
-            self.pool.as_ref(),
+            self.pool.as_deref(),
         );
         let limit = s.config.max_overlap_fraction;
         if eval.worst_pair.fraction > limit {
@@ -640,6 +642,19 @@ impl Simulation {
     /// before the failing step was applied, as with `step`; a non-finite velocity is
     /// reported half a step later than `step` reports it, by the next step's pass.
     pub fn run(&mut self, n: u64) -> Result<(), DemError> {
+        match self.pool.clone() {
+            // The steps are driven from one of the pool's own threads, so that each step's
+            // parallel evaluation starts inside the pool. Called from outside, every step
+            // would hand its work to a sleeping worker and sleep until it came back: two
+            // thread wake-ups per step, which cost more than the evaluation of a
+            // few-thousand-particle system gains from a second thread.
+            Some(pool) => pool.install(|| self.run_steps(n)),
+            None => self.run_steps(n),
+        }
+    }
+
+    /// The loop of [`Simulation::run`], on the calling thread.
+    fn run_steps(&mut self, n: u64) -> Result<(), DemError> {
         for k in 0..n {
             self.advance(k > 0, k + 1 == n)?;
         }
