@@ -25,7 +25,9 @@ pub struct RunArgs {
     /// Continue a killed run from its checkpoint in the output directory.
     #[arg(long)]
     resume: bool,
-    /// Worker threads (results are identical for any value).
+    /// Worker threads (results are identical for any value). Only the pair forces run in
+    /// parallel, so for the paper's 3000 spheres one thread is fastest
+    /// (docs/performance.md); run several cases side by side with `study --jobs` instead.
     #[arg(long, default_value_t = 1)]
     threads: usize,
     /// No progress bar.
