@@ -2,7 +2,7 @@
 //! structure-of-arrays batch the engine uses for the paper's laws, on Table-1 contacts.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
-use dem::contact::batch::{Batch, BATCH};
+use dem::contact::batch::{coefficient_row, Batch, BATCH};
 use dem::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
 use dem::material::{harmonic, Interaction, Material, PairCoefficients};
 use dem::DVec3;
@@ -42,20 +42,8 @@ fn batch_of_table1_contacts(coeff: &PairCoefficients, r: f64, mass: f64) -> Batc
         batch.radius[1][k] = r;
         batch.mass[0][k] = mass;
         batch.mass[1][k] = mass;
-        for (a, v) in [
-            coeff.e_star,
-            coeff.g_star,
-            coeff.friction,
-            coeff.rolling_friction,
-            coeff.damping,
-            coeff.stiffness_ratio_sqrt,
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            batch.coeff[a][k] = v;
-        }
     }
+    batch.fill_coefficients(coefficient_row(coeff));
     batch.len = BATCH;
     batch
 }
