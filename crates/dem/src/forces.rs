@@ -7,7 +7,6 @@
 //! floating-point additions (gravity, pairs in list order, walls in list order).
 
 use glam::{BVec3, DVec3};
-use rayon::prelude::*;
 
 use crate::contact::batch::{coefficient_row, Batch, BATCH};
 use crate::contact::{BodyMotion, ContactForce, ContactGeometry, ContactHistory, ContactLaws};
@@ -16,8 +15,7 @@ use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
 use crate::wall::{Wall, WallShape};
 
-/// Pairs per parallel task: large enough to amortise scheduling, small enough to balance.
-const CHUNK: usize = 2048;
+mod parallel;
 
 /// Read-only inputs of the kernel.
 pub(crate) struct KernelInput<'a> {
@@ -88,6 +86,9 @@ struct ChunkScratch {
     batch: Box<Batch>,
     /// Forces of the touching contacts, kept for the ordered scatter (several threads only).
     out: Vec<(u32, u32, ContactForce)>,
+    /// `reach[m]` is the largest j of `out[..=m]`: the several-thread scatter of a body range
+    /// skips the contacts that cannot reach it (several threads only).
+    reach: Vec<u32>,
 }
 
 /// Reusable buffers.
@@ -99,6 +100,8 @@ pub(crate) struct ForceBuffers {
     /// Whether each wall candidate touches (1) or not (0), for the split plane filter.
     wall_touch: Vec<u8>,
     wall_probes: Vec<WallProbe>,
+    /// Scratch of the body ranges (several threads only).
+    ranges: Vec<parallel::RangeScratch>,
     /// Accumulated forces [N], swapped into the particle set after evaluation.
     pub force: Vec<DVec3>,
     /// Accumulated torques [N m].
@@ -150,6 +153,13 @@ impl<'a> Accumulator<'a> {
     #[inline(always)]
     fn add(&mut self, i: usize, j: usize, cf: &ContactForce) {
         self.contacts += 1;
+        self.add_i(i, cf);
+        self.add_j(j, cf);
+    }
+
+    /// Body i's share: summed over its run of pairs, the run added to the body when it ends.
+    #[inline(always)]
+    fn add_i(&mut self, i: usize, cf: &ContactForce) {
         // Without a branch (runs are short, about one contact, so a branch on the end of a
         // run is mispredicted often): the open run is always written back, with its sum
         // added when it ends and unchanged otherwise; the same additions as `finish`.
@@ -163,6 +173,11 @@ impl<'a> Accumulator<'a> {
         self.sum_force = DVec3::select(mask, DVec3::ZERO, self.sum_force) + cf.force;
         self.sum_torque = DVec3::select(mask, DVec3::ZERO, self.sum_torque) + cf.torque_i;
         self.current = i;
+    }
+
+    /// Body j's share, added to it at once.
+    #[inline(always)]
+    fn add_j(&mut self, j: usize, cf: &ContactForce) {
         self.force[j] -= cf.force;
         self.torque[j] += cf.torque_j;
     }
@@ -210,72 +225,34 @@ pub(crate) fn evaluate(
     buffers: &mut ForceBuffers,
     pool: Option<&rayon::ThreadPool>,
 ) -> Evaluation {
+    if let Some(pool) = pool {
+        return parallel::evaluate(input, pairs, wall_pairs, gravity, buffers, pool);
+    }
     let p = input.particles;
-    let n = p.len();
     buffers.force.clear();
     buffers.force.extend(p.mass.iter().map(|&m| m * gravity));
     buffers.torque.clear();
-    buffers.torque.resize(n, DVec3::ZERO);
+    buffers.torque.resize(p.len(), DVec3::ZERO);
     let mut count = ContactCount::default();
     let ids = (&pairs.i[..], &pairs.j[..]);
 
-    let worst_pair = match pool {
-        None => {
-            if buffers.chunks.is_empty() {
-                buffers.chunks.push(ChunkScratch::default());
-            }
-            let scratch = &mut buffers.chunks[0];
-            let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
-            let worst = pair_loop(
-                input,
-                ids,
-                0,
-                pairs.history.split_mut(),
-                (&mut scratch.touching, &mut scratch.batch),
-                &mut acc,
-            );
-            acc.finish();
-            count.particle_particle = acc.contacts;
-            worst
-        }
-        Some(pool) => {
-            let chunks = pairs.len().div_ceil(CHUNK);
-            buffers.chunks.resize_with(chunks, ChunkScratch::default);
-            let worst = pool.install(|| {
-                let (tangential, rolling) = pairs.history.split_mut();
-                tangential
-                    .par_chunks_mut(CHUNK)
-                    .zip(rolling.par_chunks_mut(CHUNK))
-                    .zip(buffers.chunks.par_iter_mut())
-                    .enumerate()
-                    .map(|(c, (h, scratch))| {
-                        let out = &mut scratch.out;
-                        out.clear();
-                        pair_loop(
-                            input,
-                            ids,
-                            c * CHUNK,
-                            h,
-                            (&mut scratch.touching, &mut scratch.batch),
-                            out,
-                        )
-                    })
-                    .reduce(WorstOverlap::default, WorstOverlap::merge)
-            });
-            // The same additions in the same (pair) order as the one-thread path.
-            let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
-            for scratch in &buffers.chunks[..chunks] {
-                for (i, j, cf) in &scratch.out {
-                    acc.add(*i as usize, *j as usize, cf);
-                }
-                count.particle_particle += scratch.out.len();
-            }
-            acc.finish();
-            worst
-        }
-    };
+    if buffers.chunks.is_empty() {
+        buffers.chunks.push(ChunkScratch::default());
+    }
+    let scratch = &mut buffers.chunks[0];
+    let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
+    let worst_pair = pair_loop(
+        input,
+        ids,
+        0,
+        pairs.history.split_mut(),
+        (&mut scratch.touching, &mut scratch.batch),
+        &mut acc,
+    );
+    acc.finish();
+    count.particle_particle = acc.contacts;
 
-    // Few wall candidates: one sequential pass, accumulating directly, on every path.
+    // Walls after pairs: each particle receives its wall forces in increasing wall order.
     let (force, torque) = (&mut buffers.force, &mut buffers.torque);
     let sink = |i: usize, cf: &ContactForce| {
         force[i] += cf.force;
@@ -284,9 +261,6 @@ pub(crate) fn evaluate(
     };
     let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
     let worst_wall = if *input.laws == ContactLaws::default() {
-        if buffers.chunks.is_empty() {
-            buffers.chunks.push(ChunkScratch::default());
-        }
         batched_wall_loop(
             input,
             wall_ids,
@@ -620,31 +594,14 @@ fn batched_wall_loop(
     (hits, touch, probes, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
-    probes.clear();
-    probes.extend(input.walls.iter().map(|w| match w {
-        None => WallProbe::Absent,
-        Some(w) => match w.shape() {
-            WallShape::Plane { point, normal } => WallProbe::Plane {
-                normal: *normal,
-                offset: point.dot(*normal),
-            },
-            WallShape::Polygon { .. } => WallProbe::Polygon,
-        },
-    }));
+    wall_probes(input.walls, probes);
     // Only grown, never cleared: the filters overwrite what they use, and refilling the whole
     // buffer every step would cost as much as the filter itself.
     if hits.len() < history.len() {
         hits.resize(history.len(), 0);
         touch.resize(history.len(), 0);
     }
-    // A wall does not spin (§5): ω_j = 0 for every slot.
-    for row in &mut batch.omega[1] {
-        row.fill(0.0);
-    }
-    if let Some((r, m)) = input.uniform_body {
-        batch.radius[0].fill(r);
-        batch.mass[0].fill(m);
-    }
+    prepare_wall_batch(input, batch);
     let mut worst = WorstOverlap::default();
     let mut start = 0;
     while start < pi.len() {
@@ -669,6 +626,33 @@ fn batched_wall_loop(
         start += len;
     }
     worst
+}
+
+/// The filter's view of every wall, by wall index, into `probes`.
+fn wall_probes(walls: &[Option<Wall>], probes: &mut Vec<WallProbe>) {
+    probes.clear();
+    probes.extend(walls.iter().map(|w| match w {
+        None => WallProbe::Absent,
+        Some(w) => match w.shape() {
+            WallShape::Plane { point, normal } => WallProbe::Plane {
+                normal: *normal,
+                offset: point.dot(*normal),
+            },
+            WallShape::Polygon { .. } => WallProbe::Polygon,
+        },
+    }));
+}
+
+/// Fills what every wall contact of a batch shares: a wall does not spin (§5), so ω_j = 0 in
+/// every slot, and equal spheres share one radius and mass.
+fn prepare_wall_batch(input: &KernelInput, batch: &mut Batch) {
+    for row in &mut batch.omega[1] {
+        row.fill(0.0);
+    }
+    if let Some((r, m)) = input.uniform_body {
+        batch.radius[0].fill(r);
+        batch.mass[0].fill(m);
+    }
 }
 
 /// One run of the wall-major candidate list: its wall and where it starts.
@@ -920,7 +904,7 @@ fn wall_loop(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::material::{Interaction, Material, WallMaterial};
     use crate::neighbour::{build_lists, CellGrid};
@@ -929,7 +913,7 @@ mod tests {
 
     /// A jumble of spheres in a box of planes with one tilted polygon, moving and spinning,
     /// with random tangential histories: every branch of both kernels is reached.
-    fn jumble(materials: usize, polydisperse: bool) -> (ParticleSet, Vec<Option<Wall>>) {
+    pub(super) fn jumble(materials: usize, polydisperse: bool) -> (ParticleSet, Vec<Option<Wall>>) {
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
         let mut set = ParticleSet::default();
         let mut v = |s: f64| {
@@ -1038,13 +1022,21 @@ mod tests {
         }
     }
 
-    #[test]
-    fn batched_kernels_match_the_scalar_contact_laws() {
-        // The batched path (the paper's laws) against the general scalar path over the same
-        // lists: with one material and one size (the shared-coefficient fills), and with two
-        // materials and seven sizes (the per-contact gathers). Same formulas with a few
-        // operations regrouped: agreement to 1e-12 of each body's largest force or torque.
-        for (materials, poly) in [(1, false), (2, true)] {
+    /// The jumble with everything an evaluation needs: coefficients of its materials and
+    /// walls, and gravity.
+    pub(super) struct Jumble {
+        pub set: ParticleSet,
+        pub walls: Vec<Option<Wall>>,
+        pub pair_coeffs: Vec<PairCoefficients>,
+        pub wall_coeffs: Vec<PairCoefficients>,
+        pub materials: usize,
+        pub poly: bool,
+        /// Gravitational acceleration [m/s²].
+        pub gravity: DVec3,
+    }
+
+    impl Jumble {
+        pub fn new(materials: usize, poly: bool) -> Self {
             let (set, walls) = jumble(materials, poly);
             let mats: Vec<Material> = (0..materials)
                 .map(|k| Material {
@@ -1068,13 +1060,27 @@ mod tests {
                     });
                 }
             }
+            Self {
+                set,
+                walls,
+                pair_coeffs,
+                wall_coeffs,
+                materials,
+                poly,
+                gravity: DVec3::new(0.0, -9.81, 0.0),
+            }
+        }
+
+        /// Candidate lists with random tangential histories (and rolling ones, for the
+        /// laws that keep them).
+        pub fn lists(&self) -> (PairList, WallPairList) {
             let skin = 3e-4;
-            let grid = CellGrid::build(&set.position, 2.0 * 1.5e-3 * 1.3 + skin);
+            let grid = CellGrid::build(&self.set.position, 2.0 * 1.5e-3 * 1.3 + skin);
             let (mut pairs, mut wall_pairs) = (PairList::default(), WallPairList::default());
             build_lists(
                 &grid,
-                &set,
-                &walls,
+                &self.set,
+                &self.walls,
                 skin,
                 &PairList::default(),
                 &WallPairList::default(),
@@ -1083,26 +1089,44 @@ mod tests {
                 &mut wall_pairs,
             );
             let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(9);
-            for t in pairs
-                .history
-                .tangential
-                .iter_mut()
-                .chain(wall_pairs.history.tangential.iter_mut())
-            {
-                *t = DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 2e-6;
+            let (t, r) = pairs.history.split_mut();
+            let (wt, wr) = wall_pairs.history.split_mut();
+            for h in t.iter_mut().chain(wt.iter_mut()) {
+                *h = DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 2e-6;
             }
-            let uniform_body = (!poly).then(|| (set.radius[0], set.mass[0]));
+            for h in r.iter_mut().chain(wr.iter_mut()) {
+                *h = DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 1e-9;
+            }
+            (pairs, wall_pairs)
+        }
+    }
+
+    /// The kernel input of `jumble` under `laws`.
+    pub(super) fn jumble_input<'a>(jumble: &'a Jumble, laws: &'a ContactLaws) -> KernelInput<'a> {
+        KernelInput {
+            particles: &jumble.set,
+            laws,
+            pair_coeffs: &jumble.pair_coeffs,
+            materials: jumble.materials,
+            walls: &jumble.walls,
+            wall_coeffs: &jumble.wall_coeffs,
+            uniform_body: (!jumble.poly).then(|| (jumble.set.radius[0], jumble.set.mass[0])),
+            dt: 2.5e-6,
+        }
+    }
+
+    #[test]
+    fn batched_kernels_match_the_scalar_contact_laws() {
+        // The batched path (the paper's laws) against the general scalar path over the same
+        // lists: with one material and one size (the shared-coefficient fills), and with two
+        // materials and seven sizes (the per-contact gathers). Same formulas with a few
+        // operations regrouped: agreement to 1e-12 of each body's largest force or torque.
+        for (materials, poly) in [(1, false), (2, true)] {
+            let jumble = Jumble::new(materials, poly);
+            let set = &jumble.set;
+            let (mut pairs, mut wall_pairs) = jumble.lists();
             let laws = ContactLaws::default();
-            let input = KernelInput {
-                particles: &set,
-                laws: &laws,
-                pair_coeffs: &pair_coeffs,
-                materials,
-                walls: &walls,
-                wall_coeffs: &wall_coeffs,
-                uniform_body,
-                dt: 2.5e-6,
-            };
+            let input = jumble_input(&jumble, &laws);
             let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
             let mut buffers = ForceBuffers::default();
             let eval = evaluate(

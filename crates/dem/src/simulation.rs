@@ -544,10 +544,10 @@ impl Simulation {
         let (max_disp2, finite, kicked_finite) = kick_drift(
             p,
             &self.state.reference,
-            half,
-            dt,
+            (half, dt),
             kick_pending,
             self.uniform_free,
+            self.pool.as_deref(),
         );
         if !kicked_finite {
             // The previous step's deferred kick: reported as `kick` below would have.
