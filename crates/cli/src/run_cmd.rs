@@ -25,9 +25,10 @@ pub struct RunArgs {
     /// Continue a killed run from its checkpoint in the output directory.
     #[arg(long)]
     resume: bool,
-    /// Worker threads (results are identical for any value). Only the pair forces run in
-    /// parallel, so for the paper's 3000 spheres one thread is fastest
-    /// (docs/performance.md); run several cases side by side with `study --jobs` instead.
+    /// Worker threads (results are identical for any value). The forces and the kick and
+    /// drift run in parallel; list builds and the run's measurements stay on one thread. For
+    /// the paper's 3000 spheres two threads are about as fast as one (docs/performance.md):
+    /// run several cases side by side with `study --jobs` instead.
     #[arg(long, default_value_t = 1)]
     threads: usize,
     /// No progress bar.

@@ -1,5 +1,5 @@
 //! Results do not depend on the number of worker threads: forces are evaluated in parallel
-//! chunks but accumulated in a fixed order (physics.md §6.2; forces.rs).
+//! chunks but each body receives them in a fixed order (physics.md §6.2; forces/parallel.rs).
 
 mod common;
 
@@ -9,8 +9,9 @@ use dem::{Interaction, SimulationConfig};
 /// 1000 Table-1 spheres on a cubic lattice 3.1 mm apart with random velocities up to 0.5 m/s,
 /// falling into a closed box under gravity, with friction, rolling friction and e = 0.2.
 /// Each interior sphere has six lattice neighbours inside the 3.3 mm list cutoff (d + skin), so
-/// the candidate list holds ≈ 2700 pairs: more than one 2048-pair parallel chunk, which is what
-/// makes the two-thread run take a different path through the pool.
+/// the candidate list holds ≈ 2700 pairs: six 512-pair parallel chunks, and the 1000 bodies
+/// make seven ranges of the parallel accumulation and wall pass (at least 128 bodies each)
+/// and three of the kick and drift (at least 256), so the two threads share every pass.
 pub fn pile(threads: usize) -> Gas {
     let mut config = SimulationConfig::new(2.5e-6);
     config.threads = threads;

@@ -71,7 +71,9 @@ impl Default for Batch {
 
 impl Batch {
     /// Sets the pair coefficients of every slot, for a batch whose contacts all share them
-    /// (one material): the gather then skips the six per-contact copies.
+    /// (one material): the gather then skips the six per-contact copies. Inlined: the wall
+    /// pass calls it once per wall, and on the paper's case a call costs as much as the fill.
+    #[inline(always)]
     pub fn fill_coefficients(&mut self, c: [f64; 6]) {
         for (row, v) in self.coeff.iter_mut().zip(c) {
             row.fill(v);
