@@ -1,9 +1,10 @@
 //! Force evaluation: the contact kernel over candidate pairs, then accumulation in pair
 //! order, so that sums are bit-identical at any thread count.
 //!
-//! One thread: each contact force is added to its two bodies as soon as it is computed.
-//! Several threads: contacts are computed in parallel into buffers, then added by one
-//! thread in the same order. Both paths run the same kernel and the same sequence of
+//! One thread (this file): each contact force is added to its two bodies as soon as it is
+//! computed. Several threads (`parallel`): contacts are computed in parallel chunks into
+//! buffers, then each range of bodies adds its own shares, and its wall contacts, in the same
+//! order. Both paths run the same kernel and give every body the same sequence of
 //! floating-point additions (gravity, pairs in list order, walls in list order).
 
 use glam::{BVec3, DVec3};
