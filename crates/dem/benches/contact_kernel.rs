@@ -30,14 +30,7 @@ fn batch_of_table1_contacts(coeff: &PairCoefficients, r: f64, mass: f64) -> Batc
     let mut batch = Batch::default();
     for k in 0..BATCH {
         let (d, dv, wi, wj, xi) = contact(k);
-        for a in 0..3 {
-            batch.d[a][k] = d[a];
-            batch.dv[a][k] = dv[a];
-            batch.omega[0][a][k] = wi[a];
-            batch.omega[1][a][k] = wj[a];
-            batch.xi[a][k] = xi[a];
-        }
-        batch.dist2[k] = d.length_squared();
+        batch.set_pair_motion(k, (d, dv), (wi, wj), xi);
         batch.radius[0][k] = r;
         batch.radius[1][k] = r;
         batch.mass[0][k] = mass;

@@ -372,24 +372,12 @@ fn batched_pair_loop(
             let m = m & (BATCH - 1);
             let k = k as usize;
             let (i, j) = (pi[k] as usize, pj[k] as usize);
-            let d = pos[i] - pos[j];
-            let dv = vel[i] - vel[j];
-            let (wi, wj, xi) = (omega[i], omega[j], history[k]);
-            for (a, (x, v, u, w, z)) in [
-                (d.x, dv.x, wi.x, wj.x, xi.x),
-                (d.y, dv.y, wi.y, wj.y, xi.y),
-                (d.z, dv.z, wi.z, wj.z, xi.z),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                batch.d[a][m] = x;
-                batch.dv[a][m] = v;
-                batch.omega[0][a][m] = u;
-                batch.omega[1][a][m] = w;
-                batch.xi[a][m] = z;
-            }
-            batch.dist2[m] = d.length_squared();
+            batch.set_pair_motion(
+                m,
+                (pos[i] - pos[j], vel[i] - vel[j]),
+                (omega[i], omega[j]),
+                history[k],
+            );
             if input.uniform_body.is_none() {
                 batch.radius[0][m] = radius[i];
                 batch.radius[1][m] = radius[j];
@@ -604,16 +592,12 @@ fn batched_wall_loop(
     }
     prepare_wall_batch(input, batch);
     let mut worst = WorstOverlap::default();
-    let mut start = 0;
-    while start < pi.len() {
-        let w = pw[start];
-        // The list is wall-major (`build_lists`, `Simulation::from_state`).
-        let len = pw[start..].partition_point(|&x| x <= w);
-        let run = start..start + len;
+    for (w, run) in wall_runs(pw) {
+        let len = run.len();
         let wall = WallRun {
             probe: probes[w as usize],
             index: w as usize,
-            base: start,
+            base: run.start,
         };
         wall_run(
             input,
@@ -624,9 +608,22 @@ fn batched_wall_loop(
             &mut worst,
             &mut sink,
         );
-        start += len;
     }
     worst
+}
+
+/// The runs of equal wall in a wall-major list of candidates' walls: each wall with the
+/// index range of its candidates, in list order.
+fn wall_runs(pw: &[u32]) -> impl Iterator<Item = (u32, std::ops::Range<usize>)> + '_ {
+    let mut start = 0;
+    std::iter::from_fn(move || {
+        let &w = pw.get(start)?;
+        // The list is wall-major (`build_lists`, `Simulation::from_state`).
+        let end = start + pw[start..].partition_point(|&x| x <= w);
+        let run = start..end;
+        start = end;
+        Some((w, run))
+    })
 }
 
 /// The filter's view of every wall, by wall index, into `probes`.

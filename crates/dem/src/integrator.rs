@@ -16,6 +16,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::particles::{ParticleSet, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+use crate::ranges::even_bounds;
 
 /// 1/m [1/kg] and 1/I [1/(kg m²)] shared by every particle, when every particle is free
 /// (no flags) and they are all alike; `None` otherwise.
@@ -48,19 +49,15 @@ pub(crate) fn kick_drift(
         }
         None => kick_drift_general(b, half, dt, pending),
     };
-    let ranges = pool.map_or(1, |pool| {
-        (pool.current_num_threads() * RANGES_PER_THREAD)
-            .min(n / MIN_RANGE)
-            .max(1)
-    });
-    let (Some(pool), true) = (pool, ranges > 1) else {
+    let bounds =
+        pool.map(|pool| even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE));
+    let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
         return one(bodies);
     };
-    let mut parts = Vec::with_capacity(ranges);
+    let mut parts = Vec::with_capacity(bounds.len() - 1);
     let mut rest = bodies;
-    for r in 0..ranges {
-        let len = (r + 1) * n / ranges - r * n / ranges;
-        let (part, tail) = rest.split_at(len);
+    for w in bounds.windows(2) {
+        let (part, tail) = rest.split_at(w[1] - w[0]);
         parts.push(part);
         rest = tail;
     }
@@ -517,7 +514,7 @@ mod tests {
         // With a pool the particles are moved in ranges on several threads. Each particle's
         // arithmetic is unchanged and the reductions are a maximum and two flags, so every
         // number and the reported maximum must agree exactly, in both forms. 10 000 particles
-        // on three threads make four ranges; the largest displacement and a NaN force are
+        // on three threads make twelve ranges; the largest displacement and a NaN force are
         // placed in a late range, so that the merge, not the first range, must carry them.
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(3)

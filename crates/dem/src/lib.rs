@@ -17,6 +17,7 @@ mod integrator;
 pub mod material;
 pub mod neighbour;
 pub mod particles;
+mod ranges;
 mod simulation;
 pub mod timescale;
 pub mod wall;

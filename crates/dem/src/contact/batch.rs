@@ -10,6 +10,8 @@
 //! `tangential::mindlin_no_slip` and `rolling::constant_torque`, operation for operation where
 //! it matters; a test checks the two against each other.
 
+use glam::DVec3;
+
 /// Contacts per batch: the arrays (≈ 40 × 8 × BATCH bytes) stay in the L1 cache.
 pub const BATCH: usize = 32;
 
@@ -70,6 +72,37 @@ impl Default for Batch {
 }
 
 impl Batch {
+    /// Fills slot `m` with one pair's motion: centre offset `d` = x_i − x_j [m] and its
+    /// square, velocity difference `dv` = v_i − v_j [m/s], spins `omega_i`, `omega_j`
+    /// [rad/s] and tangential history `xi` [m]. Inlined: the force loop's gather calls it
+    /// once per touching pair.
+    #[inline(always)]
+    pub fn set_pair_motion(
+        &mut self,
+        m: usize,
+        (d, dv): (DVec3, DVec3),
+        (omega_i, omega_j): (DVec3, DVec3),
+        xi: DVec3,
+    ) {
+        let (wi, wj) = (omega_i, omega_j);
+        // Components named, not indexed, so that no bounds check survives in the gather.
+        for (a, (x, v, u, w, z)) in [
+            (d.x, dv.x, wi.x, wj.x, xi.x),
+            (d.y, dv.y, wi.y, wj.y, xi.y),
+            (d.z, dv.z, wi.z, wj.z, xi.z),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            self.d[a][m] = x;
+            self.dv[a][m] = v;
+            self.omega[0][a][m] = u;
+            self.omega[1][a][m] = w;
+            self.xi[a][m] = z;
+        }
+        self.dist2[m] = d.length_squared();
+    }
+
     /// Sets the pair coefficients of every slot, for a batch whose contacts all share them
     /// (one material): the gather then skips the six per-contact copies. Inlined: the wall
     /// pass calls it once per wall, and on the paper's case a call costs as much as the fill.
@@ -306,14 +339,7 @@ mod tests {
             } else {
                 2e-5 * unit(&mut rng)
             };
-            for a in 0..3 {
-                batch.d[a][k] = d[a];
-                batch.dv[a][k] = (vi - vj)[a];
-                batch.omega[0][a][k] = wi[a];
-                batch.omega[1][a][k] = wj[a];
-                batch.xi[a][k] = xi[a];
-            }
-            batch.dist2[k] = d.length_squared();
+            batch.set_pair_motion(k, (d, vi - vj), (wi, wj), xi);
             batch.radius[0][k] = ri;
             batch.radius[1][k] = rj;
             batch.mass[0][k] = mi;

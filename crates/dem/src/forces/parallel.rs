@@ -17,6 +17,7 @@
 //! So the sums, and the whole trajectory, do not depend on the thread count.
 
 use super::*;
+use crate::ranges::even_bounds;
 use rayon::prelude::*;
 
 /// Pairs per task of the first pass. Small, so that the threads finish it within a few
@@ -115,10 +116,8 @@ pub(super) fn evaluate(
     });
 
     // Pass 2: body ranges.
-    let ranges = (pool.current_num_threads() * RANGES_PER_THREAD)
-        .min(n / MIN_RANGE)
-        .max(1);
-    let bounds: Vec<usize> = (0..=ranges).map(|r| r * n / ranges).collect();
+    let bounds = even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE);
+    let ranges = bounds.len() - 1;
     // Every number is overwritten by the ranges; only the length matters.
     buffers.force.resize(n, DVec3::ZERO);
     buffers.torque.resize(n, DVec3::ZERO);
@@ -192,12 +191,9 @@ fn range_tasks<'a>(
     let Some(((pi, pw), mut history)) = walls else {
         return tasks;
     };
-    let mut start = 0;
-    while start < pi.len() {
-        let wall = pw[start];
-        // Wall-major, particles in index order within a wall (`build_lists`).
-        let len = pw[start..].partition_point(|&x| x <= wall);
-        let run = &pi[start..start + len];
+    for (wall, runs) in wall_runs(pw) {
+        let start = runs.start;
+        let run = &pi[runs];
         let mut from = 0;
         for (task, &hi) in tasks.iter_mut().zip(&bounds[1..]) {
             let to = run.partition_point(|&i| (i as usize) < hi);
@@ -213,7 +209,6 @@ fn range_tasks<'a>(
             }
             from = to;
         }
-        start += len;
     }
     tasks
 }
