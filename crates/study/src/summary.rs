@@ -16,7 +16,8 @@ pub enum StopReason {
     Drained,
     /// The discharge time limit was reached with particles left.
     TimeLimit,
-    /// The requested fraction of the fill had left (`protocol.stop_fraction`).
+    /// The requested fraction of the fill had left (`protocol.stop_fraction`) and the
+    /// steady window was complete.
     Fraction,
 }
 

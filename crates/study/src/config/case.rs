@@ -125,9 +125,10 @@ pub struct Protocol {
     /// Longest simulated discharge time after the gate opens [s].
     pub time_limit: f64,
     /// Stop once this fraction of the fill's mass has left through the outlet [-], in
-    /// (0, 1], and at least `measure.steady_end_fraction`. 1 runs until the hopper is
-    /// empty, drained or clogged; the studies stop at 0.75, once the steady window (15–70 %
-    /// of the fill discharged) is complete.
+    /// (0, 1], and at least `measure.steady_end_fraction`; the run goes on until the
+    /// steady window is complete (its last rate bin closed) if that comes later. 1 runs
+    /// until the hopper is empty, drained or clogged; the studies stop at 0.7, as soon as
+    /// the steady window (15–70 % of the fill discharged) is complete.
     pub stop_fraction: f64,
 }
 

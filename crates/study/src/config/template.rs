@@ -74,7 +74,7 @@ fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 # deletion_depth = 0.015 # [m], particles this far below the outlet are removed; default 5 d, ≥ d
 clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
 time_limit = 20.0        # [s], longest simulated discharge after the gate opens
-stop_fraction = 1.0      # [-], stop once this fraction of the fill's mass has left, in [steady_end_fraction, 1]
+stop_fraction = 1.0      # [-], stop once this fraction of the fill's mass has left and the steady window is complete, in [steady_end_fraction, 1]
 
 [measure]
 rate_bin_width = 0.02    # [s], time bins of the discharge rate W(t), ≥ Δt

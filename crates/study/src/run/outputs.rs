@@ -172,10 +172,7 @@ pub fn finish(
     };
     let record = state.crossing.record();
     let end = run.simulation().time() - opened;
-    let times: Vec<f64> = record.events.iter().map(|e| e.time - opened).collect();
-    let masses: Vec<f64> = record.events.iter().map(|e| e.mass).collect();
-    let bin = case.measure.rate_bin_width;
-    let series = RateSeries::from_events(&times, &masses, 0.0, end.max(bin), bin)?;
+    let series = run.discharge_series(opened)?;
     let options = SteadyWindowOptions {
         start_fraction: case.measure.steady_start_fraction,
         end_fraction: case.measure.steady_end_fraction,

@@ -1,6 +1,8 @@
 //! The run protocol of one hopper case: fill, settle, open the gate, discharge (issue 3,
 //! physics.md §5 and §10.8), as a resumable state machine.
 
+use analysis::series::RateSeries;
+use analysis::AnalysisError;
 use dem::{DVec3, MaterialId, Simulation, SimulationState};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -309,7 +311,10 @@ impl CaseRun {
         let target = self.case.protocol.stop_fraction * self.state.fill_mass;
         let reason = if self.sim.particles().is_empty() {
             Some(StopReason::Empty)
-        } else if self.case.protocol.stop_fraction < 1.0 && self.state.discharged_mass >= target {
+        } else if self.case.protocol.stop_fraction < 1.0
+            && self.state.discharged_mass >= target
+            && self.steady_window_complete(opened)
+        {
             Some(StopReason::Fraction)
         } else if t - last_crossing > self.case.protocol.clog_timeout {
             Some(if self.orifice_blocked() {
@@ -334,6 +339,35 @@ impl CaseRun {
 }
 
 impl CaseRun {
+    /// The discharge rate W(t) from the outlet crossings so far: whole bins of
+    /// `measure.rate_bin_width` from the gate's opening at `opened` [s]. `finish` measures on
+    /// this series, and the stop rule below reads it, so the two agree to the last bit.
+    pub(crate) fn discharge_series(&self, opened: f64) -> Result<RateSeries, AnalysisError> {
+        let record = self.state.crossing.record();
+        let end = self.sim.time() - opened;
+        let times: Vec<f64> = record.events.iter().map(|e| e.time - opened).collect();
+        let masses: Vec<f64> = record.events.iter().map(|e| e.mass).collect();
+        let bin = self.case.measure.rate_bin_width;
+        RateSeries::from_events(&times, &masses, 0.0, end.max(bin), bin)
+    }
+
+    /// Whether the steady window is complete: the crossings counted in whole bins exceed
+    /// `measure.steady_end_fraction` of the fill. Then `find_steady_window` takes the fill as
+    /// its reference and finds some bin edge past the window's end mass, so the window, and
+    /// everything measured over it, are those of any longer run. The mass deleted below the
+    /// outlet (what `protocol.stop_fraction` counts) lags the crossings by the fall, but at
+    /// a large outlet a bin of crossings can still be open when it reaches the same
+    /// fraction: a run stopped then would measure a window cut short.
+    fn steady_window_complete(&self, opened: f64) -> bool {
+        let Ok(series) = self.discharge_series(opened) else {
+            return false;
+        };
+        // The same products as `find_steady_window`'s reference test and end mass.
+        let end_mass = self.case.measure.steady_end_fraction * self.state.fill_mass;
+        let (_, cumulative) = series.cumulative_mass();
+        series.total_mass() >= end_mass && cumulative.last().is_some_and(|&m| m > end_mass)
+    }
+
     /// Whether some particle sits over the orifice, within D + d above it: a stopped flow
     /// with such a particle is an arch (a clog); without one, only the stagnant zones beside
     /// the orifice are left. A particle resting on a plate has its centre over the plate, so
