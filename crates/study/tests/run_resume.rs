@@ -6,43 +6,11 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use study::config::{parse_case, Case};
+mod tiny_hopper;
+
+use tiny_hopper::read;
+
 use study::run::{run_case, Progress, RunOptions, RunOutcome, CHECKPOINT_FILE, SUMMARY_FILE};
-
-/// A hopper a few particles wide, small enough to fill, settle and drain in seconds.
-///
-/// 250 spheres of 3 mm in a 50 mm × 100 mm slab with an 18 mm (6 d) centred outlet, wide
-/// enough that arches are rare. The insertion band is only the top 30 mm, which holds
-/// fewer than 250 particles at random insertion density, so the fill takes several batches
-/// and can be interrupted midway.
-const TINY_CASE: &str = r#"
-version = 1
-seed = 11
-
-[geometry]
-width = 0.05
-height = 0.1
-outlet_width = 0.018
-
-[particles]
-count = 250
-diameter = 0.003
-
-[protocol]
-settle_kinetic_energy = 1.0e-8
-max_settle_time = 0.15
-fill_bottom = 0.07
-clog_timeout = 0.1
-time_limit = 0.6
-
-[output]
-checkpoint_interval = 0.05
-plots = false
-"#;
-
-fn tiny_case() -> Case {
-    parse_case(TINY_CASE, "tiny.toml", &[]).expect("the tiny case is valid")
-}
 
 /// Options that record the phase after every protocol chunk.
 fn recording_options(
@@ -62,10 +30,6 @@ fn recording_options(
         chunk_limit,
     };
     (options, phases)
-}
-
-fn read(dir: &Path, name: &str) -> Vec<u8> {
-    std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{}/{name}: {e}", dir.display()))
 }
 
 /// Compares the files that depend on the simulated particles byte for byte.
@@ -89,7 +53,7 @@ fn assert_same_outputs(a: &Path, b: &Path, what: &str) {
 
 #[test]
 fn run_resumed_after_interruptions_in_fill_and_discharge_matches_uninterrupted_run() {
-    let case = tiny_case();
+    let case = tiny_hopper::tiny_case(&[]);
     let root = tempfile::tempdir().expect("temporary directory");
     let (a, b, c) = (
         root.path().join("a"),

@@ -4,49 +4,28 @@
 
 use std::path::Path;
 
-use study::config::parse_case;
 use study::run::{run_case, RunOptions, RunOutcome, SUMMARY_FILE};
 use study::summary::{CaseSummary, StopReason};
+use tiny_hopper::{read, tiny_case};
 
-/// 250 spheres of 3 mm in a 50 mm × 100 mm slab with an 18 mm (6 d) centred outlet. Rate
-/// bins of 40 ms hold about 25 spheres each, 10 % of the fill, and spheres are deleted only
-/// 2 d below the outlet, so a stop placed by the deleted mass alone leaves the bin that
+mod tiny_hopper;
+
+/// The shared tiny hopper (250 spheres, 18 mm outlet), run for up to 1.5 s of discharge.
+/// Rate bins of 40 ms hold about 25 spheres each, 10 % of the fill, and spheres are deleted
+/// only 2 d below the outlet, so a stop placed by the deleted mass alone leaves the bin that
 /// crosses 70 % still open. (Without the protocol's window check this test fails: the short
 /// run then stops 7 ms earlier and measures a window cut short, 0.12–0.24 s instead of
 /// 0.12–0.32 s.)
-const TINY_CASE: &str = r#"
-version = 1
-seed = 5
-
-[geometry]
-width = 0.05
-height = 0.1
-outlet_width = 0.018
-
-[particles]
-count = 250
-diameter = 0.003
-
-[protocol]
-settle_kinetic_energy = 1.0e-8
-max_settle_time = 0.15
-fill_bottom = 0.07
-clog_timeout = 0.1
-time_limit = 1.5
-deletion_depth = 0.006
-stop_fraction = STOP
-
-[measure]
-rate_bin_width = 0.04
-
-[output]
-checkpoint_interval = 0.0
-plots = false
-"#;
-
 fn run(stop: &str, dir: &Path) -> CaseSummary {
-    let text = TINY_CASE.replace("STOP", stop);
-    let case = parse_case(&text, "tiny.toml", &[]).expect("the tiny case is valid");
+    let stop = format!("protocol.stop_fraction={stop}");
+    let case = tiny_case(&[
+        "seed=5",
+        "protocol.time_limit=1.5",
+        "protocol.deletion_depth=0.006",
+        "measure.rate_bin_width=0.04",
+        "output.checkpoint_interval=0.0",
+        &stop,
+    ]);
     let options = RunOptions {
         pictures: false,
         ..RunOptions::default()
@@ -55,10 +34,6 @@ fn run(stop: &str, dir: &Path) -> CaseSummary {
         RunOutcome::Finished(summary) => *summary,
         RunOutcome::Interrupted => panic!("the run was interrupted"),
     }
-}
-
-fn read(dir: &Path, name: &str) -> Vec<u8> {
-    std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{}/{name}: {e}", dir.display()))
 }
 
 #[test]
