@@ -128,6 +128,18 @@ pub fn run(args: BenchArgs) -> i32 {
                 or_dash(r.bytes_per_particle)
             );
         }
+        // Where the time went, as LAMMPS' timing table after a run.
+        println!(
+            "\n{:<8} {:>7} {:>10} {:>10} {:>10} {:>10}   (ns per particle-step)",
+            "case", "threads", "forces", "integrate", "neighbour", "other"
+        );
+        for r in &results {
+            let p = &r.phases;
+            println!(
+                "{:<8} {:>7} {:>10.1} {:>10.1} {:>10.1} {:>10.1}",
+                r.case, r.threads, p.forces_ns, p.integrate_ns, p.neighbour_ns, p.other_ns
+            );
+        }
     }
     0
 }

@@ -20,6 +20,7 @@ pub mod particles;
 mod ranges;
 mod simulation;
 pub mod timescale;
+mod timing;
 pub mod wall;
 
 pub use contact::{ContactLaws, RollingLaw, TangentialLaw};
@@ -31,4 +32,5 @@ pub use particles::{
     MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
 };
 pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, SimulationState};
+pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallShape};

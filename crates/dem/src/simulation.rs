@@ -13,6 +13,7 @@ use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::timescale::rayleigh_time;
+use crate::timing::{PhaseTimes, StepClock};
 use crate::wall::{Wall, WallId};
 
 /// Settings fixed for a run.
@@ -95,6 +96,8 @@ pub struct Simulation {
     /// (`integrator::uniform_free_body`); found with `uniform_body`, and after a change of flags.
     uniform_free: Option<(f64, f64)>,
     prepared: bool,
+    /// Time per phase since timing was switched on; `None` while off.
+    phase_times: Option<PhaseTimes>,
 }
 
 /// Energy budget of the system [J].
@@ -193,7 +196,20 @@ impl Simulation {
             uniform_body: None,
             uniform_free: None,
             prepared: false,
+            phase_times: None,
         })
+    }
+
+    /// Switches the per-phase timing of steps on (from zero) or off. It reads the clock and
+    /// changes nothing else: trajectories are bit-identical either way.
+    pub fn time_phases(&mut self, on: bool) {
+        self.phase_times = on.then(PhaseTimes::default);
+    }
+
+    /// Wall-clock time per phase of the steps taken since [`Simulation::time_phases`]
+    /// switched timing on; `None` while it is off.
+    pub fn phase_times(&self) -> Option<PhaseTimes> {
+        self.phase_times
     }
 
     /// The complete state, for checkpoints.
@@ -530,6 +546,7 @@ impl Simulation {
         if !self.prepared {
             self.prepare()?;
         }
+        let mut clock = StepClock::start(self.phase_times.is_some());
         let dt = self.state.config.time_step;
         let half = 0.5 * dt;
         let p = &mut self.state.particles;
@@ -567,6 +584,7 @@ impl Simulation {
                 });
             }
         }
+        StepClock::drifted(&mut clock);
         let half_skin = 0.5 * self.state.skin;
         if self.state.needs_rebuild
             || !reference_valid
@@ -574,6 +592,7 @@ impl Simulation {
         {
             self.rebuild(None);
         }
+        StepClock::listed(&mut clock);
 
         // Forces at the drifted positions with half-step velocities.
         let s = &mut self.state;
@@ -595,6 +614,7 @@ impl Simulation {
             &mut self.buffers,
             self.pool.as_deref(),
         );
+        StepClock::forced(&mut clock);
         let limit = s.config.max_overlap_fraction;
         if eval.worst_pair.fraction > limit {
             let w = eval.worst_pair;
@@ -633,6 +653,9 @@ impl Simulation {
         }
         s.steps += 1;
         s.time = s.steps as f64 * dt;
+        if let Some(times) = &mut self.phase_times {
+            StepClock::finish(clock, times);
+        }
         Ok(())
     }
 

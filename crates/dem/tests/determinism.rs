@@ -81,3 +81,34 @@ fn run_with_fused_kicks_matches_single_steps_bit_for_bit() {
         "the pile must collide"
     );
 }
+
+#[test]
+fn timing_the_phases_changes_no_bit_and_accounts_for_every_step() {
+    let mut plain = pile(1).build();
+    let mut timed = pile(1).build();
+    timed.time_phases(true);
+    let start = std::time::Instant::now();
+    for _ in 0..5 {
+        plain.run(100).expect("untimed run");
+        timed.run(100).expect("timed run");
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    // Exact equality: timing only reads the clock.
+    assert!(bits_by_tag(&plain) == bits_by_tag(&timed));
+    let t = timed.phase_times().expect("timing is on");
+    assert_eq!(t.steps, 500);
+    assert_eq!(plain.phase_times(), None);
+    // The phases lie inside the timed steps, which lie inside `elapsed` (which also holds the
+    // untimed run), and every phase does work: the pile collides (forces), moves (integrate)
+    // and is listed at least once (neighbour).
+    assert!(t.total() <= elapsed, "{t:?} against {elapsed} s");
+    assert!(
+        t.integrate > 0.0 && t.neighbour > 0.0 && t.forces > 0.0,
+        "{t:?}"
+    );
+    // Switching off forgets the totals; on again starts from zero.
+    timed.time_phases(false);
+    assert_eq!(timed.phase_times(), None);
+    timed.time_phases(true);
+    assert_eq!(timed.phase_times().map(|t| t.steps), Some(0));
+}

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use dem::{DemError, Simulation};
+use dem::{DemError, PhaseTimes, Simulation};
 use rand::SeedableRng;
 use serde::Serialize;
 
@@ -38,6 +38,37 @@ pub struct BenchResult {
     pub peak_memory_bytes: Option<u64>,
     /// Peak memory above what the process held before the set-up, per particle [bytes].
     pub bytes_per_particle: Option<f64>,
+    /// Where the wall time went, per particle-step.
+    pub phases: PhaseBreakdown,
+}
+
+/// A benchmark's wall time per particle-step split by phase of the step [ns]. The four add up
+/// to `ns_per_particle_step`.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct PhaseBreakdown {
+    /// Contact detection and forces, pairs and walls [ns].
+    pub forces_ns: f64,
+    /// Half kicks and drift [ns].
+    pub integrate_ns: f64,
+    /// Neighbour-list rebuilds [ns].
+    pub neighbour_ns: f64,
+    /// The rest: the benchmark's own loop and, for the hopper, the run protocol's outlet
+    /// probes, deletion below the outlet and measurements [ns].
+    pub other_ns: f64,
+}
+
+impl PhaseBreakdown {
+    /// Splits `secs` [s] of wall time over `particle_steps` by the engine's phase times.
+    fn of(times: Option<PhaseTimes>, secs: f64, particle_steps: f64) -> Self {
+        let t = times.unwrap_or_default();
+        let ns = |s: f64| s * 1e9 / particle_steps;
+        Self {
+            forces_ns: ns(t.forces),
+            integrate_ns: ns(t.integrate),
+            neighbour_ns: ns(t.neighbour),
+            other_ns: ns(secs - t.total()),
+        }
+    }
 }
 
 /// CPU time consumed by the calling thread [ns], from Linux's schedstat.
@@ -55,6 +86,7 @@ pub fn time_steps(
 ) -> Result<BenchResult, DemError> {
     let n = sim.particles().len();
     let rebuilds = sim.rebuilds();
+    sim.time_phases(true);
     let cpu0 = thread_cpu_ns();
     let start = Instant::now();
     let (mut contacts, mut wall_contacts) = (0.0, 0.0);
@@ -88,6 +120,7 @@ pub fn time_steps(
         cpu_ns_per_particle_step: cpu.map(|c| c / ps),
         peak_memory_bytes: None,
         bytes_per_particle: None,
+        phases: PhaseBreakdown::of(sim.phase_times(), secs, ps),
     })
 }
 
@@ -195,6 +228,12 @@ pub fn scaling_benchmark(
     r.particle_steps_per_second = 1e9 / r.ns_per_particle_step;
     r.contacts_per_particle = mean(&|r| r.contacts_per_particle);
     r.wall_contacts_per_particle = mean(&|r| r.wall_contacts_per_particle);
+    r.phases = PhaseBreakdown {
+        forces_ns: mean(&|r| r.phases.forces_ns),
+        integrate_ns: mean(&|r| r.phases.integrate_ns),
+        neighbour_ns: mean(&|r| r.phases.neighbour_ns),
+        other_ns: mean(&|r| r.phases.other_ns),
+    };
     r.rebuilds = runs.iter().map(|r| r.rebuilds).sum();
     r.cpu_ns_per_particle_step = runs
         .iter()
@@ -272,6 +311,7 @@ pub fn hopper_benchmark(
     }
     let rebuilds = run.simulation().rebuilds();
     let steps0 = run.simulation().steps();
+    run.time_phases(true);
     let mut particle_steps = 0.0;
     let (mut contacts, mut wall_contacts) = (0.0, 0.0);
     let cpu0 = thread_cpu_ns();
@@ -306,5 +346,33 @@ pub fn hopper_benchmark(
         cpu_ns_per_particle_step: cpu.map(|c| c / particle_steps),
         peak_memory_bytes: None,
         bytes_per_particle: None,
+        phases: PhaseBreakdown::of(run.simulation().phase_times(), secs, particle_steps),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_benchmark_splits_its_whole_time_into_the_phases() {
+        // 1000 spheres in contact, 30 steps: small enough for the test suite, and every phase
+        // has work (the first steps build the lists, every step has six contacts per sphere).
+        let (mut sim, _) = dense_packing(1000, 1).expect("packing");
+        sim.run(10).expect("untimed steps");
+        let r = time_steps(&mut sim, 30, "scaling", 1).expect("timed steps");
+        let p = r.phases;
+        let sum = p.forces_ns + p.integrate_ns + p.neighbour_ns + p.other_ns;
+        // The four parts are the total by construction, up to the rounding of four additions.
+        assert!(
+            (sum - r.ns_per_particle_step).abs() <= 1e-9 * r.ns_per_particle_step,
+            "{p:?} against {} ns",
+            r.ns_per_particle_step
+        );
+        // Dense contacts: the force phase does real work on every step, and the benchmark's
+        // own loop (`other`) is not negative, which it would be if a phase were counted twice.
+        assert!(p.forces_ns > 0.0 && p.integrate_ns > 0.0, "{p:?}");
+        assert!(p.other_ns >= 0.0, "{p:?}");
+        assert_eq!(sim.phase_times().map(|t| t.steps), Some(30));
+    }
 }

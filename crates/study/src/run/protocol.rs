@@ -165,6 +165,12 @@ impl CaseRun {
         &self.sim
     }
 
+    /// Switches the engine's per-phase timing on (from zero) or off
+    /// ([`Simulation::time_phases`]); the run is bit-identical either way.
+    pub fn time_phases(&mut self, on: bool) {
+        self.sim.time_phases(on);
+    }
+
     /// The current phase.
     pub fn phase(&self) -> Phase {
         self.state.phase

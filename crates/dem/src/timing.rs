@@ -1,0 +1,141 @@
+//! Where a step's wall-clock time goes: the three phases of velocity Verlet as the engine
+//! runs them (physics.md §6.2), for the benchmarks' breakdown, in the spirit of the timing
+//! table LAMMPS prints after a run (Pair, Neigh, Modify, Other).
+//!
+//! Off by default. When on, the clock is read four times a step (about 100 ns in all, a few
+//! hundredths of a nanosecond per particle-step for the paper's 3000 spheres) and nothing else
+//! changes: the same additions in the same order, so trajectories are bit-identical either way.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+/// Wall-clock time spent in each phase of the step since timing was switched on.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct PhaseTimes {
+    /// The half kicks and the drift, with the largest-displacement and finiteness checks [s].
+    pub integrate: f64,
+    /// Neighbour-list rebuilds, re-sorting into cell order included [s].
+    pub neighbour: f64,
+    /// Gravity, the contact filters and kernels for particle pairs and walls, and the sums
+    /// onto each body [s].
+    pub forces: f64,
+    /// Steps timed [-].
+    pub steps: u64,
+}
+
+impl PhaseTimes {
+    /// The three phases together [s].
+    pub fn total(&self) -> f64 {
+        self.integrate + self.neighbour + self.forces
+    }
+}
+
+/// The instants that divide one step into its phases.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct StepClock {
+    start: Instant,
+    drifted: Option<Instant>,
+    listed: Option<Instant>,
+    forced: Option<Instant>,
+}
+
+impl StepClock {
+    /// Starts timing a step, if `on`.
+    #[inline]
+    pub(crate) fn start(on: bool) -> Option<Self> {
+        on.then(|| Self {
+            start: Instant::now(),
+            drifted: None,
+            listed: None,
+            forced: None,
+        })
+    }
+
+    /// The first half kick and the drift are done.
+    #[inline]
+    pub(crate) fn drifted(clock: &mut Option<Self>) {
+        if let Some(c) = clock {
+            c.drifted = Some(Instant::now());
+        }
+    }
+
+    /// The neighbour lists are up to date.
+    #[inline]
+    pub(crate) fn listed(clock: &mut Option<Self>) {
+        if let Some(c) = clock {
+            c.listed = Some(Instant::now());
+        }
+    }
+
+    /// The forces are evaluated.
+    #[inline]
+    pub(crate) fn forced(clock: &mut Option<Self>) {
+        if let Some(c) = clock {
+            c.forced = Some(Instant::now());
+        }
+    }
+
+    /// Adds a completed step to `times`: whatever follows the forces (the second half kick)
+    /// counts as integration. A step that failed before its forces is not added.
+    #[inline]
+    pub(crate) fn finish(clock: Option<Self>, times: &mut PhaseTimes) {
+        let Some(c) = clock else { return };
+        let (Some(drifted), Some(listed), Some(forced)) = (c.drifted, c.listed, c.forced) else {
+            return;
+        };
+        let end = Instant::now();
+        let secs = |a: Instant, b: Instant| b.duration_since(a).as_secs_f64();
+        times.integrate += secs(c.start, drifted) + secs(forced, end);
+        times.neighbour += secs(drifted, listed);
+        times.forces += secs(listed, forced);
+        times.steps += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_clock_that_is_off_adds_nothing() {
+        let mut times = PhaseTimes::default();
+        let mut clock = StepClock::start(false);
+        StepClock::drifted(&mut clock);
+        StepClock::listed(&mut clock);
+        StepClock::forced(&mut clock);
+        StepClock::finish(clock, &mut times);
+        assert_eq!(times, PhaseTimes::default());
+    }
+
+    #[test]
+    fn an_unfinished_step_is_not_counted() {
+        // A step that returns an error before its forces leaves the totals as they were.
+        let mut times = PhaseTimes::default();
+        let mut clock = StepClock::start(true);
+        StepClock::drifted(&mut clock);
+        StepClock::finish(clock, &mut times);
+        assert_eq!(times, PhaseTimes::default());
+    }
+
+    #[test]
+    fn each_phase_gets_the_time_between_its_marks() {
+        let mut times = PhaseTimes::default();
+        let mut clock = StepClock::start(true);
+        StepClock::drifted(&mut clock);
+        // Sleep inside the force phase only: it must carry at least that much (a sleep never
+        // ends early). 100 ms is far above the clock's resolution, and above any pause a
+        // loaded test machine could put between the other marks.
+        StepClock::listed(&mut clock);
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        StepClock::forced(&mut clock);
+        StepClock::finish(clock, &mut times);
+        assert_eq!(times.steps, 1);
+        assert!(times.forces >= 0.100, "forces {}", times.forces);
+        // The other two phases hold no sleep: the sleep must not have been counted there too.
+        assert!(
+            times.integrate + times.neighbour < times.forces,
+            "{times:?}"
+        );
+    }
+}
