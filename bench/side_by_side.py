@@ -37,6 +37,8 @@ TIME_STEP = 2.5e-6  # Δt [s], physics.md §6.1; must match in.hopper
 STEADY_FROM, STEADY_TO = 0.15, 0.70  # steady window as fractions of the fill discharged (§7)
 
 LOOP_RE = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+# The timing table LIGGGHTS prints after each run, e.g. "Pair  time (%) = 22.0291 (61.4617)".
+SECTION_RE = re.compile(r"^(Pair|Neigh|Comm|Outpt|Modify|Other)\s+time \(%\) = ([0-9.eE+-]+)")
 
 
 class LogError(Exception):
@@ -56,17 +58,24 @@ def parse_liggghts_log(text):
     Returns a dict with window_loop_s [s], window_steps, window_mean_atoms,
     ns_per_particle_step [ns], discharge_rate_kg_per_s [kg/s], window_discharge_rate_kg_per_s
     [kg/s], mass_discharged_kg [kg], particles_discharged, settle_step, gate_open_step,
-    end_step, loop_total_s [s] (sum of all loop times) and log_wall_s [s] (first run set-up
-    to last run finish, from the log's time stamps; None if they are missing).
+    end_step, loop_total_s [s] (sum of all loop times), log_wall_s [s] (first run set-up
+    to last run finish, from the log's time stamps; None if they are missing) and
+    window_sections_ns (LIGGGHTS' own timing table for the window, per particle-step [ns]:
+    pair, neigh, comm, outpt, modify where printed, other).
     """
     lines = text.splitlines()
     in_thermo = False
     rows = []  # (line index, dict of thermo columns)
     markers = {}
     loops = []  # (line index, loop seconds, steps)
+    sections = []  # (line index, section name, seconds)
     for i, line in enumerate(lines):
         tokens = line.split()
         if not tokens:
+            continue
+        m = SECTION_RE.match(line)
+        if m:
+            sections.append((i, m.group(1).lower(), float(m.group(2))))
             continue
         if tokens[0] == "Step":
             in_thermo = True
@@ -97,6 +106,10 @@ def parse_liggghts_log(text):
     # Trapezoidal mean over equally spaced rows (the first and last rows are the run's ends).
     mean_atoms = (sum(atoms) - 0.5 * (atoms[0] + atoms[-1])) / (len(atoms) - 1)
     ns = loop_s / (steps * mean_atoms) * 1e9
+    # The timing table of the window's run: it follows that run's Loop line.
+    loop_line = window_loops[0][0]
+    window_sections = {name: secs / (steps * mean_atoms) * 1e9
+                       for (i, name, secs) in sections if loop_line < i < end}
 
     open_line = markers["BENCH_GATE_OPEN"][0]
     open_step = int(markers["BENCH_GATE_OPEN"][1][2])
@@ -141,6 +154,7 @@ def parse_liggghts_log(text):
         "end_step": discharge[-1][0],
         "loop_total_s": sum(lp[1] for lp in loops),
         "log_wall_s": wall,
+        "window_sections_ns": window_sections,
     }
 
 
@@ -204,6 +218,24 @@ def run_hopperflow(case):
         return None, "`%s` printed no JSON object" % " ".join(cmd[1:])
 
 
+def print_breakdown(lig, hf):
+    """Where each code's time went, per particle-step over the window, from each code's own
+    timing table. The sections do not map one to one: LIGGGHTS' Pair is particle pairs
+    only, and its walls (fix wall/gran), integration and outlet counters are in Other (or
+    Modify, where printed); hopperflow's forces hold pairs and walls."""
+    sections = (lig or {}).get("window_sections_ns") or {}
+    if sections:
+        names = [n for n in ("pair", "neigh", "comm", "outpt", "modify", "other") if n in sections]
+        print("breakdown  : LIGGGHTS   %s  (ns per particle-step; walls, integration and fixes "
+              "are in other)" % ", ".join("%s %.1f" % (n, sections[n]) for n in names))
+    phases = hf.get("phases") if isinstance(hf, dict) else None
+    if isinstance(phases, dict):
+        parts = [("forces", "forces_ns"), ("integrate", "integrate_ns"),
+                 ("neighbour", "neighbour_ns"), ("other", "other_ns")]
+        print("             hopperflow %s  (ns per particle-step; forces hold pairs and walls)"
+              % ", ".join("%s %.1f" % (n, phases[k]) for n, k in parts if k in phases))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--liggghts-log", help="parse this LIGGGHTS log instead of running LIGGGHTS")
@@ -260,6 +292,7 @@ def main():
             result["ratio_liggghts_over_hopperflow"] = ratio
             print("ratio      : LIGGGHTS / hopperflow = %.2f (above 1: hopperflow is faster)"
                   % ratio)
+        print_breakdown(lig, hf)
     result["loadavg_after"] = load_average()
     print("load average (1 min) before/after: %s / %s  (2 cores; above ~1 the timings are "
           "contended)" % (result["loadavg_before"], result["loadavg_after"]))
