@@ -180,6 +180,10 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         _ => CaseRun::new(case, options.threads)?,
     };
     let started = Instant::now();
+    // Where this process's time goes, for timing.json: by protocol phase here, by phase of
+    // the step in the engine (which only reads the clock for it, changing no bit).
+    let mut protocol_time = ProtocolTime::default();
+    run.time_phases(true);
     let mut last_report = (
         Instant::now(),
         run.simulation().steps(),
@@ -190,9 +194,11 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
     let mut pictures = outputs::Pictures::new(out_dir, case, draw)?;
     let mut chunks = 0u64;
     loop {
-        if let Phase::Done { .. } = run.phase() {
+        let phase = run.phase();
+        if let Phase::Done { .. } = phase {
             break;
         }
+        let chunk_started = Instant::now();
         run.advance()?;
         chunks += 1;
         let t = run.simulation().time();
@@ -224,23 +230,54 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             });
             last_report = (Instant::now(), sim.steps(), sim.particles().len());
         }
+        protocol_time.add(phase, chunk_started.elapsed().as_secs_f64());
         if options.chunk_limit.is_some_and(|limit| chunks >= limit) {
             write_checkpoint(&checkpoint_path, &mut run)?;
             return Ok(RunOutcome::Interrupted);
         }
     }
     let summary = outputs::finish(&run, out_dir, &hash, draw)?;
+    let engine = run.simulation().phase_times().unwrap_or_default();
     write_json_atomic(
         out_dir.join("timing.json"),
         &serde_json::json!({
             "wall_time_s": started.elapsed().as_secs_f64(),
             "steps": run.simulation().steps(),
             "threads": options.threads,
+            "protocol_s": protocol_time,
+            "engine_s": {
+                "forces": engine.forces,
+                "integrate": engine.integrate,
+                "neighbour": engine.neighbour,
+            },
         }),
     )?;
     write_json_atomic(&summary_path, &summary)?;
     let _ = std::fs::remove_file(&checkpoint_path);
     Ok(RunOutcome::Finished(Box::new(summary)))
+}
+
+/// Wall-clock time of this process in each phase of the protocol, the probes, pictures and
+/// checkpoints of each chunk included [s]. A resumed run counts only its own part.
+#[derive(Debug, Default, Clone, Copy, serde::Serialize)]
+struct ProtocolTime {
+    /// Pouring the particles in [s].
+    fill: f64,
+    /// Waiting for the bed to come to rest [s].
+    settle: f64,
+    /// From the gate's opening to the stop [s].
+    discharge: f64,
+}
+
+impl ProtocolTime {
+    /// Adds `secs` [s] spent in a chunk that started in `phase`.
+    fn add(&mut self, phase: Phase, secs: f64) {
+        match phase {
+            Phase::Fill { .. } => self.fill += secs,
+            Phase::Settle { .. } => self.settle += secs,
+            Phase::Discharge { .. } | Phase::Done { .. } => self.discharge += secs,
+        }
+    }
 }
 
 /// Mass of all particles of a case, estimated from the mean sphere volume [kg].
