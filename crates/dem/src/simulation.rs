@@ -13,7 +13,7 @@ use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::timescale::rayleigh_time;
-use crate::timing::{PhaseTimes, StepClock};
+use crate::timing::{Mark, PhaseTimes, StepClock};
 use crate::wall::{Wall, WallId};
 
 /// Settings fixed for a run.
@@ -584,7 +584,7 @@ impl Simulation {
                 });
             }
         }
-        StepClock::drifted(&mut clock);
+        StepClock::mark(&mut clock, Mark::Drifted);
         let half_skin = 0.5 * self.state.skin;
         if self.state.needs_rebuild
             || !reference_valid
@@ -592,7 +592,7 @@ impl Simulation {
         {
             self.rebuild(None);
         }
-        StepClock::listed(&mut clock);
+        StepClock::mark(&mut clock, Mark::Listed);
 
         // Forces at the drifted positions with half-step velocities.
         let s = &mut self.state;
@@ -614,7 +614,7 @@ impl Simulation {
             &mut self.buffers,
             self.pool.as_deref(),
         );
-        StepClock::forced(&mut clock);
+        StepClock::mark(&mut clock, Mark::Forced);
         let limit = s.config.max_overlap_fraction;
         if eval.worst_pair.fraction > limit {
             let w = eval.worst_pair;

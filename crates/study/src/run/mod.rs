@@ -245,11 +245,7 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             "steps": run.simulation().steps(),
             "threads": options.threads,
             "protocol_s": protocol_time,
-            "engine_s": {
-                "forces": engine.forces,
-                "integrate": engine.integrate,
-                "neighbour": engine.neighbour,
-            },
+            "engine_s": engine,
         }),
     )?;
     write_json_atomic(&summary_path, &summary)?;
