@@ -3,7 +3,9 @@
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
-use study::bench::{hopper_benchmark, scaling_benchmark, settled_bed, time_steps, BenchResult};
+use study::bench::{
+    combine, hopper_benchmark, scaling_benchmark, settled_bed, time_steps, BenchResult,
+};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum BenchCase {
@@ -42,6 +44,11 @@ pub struct BenchArgs {
     /// Checkpoint of the filled, settled hopper, reused between hopper benchmarks.
     #[arg(long, default_value = "out/bench-cache/hopper.bin")]
     cache: PathBuf,
+    /// Runs of the whole benchmark: the median run is reported, with every run's time and
+    /// their spread (median, mean, standard deviation, range). One timing on a shared or
+    /// virtual machine can be 15 % off; compare medians, and differences larger than the range.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
+    runs: u32,
 }
 
 fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
@@ -73,6 +80,35 @@ fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
     }
 }
 
+/// `args.runs` runs of the benchmark on `threads` threads, each entry (one per size for the
+/// scaling benchmark) combined over the runs into its median run.
+fn repeated(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
+    let mut runs = Vec::new();
+    for _ in 0..args.runs {
+        runs.push(one(args, threads)?);
+    }
+    if runs.len() == 1 {
+        return Ok(runs.pop().unwrap_or_default());
+    }
+    let entries = runs[0].len();
+    (0..entries)
+        .map(|k| {
+            let of_entry: Vec<BenchResult> = runs.iter().map(|r| r[k].clone()).collect();
+            let mut c = combine(of_entry).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "the {} runs of benchmark entry {k} are not comparable",
+                    args.runs
+                )
+            })?;
+            // Peak memory is the process's: after the first run it holds the largest size
+            // already, so only the first run's memory figures belong to their size.
+            c.peak_memory_bytes = runs[0][k].peak_memory_bytes;
+            c.bytes_per_particle = runs[0][k].bytes_per_particle;
+            Ok(c)
+        })
+        .collect()
+}
+
 pub fn run(args: BenchArgs) -> i32 {
     let all = std::thread::available_parallelism().map_or(1, |n| n.get());
     let list: Vec<usize> = match args.threads {
@@ -87,7 +123,7 @@ pub fn run(args: BenchArgs) -> i32 {
     };
     let mut results = Vec::new();
     for t in list {
-        match one(&args, t) {
+        match repeated(&args, t) {
             Ok(r) => results.extend(r),
             Err(e) => {
                 eprintln!("error: {e:#}");
@@ -139,6 +175,28 @@ pub fn run(args: BenchArgs) -> i32 {
                 "{:<8} {:>7} {:>10.1} {:>10.1} {:>10.1} {:>10.1}",
                 r.case, r.threads, p.forces_ns, p.integrate_ns, p.neighbour_ns, p.other_ns
             );
+        }
+        // With repeated runs, their spread, as hyperfine reports a command's runs.
+        if results.iter().any(|r| r.runs.is_some()) {
+            println!(
+                "\n{:<8} {:>7} {:>5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>7}   (ns per particle-step)",
+                "case", "threads", "runs", "median", "mean", "std dev", "min", "max", "range"
+            );
+            for r in &results {
+                let Some(s) = &r.runs else { continue };
+                println!(
+                    "{:<8} {:>7} {:>5} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>6.1}%",
+                    r.case,
+                    r.threads,
+                    s.ns_per_particle_step.len(),
+                    s.median_ns,
+                    s.mean_ns,
+                    s.std_dev_ns,
+                    s.min_ns,
+                    s.max_ns,
+                    100.0 * s.relative_range()
+                );
+            }
         }
     }
     0

@@ -367,6 +367,15 @@ fn unknown_subcommand_and_missing_argument_exit_with_code_two() {
         "non-numeric thread count",
         &["--threads"],
     );
+    // A benchmark of no runs has no median: refused before anything is timed, naming the
+    // option, the value and the allowed range.
+    for runs in ["0", "101"] {
+        assert_refused(
+            &hopperflow(&["bench", "--case", "bed", "--runs", runs]),
+            "bench --runs out of range",
+            &["--runs", runs, "1..=100"],
+        );
+    }
 }
 
 #[test]

@@ -10,6 +10,9 @@ use serde::Serialize;
 use crate::config::Case;
 use crate::hopper::{hopper_simulation, lattice_bed};
 
+mod repeat;
+pub use repeat::{combine, RunSpread};
+
 /// One timing.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchResult {
@@ -40,6 +43,10 @@ pub struct BenchResult {
     pub bytes_per_particle: Option<f64>,
     /// Where the wall time went, per particle-step.
     pub phases: PhaseBreakdown,
+    /// With repeated runs ([`combine`]): every run's timing and their spread; this result
+    /// is then the median run. Absent for a single run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub runs: Option<RunSpread>,
 }
 
 /// A benchmark's wall time per particle-step split by phase of the step [ns]. The four add up
@@ -121,6 +128,7 @@ pub fn time_steps(
         peak_memory_bytes: None,
         bytes_per_particle: None,
         phases: PhaseBreakdown::of(sim.phase_times(), secs, ps),
+        runs: None,
     })
 }
 
@@ -347,6 +355,7 @@ pub fn hopper_benchmark(
         peak_memory_bytes: None,
         bytes_per_particle: None,
         phases: PhaseBreakdown::of(run.simulation().phase_times(), secs, particle_steps),
+        runs: None,
     })
 }
 
