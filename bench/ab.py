@@ -1,0 +1,134 @@
+#!/usr/bin/env python3
+"""A/B timing of two hopperflow builds on one benchmark, alternating.
+
+This machine's speed drifts by up to 15 % within minutes (docs/performance.md), more than
+most changes worth measuring, so two builds are never timed one after the other in blocks.
+The builds alternate in ABBA order, round after round, so that a slow spell falls on both,
+and each round gives a ratio A/B of their wall time per particle-step (above 1: B is
+faster). The median ratio, with the range of the rounds, is the result; a difference
+smaller than that range is noise.
+
+    python3 bench/ab.py OLD_BINARY NEW_BINARY [--runs 4] [--case hopper] [--threads 1]
+    python3 bench/ab.py OLD NEW --case scaling -- --particles 10000   # extra bench options
+
+Each build keeps its own hopper cache (out/bench-cache/ab-a.bin and ab-b.bin), since
+checkpoint formats may differ between builds. Only `hopperflow bench` is run.
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+
+def bench(binary, case, threads, cache, extra):
+    """One `bench --json` run of `binary`: its JSON result (the first, if several)."""
+    cmd = [binary, "bench", "--case", case, "--threads", str(threads), "--json"]
+    if case == "hopper":
+        cmd += ["--cache", cache]
+    cmd += extra
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    result = json.loads(out)
+    return result[0] if isinstance(result, list) else result
+
+
+def median_and_range(values):
+    return statistics.median(values), min(values), max(values)
+
+
+def main():
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0],
+        epilog="Options after -- are passed to `hopperflow bench`.",
+    )
+    parser.add_argument("a", help="build A (the reference), a hopperflow binary")
+    parser.add_argument("b", help="build B (the candidate), a hopperflow binary")
+    parser.add_argument("--runs", type=int, default=4, help="rounds of one A and one B run (default 4)")
+    parser.add_argument("--case", default="hopper", choices=["bed", "hopper", "scaling"])
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--cache-dir", default="out/bench-cache", help="where the two hopper caches live")
+    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    argv = sys.argv[1:]
+    # Everything after `--` goes to `hopperflow bench` unchanged.
+    extra = argv[argv.index("--") + 1 :] if "--" in argv else []
+    argv = argv[: argv.index("--")] if "--" in argv else argv
+    args = parser.parse_args(argv)
+    args.extra = extra
+    if args.runs < 1:
+        parser.error(f"--runs must be at least 1, got {args.runs}")
+    for name in (args.a, args.b):
+        if not (os.path.isfile(name) and os.access(name, os.X_OK)):
+            parser.error(f"{name}: not an executable file")
+    os.makedirs(args.cache_dir, exist_ok=True)
+    caches = {
+        "a": os.path.join(args.cache_dir, "ab-a.bin"),
+        "b": os.path.join(args.cache_dir, "ab-b.bin"),
+    }
+    binaries = {"a": args.a, "b": args.b}
+
+    load_before = os.getloadavg()[0]
+    rounds = []
+    for r in range(args.runs):
+        # ABBA: A first in even rounds, B first in odd ones, so a drift within a round
+        # favours neither build over the whole comparison.
+        order = ("a", "b") if r % 2 == 0 else ("b", "a")
+        got = {}
+        for side in order:
+            got[side] = bench(binaries[side], args.case, args.threads, caches[side], args.extra)
+        ns = {side: got[side]["ns_per_particle_step"] for side in got}
+        rounds.append(
+            {
+                "order": "".join(order).upper(),
+                "a_ns": ns["a"],
+                "b_ns": ns["b"],
+                "ratio_a_over_b": ns["a"] / ns["b"],
+                "a_phases": got["a"].get("phases"),
+                "b_phases": got["b"].get("phases"),
+            }
+        )
+        if not args.json:
+            print(
+                f"round {r + 1} ({rounds[-1]['order']}): A {ns['a']:.1f} ns, B {ns['b']:.1f} ns,"
+                f" A/B {rounds[-1]['ratio_a_over_b']:.3f}",
+                flush=True,
+            )
+    load_after = os.getloadavg()[0]
+
+    ratio = median_and_range([x["ratio_a_over_b"] for x in rounds])
+    a_ns = median_and_range([x["a_ns"] for x in rounds])
+    b_ns = median_and_range([x["b_ns"] for x in rounds])
+    summary = {
+        "case": args.case,
+        "threads": args.threads,
+        "runs": args.runs,
+        "a": args.a,
+        "b": args.b,
+        "a_ns_median": a_ns[0],
+        "b_ns_median": b_ns[0],
+        "ratio_median": ratio[0],
+        "ratio_min": ratio[1],
+        "ratio_max": ratio[2],
+        "loadavg_before": load_before,
+        "loadavg_after": load_after,
+        "rounds": rounds,
+    }
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    print(
+        f"A median {a_ns[0]:.1f} ns ({a_ns[1]:.1f}–{a_ns[2]:.1f}), "
+        f"B median {b_ns[0]:.1f} ns ({b_ns[1]:.1f}–{b_ns[2]:.1f}) per particle-step"
+    )
+    print(
+        f"A/B median {ratio[0]:.3f} (rounds {ratio[1]:.3f}–{ratio[2]:.3f}); above 1: B is faster."
+    )
+    if ratio[1] <= 1.0 <= ratio[2]:
+        print("The rounds fall on both sides of 1: no difference beyond the machine's noise.")
+    print(f"load average (1 min) before/after: {load_before:.2f} / {load_after:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
