@@ -25,6 +25,8 @@ pub struct CellGrid {
     sorted: Vec<u32>,
     /// `sorted[start[c]..start[c+1]]` are the particles of cell c.
     start: Vec<u32>,
+    /// Scratch of the counting sort: the next free slot of each cell (kept for its allocation).
+    fill: Vec<u32>,
 }
 
 impl CellGrid {
@@ -78,10 +80,11 @@ impl CellGrid {
         }
         self.sorted.clear();
         self.sorted.resize(n, 0);
-        let mut fill: Vec<u32> = self.start[..ncells].to_vec();
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.start[..ncells]);
         for (i, &c) in self.cell_of.iter().enumerate() {
-            self.sorted[fill[c as usize] as usize] = i as u32;
-            fill[c as usize] += 1;
+            self.sorted[self.fill[c as usize] as usize] = i as u32;
+            self.fill[c as usize] += 1;
         }
     }
 

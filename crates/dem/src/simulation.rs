@@ -98,6 +98,9 @@ pub struct Simulation {
     prepared: bool,
     /// Time per phase since timing was switched on; `None` while off.
     phase_times: Option<PhaseTimes>,
+    /// The lists before the last build, kept for their allocations: the next build writes
+    /// into them, instead of growing fresh vectors to some 10^4 candidates at every build.
+    spare_lists: (PairList, WallPairList),
 }
 
 /// Energy budget of the system [J].
@@ -197,6 +200,7 @@ impl Simulation {
             uniform_free: None,
             prepared: false,
             phase_times: None,
+            spare_lists: Default::default(),
         })
     }
 
@@ -509,8 +513,10 @@ impl Simulation {
         }
         self.grid
             .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
-        let old_pairs = std::mem::take(&mut s.pairs);
-        let old_walls = std::mem::take(&mut s.wall_pairs);
+        // `build_lists` clears what it writes into; only the capacity of the spares is reused.
+        let old_pairs = std::mem::replace(&mut s.pairs, std::mem::take(&mut self.spare_lists.0));
+        let old_walls =
+            std::mem::replace(&mut s.wall_pairs, std::mem::take(&mut self.spare_lists.1));
         build_lists(
             &self.grid,
             &s.particles,
@@ -522,6 +528,7 @@ impl Simulation {
             &mut s.pairs,
             &mut s.wall_pairs,
         );
+        self.spare_lists = (old_pairs, old_walls);
         self.uniform_body = uniform_body(&s.particles);
         self.uniform_free = uniform_free_body(&s.particles);
         s.reference.clear();
