@@ -11,6 +11,7 @@ use glam::{BVec3, DVec3};
 
 use crate::contact::batch::{coefficient_row, Batch, BATCH};
 use crate::contact::{BodyMotion, ContactForce, ContactGeometry, ContactHistory, ContactLaws};
+use crate::history::{settle, LIVE, WAS_LIVE};
 use crate::material::{harmonic, PairCoefficients};
 use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
@@ -246,7 +247,7 @@ pub(crate) fn evaluate(
         input,
         ids,
         0,
-        pairs.history.split_mut(),
+        pairs.history.parts_mut(),
         (&mut scratch.touching, &mut scratch.batch),
         &mut acc,
     );
@@ -262,10 +263,11 @@ pub(crate) fn evaluate(
     };
     let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
     let worst_wall = if *input.laws == ContactLaws::default() {
+        let (tangential, _, live) = wall_pairs.history.parts_mut();
         batched_wall_loop(
             input,
             wall_ids,
-            &mut wall_pairs.history.tangential,
+            (tangential, live),
             (
                 &mut buffers.wall_hits,
                 &mut buffers.wall_touch,
@@ -285,7 +287,8 @@ pub(crate) fn evaluate(
 }
 
 /// Runs the kernel over pairs `base..base + history.len()`, calling `sink(i, j, force)` for
-/// each pair in contact, in order.
+/// each pair in contact, in order. `history` is ξ, the rolling history and the live flags
+/// (`HistoryArrays`) of those pairs.
 ///
 /// The paper's laws (the default) get their own copy of the loop in which the law choices are
 /// constants, so the compiler drops the branches and code of the other laws.
@@ -294,15 +297,17 @@ fn pair_loop(
     input: &KernelInput,
     ids: (&[u32], &[u32]),
     base: usize,
-    history: (&mut [DVec3], &mut [DVec3]),
+    (tangential, rolling, live): (&mut [DVec3], &mut [DVec3], &mut [u8]),
     scratch: (&mut Vec<u32>, &mut Batch),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
     if *input.laws == ContactLaws::default() {
         // The paper's laws keep no rolling history: only ξ is passed.
-        batched_pair_loop(input, ids, base, history.0, scratch, sink)
+        batched_pair_loop(input, ids, base, (tangential, live), scratch, sink)
     } else {
-        pair_loop_with(input, *input.laws, ids, base, history, sink)
+        // The scalar laws clear separated histories themselves, from arrays that hold them.
+        settle(tangential, rolling, live);
+        pair_loop_with(input, *input.laws, ids, base, (tangential, rolling), sink)
     }
 }
 
@@ -324,17 +329,17 @@ fn batch_force(batch: &Batch, m: usize) -> ContactForce {
 
 /// The paper's laws over structure-of-arrays batches, in two passes.
 ///
-/// 1. A branch-free filter lists the touching candidates and clears the history of the
-///    separated ones (physics.md §3.1: a contact that opens forgets its ξ). About half the
-///    candidates are not touching, and a branch on it is mispredicted about as often.
-/// 2. The touching pairs are gathered [`BATCH`] at a time, resolved together, and handed to
-///    `sink` in pair order.
+/// 1. A branch-free filter lists the touching candidates and marks which are live (physics.md
+///    §3.1: a contact that opens forgets its ξ; `HistoryArrays` explains the flags). About
+///    half the candidates are not touching, and a branch on it is mispredicted about as often.
+/// 2. The touching pairs are gathered [`BATCH`] at a time (ξ, or zero for a contact that was
+///    not live), resolved together, and handed to `sink` in pair order.
 #[inline(always)]
 fn batched_pair_loop(
     input: &KernelInput,
     (pi, pj): (&[u32], &[u32]),
     base: usize,
-    history: &mut [DVec3],
+    (history, live): (&mut [DVec3], &mut [u8]),
     (touching, batch): (&mut Vec<u32>, &mut Batch),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
@@ -346,10 +351,11 @@ fn batched_pair_loop(
     let len = history.len();
     let (pi, pj) = (&pi[base..base + len], &pj[base..base + len]);
 
+    let live = &mut live[..len];
     let count = filter_touching(
         p,
         (pi, pj),
-        history,
+        live,
         touching,
         input.uniform_body.map(|(r, _)| r),
     );
@@ -376,7 +382,7 @@ fn batched_pair_loop(
                 m,
                 (pos[i] - pos[j], vel[i] - vel[j]),
                 (omega[i], omega[j]),
-                history[k],
+                live_history(live[k], history[k]),
             );
             if input.uniform_body.is_none() {
                 batch.radius[0][m] = radius[i];
@@ -408,13 +414,14 @@ fn batched_pair_loop(
     worst
 }
 
-/// Lists (in `touching[..count]`, count returned) the candidates of `pi`/`pj` whose spheres overlap, without a branch
-/// on the outcome, and clears ξ of the others: the paper's laws keep no rolling history.
+/// Lists (in `touching[..count]`, count returned) the candidates of `pi`/`pj` whose spheres
+/// overlap, without a branch on the outcome, and marks the others' histories as not live
+/// (see [`compact_touching`]).
 #[inline(never)]
 fn filter_touching(
     p: &ParticleSet,
     ids: (&[u32], &[u32]),
-    history: &mut [DVec3],
+    live: &mut [u8],
     touching: &mut Vec<u32>,
     uniform_radius: Option<f64>,
 ) -> usize {
@@ -424,9 +431,9 @@ fn filter_touching(
         // as the general branch computes for every pair.
         Some(r) => {
             let cut2 = (r + r) * (r + r);
-            filter_touching_with(p, ids, history, touching, |_, _| cut2)
+            filter_touching_with(p, ids, live, touching, |_, _| cut2)
         }
-        None => filter_touching_with(p, ids, history, touching, |i, j| {
+        None => filter_touching_with(p, ids, live, touching, |i, j| {
             let sum = radius[i] + radius[j];
             sum * sum
         }),
@@ -438,41 +445,58 @@ fn filter_touching(
 fn filter_touching_with(
     p: &ParticleSet,
     (pi, pj): (&[u32], &[u32]),
-    history: &mut [DVec3],
+    live: &mut [u8],
     touching: &mut Vec<u32>,
     cut2: impl Fn(usize, usize) -> f64,
 ) -> usize {
     let pos = &p.position[..p.len()];
     // Only grown, never cleared: see `batched_wall_loop`.
-    if touching.len() < history.len() {
-        touching.resize(history.len(), 0);
+    if touching.len() < live.len() {
+        touching.resize(live.len(), 0);
     }
     let touches = pi.iter().zip(pj).map(|(&i, &j)| {
         let (i, j) = (i as usize, j as usize);
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
         !((pos[i] - pos[j]).length_squared() >= cut2(i, j))
     });
-    compact_touching(touches, history, touching)
+    compact_touching(touches, live, touching)
 }
 
 /// Lists in `hits` (count returned) the indices of the candidates for which `touches` yields
-/// true, in order, and clears ξ of the others (physics.md §3.1: a contact that opens forgets
-/// its history). Branch-free: every index is stored and the count advances only for a
-/// touching one, because a branch on the outcome is mispredicted about as often as taken.
+/// true, in order, and records in `live` which contacts keep their history (physics.md §3.1:
+/// a contact that opens forgets it; see [`note_live`]). Branch-free: every index is stored
+/// and the count advances only for a touching one, because a branch on the outcome is
+/// mispredicted about as often as taken.
 #[inline(always)]
 fn compact_touching(
     touches: impl Iterator<Item = bool>,
-    history: &mut [DVec3],
+    live: &mut [u8],
     hits: &mut [u32],
 ) -> usize {
-    let len = history.len();
+    let len = live.len();
     let mut count = 0;
-    for (k, (touch, h)) in touches.zip(history.iter_mut()).enumerate() {
+    for (k, (touch, l)) in touches.zip(live.iter_mut()).enumerate() {
         hits[count.min(len - 1)] = k as u32;
         count += touch as usize;
-        *h = DVec3::select(BVec3::splat(touch), *h, DVec3::ZERO);
+        *l = live_flags(u8::from(touch), *l);
     }
     count
+}
+
+/// The live flags of a contact after a filter that found it touching (`touch` = 1) or not
+/// (0), from its flags before: [`LIVE`] becomes `touch`, and [`WAS_LIVE`] keeps the old
+/// [`LIVE`] for the gather. A contact that does not touch forgets its history (§3.1) by
+/// losing [`LIVE`]; its ξ is not rewritten.
+#[inline(always)]
+fn live_flags(touch: u8, old: u8) -> u8 {
+    touch | ((old & LIVE) << 1)
+}
+
+/// ξ of a touching contact as the laws see it: the stored one if it was live before this
+/// step's filter, zero if it had opened since it was stored (§3.1). A select, not a branch.
+#[inline(always)]
+fn live_history(flags: u8, xi: DVec3) -> DVec3 {
+    DVec3::select(BVec3::splat(flags & WAS_LIVE != 0), xi, DVec3::ZERO)
 }
 
 /// Pass 1 of the plane filter for equal spheres of radius `r` [m]: `touch[k]` is 1 when
@@ -509,12 +533,13 @@ fn plane_touches(
     }
 }
 
-/// Clears ξ of the candidates that do not touch (physics.md §3.1: a contact that opens
-/// forgets its history); the others keep theirs bit for bit.
+/// Pass 2 of the plane filter: the live flags after `touch` ([`live_flags`]); a contact
+/// that opens forgets its history (physics.md §3.1) by losing [`LIVE`], one byte per
+/// candidate instead of rewriting ξ. Vectorised: bytes only, no count.
 #[inline(always)]
-fn clear_separated(touch: &[u8], history: &mut [DVec3]) {
-    for (h, &t) in history.iter_mut().zip(touch) {
-        *h = DVec3::select(BVec3::splat(t != 0), *h, DVec3::ZERO);
+fn note_live(touch: &[u8], live: &mut [u8]) {
+    for (l, &t) in live.iter_mut().zip(touch) {
+        *l = live_flags(t, *l);
     }
 }
 
@@ -579,7 +604,7 @@ fn wall_contact(
 fn batched_wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
-    history: &mut [DVec3],
+    (history, live): (&mut [DVec3], &mut [u8]),
     (hits, touch, probes, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> WorstOverlap {
@@ -603,7 +628,7 @@ fn batched_wall_loop(
             input,
             &wall,
             &pi[run.clone()],
-            &mut history[run],
+            (&mut history[run.clone()], &mut live[run]),
             (&mut hits[..len], &mut touch[..len], batch),
             &mut worst,
             &mut sink,
@@ -674,7 +699,7 @@ fn wall_run(
     input: &KernelInput,
     wall: &WallRun,
     pi: &[u32],
-    history: &mut [DVec3],
+    (history, live): (&mut [DVec3], &mut [u8]),
     (hits, touch, batch): (&mut [u32], &mut [u8], &mut Batch),
     worst: &mut WorstOverlap,
     sink: &mut impl FnMut(usize, &ContactForce),
@@ -684,14 +709,14 @@ fn wall_run(
     let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
     let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
     // Pass 1: which candidates touch. A separated contact (or one with a removed wall)
-    // forgets its history (§3.1).
+    // forgets its history (§3.1): it loses its live flag.
     let count = match wall.probe {
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
         WallProbe::Plane { normal, offset } => match input.uniform_body {
             Some((r, _)) => {
                 let touch = &mut touch[..pi.len()];
                 plane_touches(pos, pi, (normal, offset, r), touch);
-                clear_separated(touch, history);
+                note_live(touch, live);
                 compact_flags(touch, hits)
             }
             None => {
@@ -699,7 +724,7 @@ fn wall_run(
                     let i = i as usize;
                     !(plane_distance(pos[i], normal, offset) >= radius[i])
                 });
-                compact_touching(touches, history, hits)
+                compact_touching(touches, live, hits)
             }
         },
         WallProbe::Polygon => {
@@ -707,10 +732,10 @@ fn wall_run(
                 let i = i as usize;
                 wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some()
             });
-            compact_touching(touches, history, hits)
+            compact_touching(touches, live, hits)
         }
         WallProbe::Absent => {
-            history.fill(DVec3::ZERO);
+            live.fill(0);
             return;
         }
     };
@@ -751,7 +776,7 @@ fn wall_run(
                 }
             }
             let dv = vel[i] - wall_velocity;
-            let (wi, xi) = (omega[i], history[k]);
+            let (wi, xi) = (omega[i], live_history(live[k], history[k]));
             for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
                 .into_iter()
                 .enumerate()
@@ -904,6 +929,7 @@ fn wall_loop(
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
+    use crate::history::HistoryArrays;
     use crate::material::{Interaction, Material, WallMaterial};
     use crate::neighbour::{build_lists, CellGrid};
     use crate::particles::{MaterialId, ParticleInit};
@@ -971,7 +997,7 @@ pub(super) mod tests {
     #[test]
     fn split_plane_filter_matches_the_per_candidate_test() {
         // The three passes of the equal-sphere plane filter against the one-candidate-at-a-
-        // time definition: the same touching list, histories kept bit for bit or cleared,
+        // time definition: the same touching list, histories kept bit for bit or forgotten,
         // for a contiguous run (the slab faces' stream) and for a run with gaps (the
         // gathered path), with a NaN position counted as touching. Exact equality: both
         // evaluate the same expression on the same numbers.
@@ -992,10 +1018,23 @@ pub(super) mod tests {
                 .iter()
                 .map(|&i| !(plane_distance(pos[i as usize], normal, offset) >= r))
                 .collect();
-            let (mut touch, mut hits, mut history) =
-                (vec![9u8; pi.len()], vec![0u32; pi.len()], old.clone());
+            // Every third contact had already opened (not live) before this filter.
+            let before: Vec<u8> = (0..pi.len()).map(|k| u8::from(k % 3 != 0)).collect();
+            let (mut touch, mut hits, mut history) = (
+                vec![9u8; pi.len()],
+                vec![0u32; pi.len()],
+                HistoryArrays::from(
+                    old.iter()
+                        .map(|&t| ContactHistory {
+                            tangential: t,
+                            rolling: DVec3::ZERO,
+                        })
+                        .collect::<Vec<_>>(),
+                ),
+            );
+            history.live.copy_from_slice(&before);
             plane_touches(&pos, &pi, (normal, offset, r), &mut touch);
-            clear_separated(&touch, &mut history);
+            note_live(&touch, &mut history.live);
             let count = compact_flags(&touch, &mut hits);
             let expect_hits: Vec<u32> = (0..pi.len() as u32)
                 .filter(|&k| expect_touch[k as usize])
@@ -1010,10 +1049,24 @@ pub(super) mod tests {
                 hits[..count].contains(&(nan as u32)),
                 "a NaN distance counts as touching"
             );
-            for (k, (h, o)) in history.iter().zip(&old).enumerate() {
-                let kept = if expect_touch[k] { *o } else { DVec3::ZERO };
+            for (k, o) in old.iter().enumerate() {
+                // Touching: live, and the gather sees ξ only if it was live before.
+                // Separated: the history reads as zero (§3.1).
+                let was = before[k] == LIVE;
+                let kept = if expect_touch[k] && was {
+                    *o
+                } else {
+                    DVec3::ZERO
+                };
+                let flags = history.live[k];
+                let seen = if expect_touch[k] {
+                    live_history(flags, history.tangential[k])
+                } else {
+                    history.get(k).tangential
+                };
+                assert_eq!(flags & LIVE == LIVE, expect_touch[k]);
                 assert_eq!(
-                    h.to_array().map(f64::to_bits),
+                    seen.to_array().map(f64::to_bits),
                     kept.to_array().map(f64::to_bits)
                 );
             }

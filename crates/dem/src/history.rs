@@ -10,16 +10,33 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactHistory;
 
+/// Bit of [`HistoryArrays::live`]: the stored history is the contact's own.
+pub(crate) const LIVE: u8 = 1;
+/// Bit of [`HistoryArrays::live`]: [`LIVE`] as it was before this evaluation's filter, which
+/// the gather of a touching contact reads.
+pub(crate) const WAS_LIVE: u8 = 2;
+
 /// The histories of a candidate list, index-aligned with it.
 ///
+/// A contact that opens forgets its history (physics.md §3.1). Rather than rewriting ξ of
+/// every separated candidate at every step, which moved 48 bytes a candidate for the two
+/// thirds of candidates that do not touch, the per-step filters clear one byte, the
+/// contact's [`LIVE`] bit: while it is clear, the history is zero whatever the arrays hold.
+/// Every reader outside the force loops ([`HistoryArrays::get`], [`HistoryArrays::iter`],
+/// serialisation, equality, [`HistoryArrays::split_mut`]) sees those zeros, so the lists'
+/// contents, checkpoints and list rebuilds are what the eager clearing gave, bit for bit.
+///
 /// Serialised as a sequence of [`ContactHistory`], the layout checkpoints have always had.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(from = "Vec<ContactHistory>", into = "Vec<ContactHistory>")]
 pub struct HistoryArrays {
     /// Tangential displacement ξ of each contact [m].
     pub(crate) tangential: Vec<DVec3>,
     /// EPSD spring torque on i of each contact [N m].
     pub(crate) rolling: Vec<DVec3>,
+    /// Per contact: [`LIVE`] when the stored history is the contact's (otherwise it is zero),
+    /// and [`WAS_LIVE`], the force loops' note of [`LIVE`] before their filter.
+    pub(crate) live: Vec<u8>,
 }
 
 impl HistoryArrays {
@@ -37,6 +54,7 @@ impl HistoryArrays {
     pub(crate) fn clear(&mut self) {
         self.tangential.clear();
         self.rolling.clear();
+        self.live.clear();
     }
 
     /// Appends one contact's history.
@@ -44,11 +62,15 @@ impl HistoryArrays {
     pub(crate) fn push(&mut self, h: ContactHistory) {
         self.tangential.push(h.tangential);
         self.rolling.push(h.rolling);
+        self.live.push(LIVE);
     }
 
     /// History of contact `k`.
     #[inline]
     pub fn get(&self, k: usize) -> ContactHistory {
+        if self.live[k] & LIVE == 0 {
+            return ContactHistory::default();
+        }
         ContactHistory {
             tangential: self.tangential[k],
             rolling: self.rolling[k],
@@ -57,18 +79,42 @@ impl HistoryArrays {
 
     /// Every history, in list order.
     pub fn iter(&self) -> impl Iterator<Item = ContactHistory> + '_ {
-        self.tangential
-            .iter()
-            .zip(&self.rolling)
-            .map(|(&tangential, &rolling)| ContactHistory {
-                tangential,
-                rolling,
-            })
+        (0..self.len()).map(|k| self.get(k))
     }
 
-    /// Both arrays, mutably, for the force loops.
+    /// Both arrays, mutably, with every history that is not live written as zero, for the
+    /// loops that clear separated contacts themselves (the scalar laws, tests).
     pub(crate) fn split_mut(&mut self) -> (&mut [DVec3], &mut [DVec3]) {
-        (&mut self.tangential, &mut self.rolling)
+        let (tangential, rolling, live) = self.parts_mut();
+        settle(tangential, rolling, live);
+        (tangential, rolling)
+    }
+
+    /// The three arrays as they are, for the force loops that read [`HistoryArrays::live`].
+    pub(crate) fn parts_mut(&mut self) -> (&mut [DVec3], &mut [DVec3], &mut [u8]) {
+        (&mut self.tangential, &mut self.rolling, &mut self.live)
+    }
+}
+
+/// Writes zero into every history whose contact is not live and marks all live: afterwards
+/// the arrays hold exactly what [`HistoryArrays::get`] returns.
+pub(crate) fn settle(tangential: &mut [DVec3], rolling: &mut [DVec3], live: &mut [u8]) {
+    for ((t, r), l) in tangential
+        .iter_mut()
+        .zip(rolling.iter_mut())
+        .zip(live.iter_mut())
+    {
+        if *l & LIVE == 0 {
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
+        }
+        *l = LIVE;
+    }
+}
+
+/// Two lists are equal when every contact's history, as read, is.
+impl PartialEq for HistoryArrays {
+    fn eq(&self, other: &Self) -> bool {
+        self.len() == other.len() && self.iter().eq(other.iter())
     }
 }
 
@@ -113,5 +159,34 @@ mod tests {
         assert_eq!(arrays.len(), 5);
         assert_eq!(arrays.get(3), records[3]);
         assert_eq!(postcard::to_allocvec(&arrays).unwrap(), old);
+    }
+
+    #[test]
+    fn a_contact_that_is_not_live_reads_as_zero_everywhere() {
+        // Clearing the live bit must be indistinguishable from writing zeros (physics.md
+        // §3.1), for every reader: get, iter, equality, serialisation and split_mut.
+        let records: Vec<ContactHistory> = (1..=4)
+            .map(|k| ContactHistory {
+                tangential: DVec3::splat(k as f64),
+                rolling: DVec3::splat(-(k as f64)),
+            })
+            .collect();
+        let mut lazy: HistoryArrays = records.iter().copied().collect();
+        lazy.live[2] = WAS_LIVE; // opened this step: live before, not now
+        let mut eager = records.clone();
+        eager[2] = ContactHistory::default();
+        let eager: HistoryArrays = eager.into_iter().collect();
+        assert_eq!(lazy.get(2), ContactHistory::default());
+        assert_eq!(lazy.get(1), records[1]);
+        assert_eq!(lazy, eager);
+        assert_ne!(lazy, records.iter().copied().collect::<HistoryArrays>());
+        assert_eq!(
+            postcard::to_allocvec(&lazy).unwrap(),
+            postcard::to_allocvec(&eager).unwrap()
+        );
+        let (t, r) = lazy.split_mut();
+        assert_eq!((t[2], r[2]), (DVec3::ZERO, DVec3::ZERO));
+        assert_eq!(t[3], records[3].tangential);
+        assert!(lazy.live.iter().all(|&l| l == LIVE));
     }
 }

@@ -63,7 +63,9 @@ struct WallPiece<'a> {
     /// Index of the piece's first candidate in the whole wall list.
     base: usize,
     particles: &'a [u32],
+    /// Their ξ and live flags (`HistoryArrays`).
     history: &'a mut [DVec3],
+    live: &'a mut [u8],
 }
 
 /// [`super::evaluate`] on `pool`.
@@ -81,25 +83,26 @@ pub(super) fn evaluate(
     buffers.chunks.resize_with(chunks, ChunkScratch::default);
 
     // Pass 1: pair chunks.
-    let (tangential, rolling) = pairs.history.split_mut();
+    let (tangential, rolling, live) = pairs.history.parts_mut();
     let scratch = &mut buffers.chunks;
     let worst_pair = pool.install(|| {
         tangential
             .par_chunks_mut(CHUNK)
             .zip(rolling.par_chunks_mut(CHUNK))
+            .zip(live.par_chunks_mut(CHUNK))
             .zip(scratch.par_iter_mut())
             .enumerate()
             // One chunk per task: the balance of the pass's end matters more than the
             // cost of a task.
             .with_max_len(1)
-            .map(|(c, (h, scratch))| {
+            .map(|(c, (((t, r), l), scratch))| {
                 let out = &mut scratch.out;
                 out.clear();
                 let worst = pair_loop(
                     input,
                     ids,
                     c * CHUNK,
-                    h,
+                    (t, r, l),
                     (&mut scratch.touching, &mut scratch.batch),
                     out,
                 );
@@ -127,7 +130,10 @@ pub(super) fn evaluate(
     let tasks = range_tasks(
         &bounds,
         (&mut buffers.force, &mut buffers.torque),
-        batched_walls.then_some((wall_ids, &mut wall_pairs.history.tangential[..])),
+        batched_walls.then_some({
+            let (tangential, _, live) = wall_pairs.history.parts_mut();
+            (wall_ids, (tangential, live))
+        }),
     );
     buffers.ranges.resize_with(ranges, RangeScratch::default);
     let (outs, probes) = (&buffers.chunks[..chunks], &buffers.wall_probes[..]);
@@ -165,8 +171,9 @@ pub(super) fn evaluate(
     }
 }
 
-/// The wall candidates' particles and walls, and their ξ, as the force loop takes them.
-type WallList<'a> = ((&'a [u32], &'a [u32]), &'a mut [DVec3]);
+/// The wall candidates' particles and walls, and their ξ and live flags, as the force loop
+/// takes them.
+type WallList<'a> = ((&'a [u32], &'a [u32]), (&'a mut [DVec3], &'a mut [u8]));
 
 /// Cuts the force and torque buffers at `bounds`, and the wall list (when given) into each
 /// range's pieces: one per wall run, holding the run's candidates with a particle in the range.
@@ -188,7 +195,7 @@ fn range_tasks<'a>(
             walls: Vec::new(),
         });
     }
-    let Some(((pi, pw), mut history)) = walls else {
+    let Some(((pi, pw), (mut history, mut live))) = walls else {
         return tasks;
     };
     for (wall, runs) in wall_runs(pw) {
@@ -199,12 +206,15 @@ fn range_tasks<'a>(
             let to = run.partition_point(|&i| (i as usize) < hi);
             let (h, rest) = std::mem::take(&mut history).split_at_mut(to - from);
             history = rest;
+            let (l, rest) = std::mem::take(&mut live).split_at_mut(to - from);
+            live = rest;
             if to > from {
                 task.walls.push(WallPiece {
                     wall: wall as usize,
                     base: start + from,
                     particles: &run[from..to],
                     history: h,
+                    live: l,
                 });
             }
             from = to;
@@ -283,7 +293,7 @@ fn range_pass(
             input,
             &run,
             piece.particles,
-            piece.history,
+            (piece.history, piece.live),
             (
                 &mut scratch.hits[..len],
                 &mut scratch.touch[..len],
