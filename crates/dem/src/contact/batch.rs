@@ -47,6 +47,8 @@ pub struct Batch {
     pub torque_j: [[f64; BATCH]; 3],
     /// Output: overlap over the smaller radius [-].
     pub overlap_fraction: [f64; BATCH],
+    /// Intermediate values of the kernel's passes.
+    stages: Stages,
 }
 
 impl Default for Batch {
@@ -67,6 +69,7 @@ impl Default for Batch {
             torque_i: [z; 3],
             torque_j: [z; 3],
             overlap_fraction: z,
+            stages: Stages::default(),
         }
     }
 }
@@ -144,45 +147,68 @@ impl Batch {
         self.resolve::<true, false>(dt, SharedBody::default());
     }
 
+    /// The laws over the batch in four passes, each a loop over the contacts.
+    ///
+    /// One pass per contact would chain, within each contact, up to six dependent square
+    /// roots and divisions (|d| → 1/|d| → n → |ξ|/|proj| → the Coulomb cap), about 90 cycles
+    /// of latency, in a loop body too long for the processor to start the next contacts'
+    /// divisions meanwhile: it waited on the divider. Cut into passes, each loop carries at
+    /// most two dependent ones and its iterations are independent, so the divider works on
+    /// several contacts at once. Every contact still gets the same operations in the same
+    /// order; the intermediate values wait in [`Stages`] (L1-resident).
     #[inline(always)]
     fn resolve<const WALL: bool, const UNIFORM: bool>(&mut self, dt: f64, shared: SharedBody) {
         let n = self.len.min(BATCH);
+        let st = &mut self.stages;
+
+        // Pass 1, geometry.
         for k in 0..n {
             let (ri, rj) = (self.radius[0][k], self.radius[1][k]);
             let (mi, mj) = (self.mass[0][k], self.mass[1][k]);
-            let [e_star, g_star, friction, rolling_friction, damping, ratio] = [
-                self.coeff[0][k],
-                self.coeff[1][k],
-                self.coeff[2][k],
-                self.coeff[3][k],
-                self.coeff[4][k],
-                self.coeff[5][k],
-            ];
-            let (n, overlap, r_eff, m_eff, arm_i, arm_j);
             if WALL {
                 // The wall loop found the closest point: n and δ come in directly.
-                n = [self.d[0][k], self.d[1][k], self.d[2][k]];
-                overlap = self.overlap[k];
+                let overlap = self.overlap[k];
                 self.overlap_fraction[k] = overlap / ri;
-                (r_eff, m_eff, arm_i, arm_j) = (ri, mi, ri - 0.5 * overlap, 0.0);
+                for c in 0..3 {
+                    st.normal[c][k] = self.d[c][k];
+                }
+                st.overlap[k] = overlap;
+                (st.r_eff[k], st.m_eff[k]) = (ri, mi);
+                (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, 0.0);
             } else {
                 // Geometry (forces.rs): n = d/|d|, δ = R_i + R_j − |d|, R* and m* harmonic.
                 let sum = ri + rj;
                 let dist = self.dist2[k].sqrt();
-                overlap = sum - dist;
+                let overlap = sum - dist;
                 let inv = 1.0 / dist;
-                n = [self.d[0][k] * inv, self.d[1][k] * inv, self.d[2][k] * inv];
+                for c in 0..3 {
+                    st.normal[c][k] = self.d[c][k] * inv;
+                }
                 if UNIFORM {
                     self.overlap_fraction[k] = overlap * shared.inv_radius;
-                    (r_eff, m_eff) = (shared.r_eff, shared.m_eff);
                 } else {
                     self.overlap_fraction[k] = overlap / ri.min(rj);
-                    r_eff = ri * rj / sum;
-                    m_eff = mi * mj / (mi + mj);
+                    st.r_eff[k] = ri * rj / sum;
+                    st.m_eff[k] = mi * mj / (mi + mj);
                 }
-                arm_i = ri - 0.5 * overlap;
-                arm_j = rj - 0.5 * overlap;
+                st.overlap[k] = overlap;
+                (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, rj - 0.5 * overlap);
             }
+        }
+
+        // Pass 2, normal force (§2.1: `normal::hertz`, `damping::dashpot`), contact-point
+        // velocity, and the rolling torque's scale (Eq. 8).
+        for k in 0..n {
+            let (r_eff, m_eff) = if UNIFORM && !WALL {
+                (shared.r_eff, shared.m_eff)
+            } else {
+                (st.r_eff[k], st.m_eff[k])
+            };
+            let [e_star, rolling_friction, damping] =
+                [self.coeff[0][k], self.coeff[3][k], self.coeff[4][k]];
+            let nrm = [st.normal[0][k], st.normal[1][k], st.normal[2][k]];
+            let overlap = st.overlap[k];
+            let (arm_i, arm_j) = (st.arm[0][k], st.arm[1][k]);
 
             // Contact-point relative velocity (§1): v = Δv − (a_i ω_i + a_j ω_j) × n.
             let w = [
@@ -190,41 +216,69 @@ impl Batch {
                 arm_i * self.omega[0][1][k] + arm_j * self.omega[1][1][k],
                 arm_i * self.omega[0][2][k] + arm_j * self.omega[1][2][k],
             ];
-            let wxn = cross(w, n);
+            let wxn = cross(w, nrm);
             let v = [
                 self.dv[0][k] - wxn[0],
                 self.dv[1][k] - wxn[1],
                 self.dv[2][k] - wxn[2],
             ];
-            let v_n = dot(v, n);
-            let v_t = [v[0] - v_n * n[0], v[1] - v_n * n[1], v[2] - v_n * n[2]];
+            let v_n = dot(v, nrm);
+            for c in 0..3 {
+                st.v_t[c][k] = v[c] - v_n * nrm[c];
+            }
 
-            // Normal (§2.1): `normal::hertz` and `damping::dashpot`.
             let a = (r_eff * overlap).sqrt();
             let f_ne = (4.0 / 3.0) * e_star * a * overlap;
             let s_n = 2.0 * e_star * a;
             let gamma_n = damping * (s_n * m_eff).sqrt();
-            let f_n = f_ne - gamma_n * v_n;
+            st.a[k] = a;
+            st.f_ne[k] = f_ne;
+            st.gamma_n[k] = gamma_n;
+            st.f_n[k] = f_ne - gamma_n * v_n;
 
-            // History into the tangent plane keeping its length (`rotate_into_plane`); a
-            // zero or normal history becomes zero, as there.
+            // s = μ_r F_ne/|ω_rel| (Eq. 8), zero without relative spin or rolling friction.
+            let omega_rel = [
+                self.omega[0][0][k] - self.omega[1][0][k],
+                self.omega[0][1][k] - self.omega[1][1][k],
+                self.omega[0][2][k] - self.omega[1][2][k],
+            ];
+            let w2 = dot(omega_rel, omega_rel);
+            st.rolling[k] = if w2 > 0.0 && rolling_friction > 0.0 {
+                rolling_friction * f_ne / w2.sqrt()
+            } else {
+                0.0
+            };
+        }
+
+        // Pass 3, history into the tangent plane keeping its length (`rotate_into_plane`;
+        // a zero or normal history becomes zero, as there), plus the step's slip v_t Δt.
+        for k in 0..n {
+            let nrm = [st.normal[0][k], st.normal[1][k], st.normal[2][k]];
             let xi = [self.xi[0][k], self.xi[1][k], self.xi[2][k]];
             let len2 = dot(xi, xi);
-            let xn = dot(xi, n);
-            let proj = [xi[0] - xn * n[0], xi[1] - xn * n[1], xi[2] - xn * n[2]];
+            let xn = dot(xi, nrm);
+            let proj = [
+                xi[0] - xn * nrm[0],
+                xi[1] - xn * nrm[1],
+                xi[2] - xn * nrm[2],
+            ];
             let p2 = dot(proj, proj);
             let keep = if p2 > 0.0 { (len2 / p2).sqrt() } else { 0.0 };
+            for c in 0..3 {
+                self.xi[c][k] = proj[c] * keep + st.v_t[c][k] * dt;
+            }
+        }
 
-            // Mindlin no-slip (`mindlin_no_slip`): spring on ξ + v_t Δt, Coulomb cap μ F_ne,
-            // dashpot γ_t = γ_n √(4G*/E*) only while sticking.
-            let s_t = 8.0 * g_star * a;
-            let gamma_t = gamma_n * ratio;
-            let cap = friction * f_ne;
-            let mut xi = [
-                proj[0] * keep + v_t[0] * dt,
-                proj[1] * keep + v_t[1] * dt,
-                proj[2] * keep + v_t[2] * dt,
-            ];
+        // Pass 4, Mindlin no-slip (`mindlin_no_slip`): spring on ξ, Coulomb cap μ F_ne,
+        // dashpot γ_t = γ_n √(4G*/E*) only while sticking; then the torques.
+        for k in 0..n {
+            let [g_star, friction, ratio] = [self.coeff[1][k], self.coeff[2][k], self.coeff[5][k]];
+            let nrm = [st.normal[0][k], st.normal[1][k], st.normal[2][k]];
+            let v_t = [st.v_t[0][k], st.v_t[1][k], st.v_t[2][k]];
+            let s_t = 8.0 * g_star * st.a[k];
+            let gamma_t = st.gamma_n[k] * ratio;
+            let cap = friction * st.f_ne[k];
+            let mut xi = [self.xi[0][k], self.xi[1][k], self.xi[2][k]];
             let spring2 = s_t * s_t * dot(xi, xi);
             let sliding = spring2 > cap * cap;
             let scale = if sliding { cap / spring2.sqrt() } else { 1.0 };
@@ -245,19 +299,61 @@ impl Batch {
                 self.omega[0][1][k] - self.omega[1][1][k],
                 self.omega[0][2][k] - self.omega[1][2][k],
             ];
-            let w2 = dot(omega_rel, omega_rel);
-            let s = if w2 > 0.0 && rolling_friction > 0.0 {
-                rolling_friction * f_ne / w2.sqrt()
-            } else {
-                0.0
-            };
-            let nxf = cross(n, f_t);
+            let (s, f_n) = (st.rolling[k], st.f_n[k]);
+            let (arm_i, arm_j) = (st.arm[0][k], st.arm[1][k]);
+            let nxf = cross(nrm, f_t);
             for c in 0..3 {
                 self.xi[c][k] = xi[c];
-                self.force[c][k] = f_n * n[c] + f_t[c];
+                self.force[c][k] = f_n * nrm[c] + f_t[c];
                 self.torque_i[c][k] = -arm_i * (nxf[c] + s * omega_rel[c]);
                 self.torque_j[c][k] = -arm_j * (nxf[c] - s * omega_rel[c]);
             }
+        }
+    }
+}
+
+/// What the passes of [`Batch::resolve`] hand on to the next, per contact.
+#[derive(Clone, Debug)]
+struct Stages {
+    /// Unit normal n, from j to i (walls: from the wall) [-].
+    normal: [[f64; BATCH]; 3],
+    /// Overlap δ_n [m].
+    overlap: [f64; BATCH],
+    /// Effective radius R* [m] (not written for equal spheres).
+    r_eff: [f64; BATCH],
+    /// Effective mass m* [kg] (not written for equal spheres).
+    m_eff: [f64; BATCH],
+    /// Lever arms a_i, a_j [m].
+    arm: [[f64; BATCH]; 2],
+    /// Tangential contact-point velocity v_t [m/s].
+    v_t: [[f64; BATCH]; 3],
+    /// Contact radius √(R* δ) [m].
+    a: [f64; BATCH],
+    /// Elastic normal force F_ne [N].
+    f_ne: [f64; BATCH],
+    /// Normal damping coefficient γ_n [kg/s].
+    gamma_n: [f64; BATCH],
+    /// Normal force F_n = F_ne − γ_n v_n [N].
+    f_n: [f64; BATCH],
+    /// Rolling torque scale s = μ_r F_ne/|ω_rel| [N m s].
+    rolling: [f64; BATCH],
+}
+
+impl Default for Stages {
+    fn default() -> Self {
+        let z = [0.0; BATCH];
+        Self {
+            normal: [z; 3],
+            overlap: z,
+            r_eff: z,
+            m_eff: z,
+            arm: [z; 2],
+            v_t: [z; 3],
+            a: z,
+            f_ne: z,
+            gamma_n: z,
+            f_n: z,
+            rolling: z,
         }
     }
 }
