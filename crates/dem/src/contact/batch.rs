@@ -264,8 +264,8 @@ impl Batch {
             ];
             let p2 = dot(proj, proj);
             let keep = if p2 > 0.0 { (len2 / p2).sqrt() } else { 0.0 };
-            for c in 0..3 {
-                self.xi[c][k] = proj[c] * keep + st.v_t[c][k] * dt;
+            for (c, p) in proj.into_iter().enumerate() {
+                self.xi[c][k] = p * keep + st.v_t[c][k] * dt;
             }
         }
 
