@@ -1,9 +1,10 @@
 //! Contact histories of a candidate list, one array per quantity.
 //!
 //! The paper's laws keep only the tangential displacement ξ; the EPSD rolling torque is kept
-//! in its own array, which those laws never touch. Split this way, the per-step passes over
-//! every candidate (clearing ξ of separated contacts, gathering it for touching ones) move
-//! 24 bytes a candidate instead of 48, and the rolling array stays out of the cache.
+//! in its own array, which those laws never touch, so the gather of a touching contact moves
+//! 24 bytes instead of 48 and the rolling array stays out of the cache. A third array holds
+//! a byte per contact that says whether its history is still its own (see
+//! [`HistoryArrays`]): the per-step filter over every candidate writes that byte, not ξ.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
