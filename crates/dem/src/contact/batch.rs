@@ -173,7 +173,6 @@ impl Batch {
                     st.normal[c][k] = self.d[c][k];
                 }
                 st.overlap[k] = overlap;
-                (st.r_eff[k], st.m_eff[k]) = (ri, mi);
                 (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, 0.0);
             } else {
                 // Geometry (forces.rs): n = d/|d|, δ = R_i + R_j − |d|, R* and m* harmonic.
@@ -199,7 +198,10 @@ impl Batch {
         // Pass 2, normal force (§2.1: `normal::hertz`, `damping::dashpot`), contact-point
         // velocity, and the rolling torque's scale (Eq. 8).
         for k in 0..n {
-            let (r_eff, m_eff) = if UNIFORM && !WALL {
+            // A wall is a body of infinite radius and mass: R* = R_i, m* = m_i (§5).
+            let (r_eff, m_eff) = if WALL {
+                (self.radius[0][k], self.mass[0][k])
+            } else if UNIFORM {
                 (shared.r_eff, shared.m_eff)
             } else {
                 (st.r_eff[k], st.m_eff[k])
@@ -293,7 +295,9 @@ impl Batch {
             ];
 
             // Torques (as `ContactLaws::resolve`): M_i = −a_i (n × F_t + s ω_rel),
-            // M_j = −a_j (n × F_t − s ω_rel), s = μ_r F_ne/|ω_rel| (Eq. 8).
+            // M_j = −a_j (n × F_t − s ω_rel), s = μ_r F_ne/|ω_rel| (Eq. 8). ω_rel is formed
+            // again here (three subtractions of inputs, the same bits as in pass 2) rather
+            // than stored and reloaded.
             let omega_rel = [
                 self.omega[0][0][k] - self.omega[1][0][k],
                 self.omega[0][1][k] - self.omega[1][1][k],
@@ -319,9 +323,9 @@ struct Stages {
     normal: [[f64; BATCH]; 3],
     /// Overlap δ_n [m].
     overlap: [f64; BATCH],
-    /// Effective radius R* [m] (not written for equal spheres).
+    /// Effective radius R* [m] of unequal spheres (walls and equal spheres need none).
     r_eff: [f64; BATCH],
-    /// Effective mass m* [kg] (not written for equal spheres).
+    /// Effective mass m* [kg] of unequal spheres.
     m_eff: [f64; BATCH],
     /// Lever arms a_i, a_j [m].
     arm: [[f64; BATCH]; 2],
