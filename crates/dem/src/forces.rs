@@ -86,11 +86,6 @@ struct ChunkScratch {
     touching: Vec<u32>,
     /// The batch the chunk's contacts are resolved in.
     batch: Box<Batch>,
-    /// Forces of the touching contacts, kept for the ordered scatter (several threads only).
-    out: Vec<(u32, u32, ContactForce)>,
-    /// `reach[m]` is the largest j of `out[..=m]`: the several-thread scatter of a body range
-    /// skips the contacts that cannot reach it (several threads only).
-    reach: Vec<u32>,
 }
 
 /// Reusable buffers.
@@ -206,14 +201,6 @@ impl PairSink for Accumulator<'_> {
     #[inline(always)]
     fn contact(&mut self, i: usize, j: usize, cf: &ContactForce) {
         self.add(i, j, cf);
-    }
-}
-
-/// The several-thread path keeps the forces for the ordered scatter.
-impl PairSink for Vec<(u32, u32, ContactForce)> {
-    #[inline(always)]
-    fn contact(&mut self, i: usize, j: usize, cf: &ContactForce) {
-        self.push((i as u32, j as u32, *cf));
     }
 }
 
@@ -934,6 +921,13 @@ pub(super) mod tests {
     use crate::neighbour::{build_lists, CellGrid};
     use crate::particles::{MaterialId, ParticleInit};
     use rand::{Rng, SeedableRng};
+
+    /// Keeps every contact, in order, for tests that sum them their own way.
+    impl PairSink for Vec<(u32, u32, ContactForce)> {
+        fn contact(&mut self, i: usize, j: usize, cf: &ContactForce) {
+            self.push((i as u32, j as u32, *cf));
+        }
+    }
 
     /// A jumble of spheres in a box of planes with one tilted polygon, moving and spinning,
     /// with random tangential histories: every branch of both kernels is reached.

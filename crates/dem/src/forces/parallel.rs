@@ -1,37 +1,48 @@
 //! Force evaluation on several threads, bit-identical to the one-thread path.
 //!
-//! Two parallel passes:
-//! 1. **Pair chunks.** The kernel runs over fixed chunks of the candidate list. Each chunk
-//!    keeps its touching contacts' forces, in pair order.
-//! 2. **Body ranges.** The particles are cut into contiguous index ranges. Each range's task
-//!    writes gravity into its bodies, adds their shares of the kept pair forces, then filters,
-//!    resolves and adds their wall contacts. No two tasks write the same body or history.
+//! One parallel pass. The particles are cut into contiguous index ranges of about equal
+//! cost, and each range's task, alone, computes every force on its bodies:
+//! 1. gravity;
+//! 2. its **incoming** pairs, those whose i lies before the range and whose j lies in it.
+//!    They belong to an earlier range, which resolves them too, as its own. This task
+//!    resolves them again from copies of their histories taken before the pass, and keeps
+//!    only j's share. The kernel gives the same bits for the same inputs, so both sides of a
+//!    pair see one force; only the owner writes the new history;
+//! 3. its own pairs, those whose i lies in it: the kernel, the new histories, i's share, and
+//!    j's share when j lies in the range too (otherwise j's range resolves the pair again);
+//! 4. its wall contacts (filter, kernel and history).
+//!
+//! No two tasks write the same body or history, and nothing passes from one task to another
+//! during the pass: no contact force is stored for a later pass, which on large systems cost
+//! more memory traffic than the second thread saved. The price is the incoming pairs,
+//! resolved twice: about one cell layer of pairs per range boundary.
 //!
 //! Every body receives the additions of the one-thread path, in the same order:
 //! - gravity first;
 //! - then its pairs. The list holds i < j, sorted by i, so the contacts in which a body is j
-//!   all come before its own run as i. The one-thread [`Accumulator`] subtracts those one by
-//!   one, then adds the run's register sum when the run ends; a range does the same;
+//!   all come before its own run as i, the incoming ones (i before the range) first. The
+//!   one-thread [`Accumulator`] subtracts those one by one, then adds the run's register sum
+//!   when the run ends; a range does the same;
 //! - then its walls, in increasing wall order (the list is wall-major).
 //!
-//! So the sums, and the whole trajectory, do not depend on the thread count.
+//! So the sums, and the whole trajectory, do not depend on the thread count or on where the
+//! ranges are cut.
 
 use super::*;
-use crate::ranges::even_bounds;
 use rayon::prelude::*;
 
-/// Pairs per task of the first pass. Small, so that the threads finish it within a few
-/// microseconds of each other: a rayon worker left idle for longer goes to sleep, and waking
-/// it costs about as much as such a task.
-const CHUNK: usize = 512;
+/// Ranges per pool thread: more than one lets the pool balance ranges whose cost the cut
+/// misjudged, fewer keeps the incoming pairs (resolved twice) few.
+const RANGES_PER_THREAD: usize = 2;
 
-/// Ranges per pool thread in the second pass: more than one lets the pool balance ranges of
-/// unequal cost (the bed's bodies have more contacts than the falling ones').
-const RANGES_PER_THREAD: usize = 8;
+/// Bodies per range, at least: each range resolves again the pairs that cross its lower
+/// boundary, about one cell layer of them, which must stay small beside its own. (Smaller in
+/// the tests, so that their few hundred bodies are cut into many ranges.)
+const MIN_RANGE: usize = if cfg!(test) { 64 } else { 256 };
 
-/// Bodies per range, at least: each range also reads the contacts just below it (those whose
-/// j it owns), about one cell row of the list, which must stay small beside its own.
-const MIN_RANGE: usize = 128;
+/// The cost of a body's gravity and wall candidates (every particle of the paper's slab is a
+/// candidate of both faces), in units of one candidate pair, for cutting the ranges.
+const BODY_COST: usize = 2;
 
 /// Scratch of one body range, reused from step to step.
 #[derive(Debug, Default)]
@@ -40,11 +51,36 @@ pub(super) struct RangeScratch {
     hits: Vec<u32>,
     /// Whether each wall candidate of a piece touches (1) or not (0).
     touch: Vec<u8>,
-    /// The batch its wall contacts are resolved in.
+    /// The batch its pair and wall contacts are resolved in.
     batch: Box<Batch>,
+    /// Indices of the touching pair candidates, for the pair filter.
+    touching: Vec<u32>,
+    /// The incoming pairs, in list order: i, j, and copies of ξ, the rolling history and the
+    /// live flags (`HistoryArrays`) as they were before the pass.
+    incoming: IncomingPairs,
 }
 
-/// What one body range owns for the second pass.
+/// Pairs resolved by a range for j's share only, with their histories copied.
+#[derive(Debug, Default)]
+struct IncomingPairs {
+    i: Vec<u32>,
+    j: Vec<u32>,
+    tangential: Vec<DVec3>,
+    rolling: Vec<DVec3>,
+    live: Vec<u8>,
+}
+
+impl IncomingPairs {
+    fn clear(&mut self) {
+        self.i.clear();
+        self.j.clear();
+        self.tangential.clear();
+        self.rolling.clear();
+        self.live.clear();
+    }
+}
+
+/// What one body range owns for the pass.
 struct RangeTask<'a> {
     /// Its first body.
     lo: usize,
@@ -52,6 +88,10 @@ struct RangeTask<'a> {
     force: &'a mut [DVec3],
     /// Torque [N m] of its bodies.
     torque: &'a mut [DVec3],
+    /// Index of its first own pair in the pair list.
+    pair_base: usize,
+    /// ξ, rolling histories and live flags of its own pairs.
+    pairs: (&'a mut [DVec3], &'a mut [DVec3], &'a mut [u8]),
     /// Its wall candidates: for each wall run, the part with its bodies, in list order.
     walls: Vec<WallPiece<'a>>,
 }
@@ -68,6 +108,15 @@ struct WallPiece<'a> {
     live: &'a mut [u8],
 }
 
+/// What one range's task found.
+#[derive(Default)]
+struct RangeResult {
+    pair_contacts: usize,
+    wall_contacts: usize,
+    worst_pair: WorstOverlap,
+    worst_wall: WorstOverlap,
+}
+
 /// [`super::evaluate`] on `pool`.
 pub(super) fn evaluate(
     input: &KernelInput,
@@ -79,48 +128,39 @@ pub(super) fn evaluate(
 ) -> Evaluation {
     let n = input.particles.len();
     let ids = (&pairs.i[..], &pairs.j[..]);
-    let chunks = pairs.len().div_ceil(CHUNK);
-    buffers.chunks.resize_with(chunks, ChunkScratch::default);
+    let ranges = (pool.current_num_threads() * RANGES_PER_THREAD)
+        .min(n / MIN_RANGE)
+        .max(1);
+    let bounds = balanced_bounds(ids.0, n, ranges);
+    let pair_starts: Vec<usize> = bounds.iter().map(|&b| pair_start(ids.0, b)).collect();
+    buffers.ranges.resize_with(ranges, RangeScratch::default);
 
-    // Pass 1: pair chunks.
+    // The incoming pairs' histories, copied before any task rewrites them.
     let (tangential, rolling, live) = pairs.history.parts_mut();
-    let scratch = &mut buffers.chunks;
-    let worst_pair = pool.install(|| {
-        tangential
-            .par_chunks_mut(CHUNK)
-            .zip(rolling.par_chunks_mut(CHUNK))
-            .zip(live.par_chunks_mut(CHUNK))
-            .zip(scratch.par_iter_mut())
-            .enumerate()
-            // One chunk per task: the balance of the pass's end matters more than the
-            // cost of a task.
-            .with_max_len(1)
-            .map(|(c, (((t, r), l), scratch))| {
-                let out = &mut scratch.out;
-                out.clear();
-                let worst = pair_loop(
-                    input,
-                    ids,
-                    c * CHUNK,
-                    (t, r, l),
-                    (&mut scratch.touching, &mut scratch.batch),
-                    out,
-                );
-                scratch.reach.clear();
-                scratch
-                    .reach
-                    .extend(out.iter().scan(0, |reach, &(_, j, _)| {
-                        *reach = j.max(*reach);
-                        Some(*reach)
-                    }));
-                worst
-            })
-            .reduce(WorstOverlap::default, WorstOverlap::merge)
-    });
+    let span = ids
+        .0
+        .iter()
+        .zip(ids.1)
+        .map(|(&i, &j)| j.saturating_sub(i))
+        .max()
+        .unwrap_or(0) as usize;
+    for (r, scratch) in buffers.ranges.iter_mut().enumerate() {
+        let (lo, hi) = (bounds[r], bounds[r + 1]);
+        let inc = &mut scratch.incoming;
+        inc.clear();
+        // A pair with j ≥ lo and i < lo has i ≥ lo − span.
+        for k in pair_start(ids.0, lo.saturating_sub(span))..pair_starts[r] {
+            let j = ids.1[k];
+            if (lo..hi).contains(&(j as usize)) {
+                inc.i.push(ids.0[k]);
+                inc.j.push(j);
+                inc.tangential.push(tangential[k]);
+                inc.rolling.push(rolling[k]);
+                inc.live.push(live[k]);
+            }
+        }
+    }
 
-    // Pass 2: body ranges.
-    let bounds = even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE);
-    let ranges = bounds.len() - 1;
     // Every number is overwritten by the ranges; only the length matters.
     buffers.force.resize(n, DVec3::ZERO);
     buffers.torque.resize(n, DVec3::ZERO);
@@ -128,32 +168,31 @@ pub(super) fn evaluate(
     wall_probes(input.walls, &mut buffers.wall_probes);
     let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
     let tasks = range_tasks(
-        &bounds,
+        (&bounds, &pair_starts),
         (&mut buffers.force, &mut buffers.torque),
+        (tangential, rolling, live),
         batched_walls.then_some({
             let (tangential, _, live) = wall_pairs.history.parts_mut();
             (wall_ids, (tangential, live))
         }),
     );
-    buffers.ranges.resize_with(ranges, RangeScratch::default);
-    let (outs, probes) = (&buffers.chunks[..chunks], &buffers.wall_probes[..]);
-    let results: Vec<(usize, WorstOverlap)> = pool.install(|| {
+    let probes = &buffers.wall_probes[..];
+    let results: Vec<RangeResult> = pool.install(|| {
         tasks
             .into_par_iter()
             .zip(buffers.ranges.par_iter_mut())
             .with_max_len(1)
-            .map(|(task, scratch)| range_pass(input, gravity, outs, probes, task, scratch))
+            .map(|(task, scratch)| range_pass(input, gravity, ids, probes, task, scratch))
             .collect()
     });
 
-    let mut count = ContactCount {
-        particle_particle: outs.iter().map(|c| c.out.len()).sum(),
-        particle_wall: 0,
-    };
-    let mut worst_wall = WorstOverlap::default();
-    for (contacts, worst) in results {
-        count.particle_wall += contacts;
-        worst_wall = worst_wall.merge(worst);
+    let mut count = ContactCount::default();
+    let (mut worst_pair, mut worst_wall) = (WorstOverlap::default(), WorstOverlap::default());
+    for r in results {
+        count.particle_particle += r.pair_contacts;
+        count.particle_wall += r.wall_contacts;
+        worst_pair = worst_pair.merge(r.worst_pair);
+        worst_wall = worst_wall.merge(r.worst_wall);
     }
     if !batched_walls {
         // Other laws: the walls in one pass after all pairs, in the one-thread order.
@@ -171,27 +210,67 @@ pub(super) fn evaluate(
     }
 }
 
+/// Index of the first pair whose i is at least `body` (the list is sorted by i).
+fn pair_start(pi: &[u32], body: usize) -> usize {
+    pi.partition_point(|&i| (i as usize) < body)
+}
+
+/// Bounds (from 0 to `n`, increasing) of `ranges` ranges of bodies of about equal cost: a
+/// body costs [`BODY_COST`] plus its own candidate pairs. Where the cuts fall changes no
+/// result, only the balance.
+fn balanced_bounds(pi: &[u32], n: usize, ranges: usize) -> Vec<usize> {
+    let cost = |body: usize| pair_start(pi, body) + BODY_COST * body;
+    let total = cost(n);
+    let mut bounds = Vec::with_capacity(ranges + 1);
+    bounds.push(0);
+    for r in 1..ranges {
+        let target = r * total / ranges;
+        // The first body whose cost reaches the target (`cost` increases with the body).
+        let (mut a, mut b) = (*bounds.last().unwrap_or(&0), n);
+        while a < b {
+            let mid = a + (b - a) / 2;
+            if cost(mid) < target {
+                a = mid + 1;
+            } else {
+                b = mid;
+            }
+        }
+        bounds.push(a);
+    }
+    bounds.push(n);
+    bounds
+}
+
 /// The wall candidates' particles and walls, and their ξ and live flags, as the force loop
 /// takes them.
 type WallList<'a> = ((&'a [u32], &'a [u32]), (&'a mut [DVec3], &'a mut [u8]));
 
-/// Cuts the force and torque buffers at `bounds`, and the wall list (when given) into each
-/// range's pieces: one per wall run, holding the run's candidates with a particle in the range.
+/// Cuts the force and torque buffers at `bounds`, the pair histories at `pair_starts`, and
+/// the wall list (when given) into each range's pieces: one per wall run, holding the run's
+/// candidates with a particle in the range.
 fn range_tasks<'a>(
-    bounds: &[usize],
+    (bounds, pair_starts): (&[usize], &[usize]),
     (mut force, mut torque): (&'a mut [DVec3], &'a mut [DVec3]),
+    (mut tangential, mut rolling, mut live): (&'a mut [DVec3], &'a mut [DVec3], &'a mut [u8]),
     walls: Option<WallList<'a>>,
 ) -> Vec<RangeTask<'a>> {
     let mut tasks = Vec::with_capacity(bounds.len() - 1);
-    for w in bounds.windows(2) {
+    for (w, p) in bounds.windows(2).zip(pair_starts.windows(2)) {
         let len = w[1] - w[0];
         let (f, rest_f) = std::mem::take(&mut force).split_at_mut(len);
         let (t, rest_t) = std::mem::take(&mut torque).split_at_mut(len);
         (force, torque) = (rest_f, rest_t);
+        let pairs = p[1] - p[0];
+        let (pt, rest_t) = std::mem::take(&mut tangential).split_at_mut(pairs);
+        let (pr, rest_r) = std::mem::take(&mut rolling).split_at_mut(pairs);
+        let (pl, rest_l) = std::mem::take(&mut live).split_at_mut(pairs);
+        (tangential, rolling, live) = (rest_t, rest_r, rest_l);
         tasks.push(RangeTask {
             lo: w[0],
             force: f,
             torque: t,
+            pair_base: p[0],
+            pairs: (pt, pr, pl),
             walls: Vec::new(),
         });
     }
@@ -223,20 +302,53 @@ fn range_tasks<'a>(
     tasks
 }
 
-/// One body range: gravity, its shares of the pair forces, its wall contacts. Returns its
-/// wall contacts and their worst overlap.
+/// Hands a range's incoming contacts to it: j's share only.
+struct IncomingSink<'s, 'a> {
+    acc: &'s mut Accumulator<'a>,
+    lo: usize,
+}
+
+impl PairSink for IncomingSink<'_, '_> {
+    #[inline(always)]
+    fn contact(&mut self, _i: usize, j: usize, cf: &ContactForce) {
+        self.acc.add_j(j - self.lo, cf);
+    }
+}
+
+/// Hands a range's own contacts to it: i's share, and j's when j is in the range.
+struct OwnSink<'s, 'a> {
+    acc: &'s mut Accumulator<'a>,
+    lo: usize,
+    hi: usize,
+    contacts: usize,
+}
+
+impl PairSink for OwnSink<'_, '_> {
+    #[inline(always)]
+    fn contact(&mut self, i: usize, j: usize, cf: &ContactForce) {
+        self.contacts += 1;
+        self.acc.add_i(i - self.lo, cf);
+        if j < self.hi {
+            self.acc.add_j(j - self.lo, cf);
+        }
+    }
+}
+
+/// One body range: gravity, its incoming and own pairs, its wall contacts.
 fn range_pass(
     input: &KernelInput,
     gravity: DVec3,
-    outs: &[ChunkScratch],
+    ids: (&[u32], &[u32]),
     probes: &[WallProbe],
     task: RangeTask,
     scratch: &mut RangeScratch,
-) -> (usize, WorstOverlap) {
+) -> RangeResult {
     let RangeTask {
         lo,
         force,
         torque,
+        pair_base,
+        pairs,
         walls,
     } = task;
     let hi = lo + force.len();
@@ -246,37 +358,45 @@ fn range_pass(
     }
     torque.fill(DVec3::ZERO);
 
+    let mut result = RangeResult::default();
     let mut acc = Accumulator::new(&mut *force, &mut *torque);
-    'chunks: for chunk in outs {
-        // Contacts before `first` have j < lo, and i < j: none of this range's bodies.
-        let first = chunk.reach.partition_point(|&j| (j as usize) < lo);
-        for (i, j, cf) in &chunk.out[first..] {
-            let (i, j) = (*i as usize, *j as usize);
-            if i >= hi {
-                // Sorted by i: every later contact belongs to later bodies.
-                break 'chunks;
-            }
-            if i >= lo {
-                acc.add_i(i - lo, cf);
-            }
-            if (lo..hi).contains(&j) {
-                acc.add_j(j - lo, cf);
-            }
-        }
-    }
+    let inc = &mut scratch.incoming;
+    // Its worst overlap is the owner's to report.
+    pair_loop(
+        input,
+        (&inc.i, &inc.j),
+        0,
+        (&mut inc.tangential, &mut inc.rolling, &mut inc.live),
+        (&mut scratch.touching, &mut scratch.batch),
+        &mut IncomingSink { acc: &mut acc, lo },
+    );
+    let mut own = OwnSink {
+        acc: &mut acc,
+        lo,
+        hi,
+        contacts: 0,
+    };
+    result.worst_pair = pair_loop(
+        input,
+        ids,
+        pair_base,
+        pairs,
+        (&mut scratch.touching, &mut scratch.batch),
+        &mut own,
+    );
+    result.pair_contacts = own.contacts;
     acc.finish();
 
-    let mut worst = WorstOverlap::default();
-    let mut contacts = 0;
     if walls.is_empty() {
-        return (contacts, worst);
+        return result;
     }
     prepare_wall_batch(input, &mut scratch.batch);
     let mut sink = |i: usize, cf: &ContactForce| {
         force[i - lo] += cf.force;
         torque[i - lo] += cf.torque_i;
-        contacts += 1;
+        result.wall_contacts += 1;
     };
+    let mut worst = WorstOverlap::default();
     for piece in walls {
         let len = piece.particles.len();
         // Only grown, never cleared, as in `batched_wall_loop`.
@@ -303,7 +423,8 @@ fn range_pass(
             &mut sink,
         );
     }
-    (contacts, worst)
+    result.worst_wall = worst;
+    result
 }
 
 #[cfg(test)]
@@ -341,9 +462,48 @@ mod tests {
     }
 
     #[test]
+    fn ranges_are_cut_at_about_equal_cost_and_cover_every_body_once() {
+        // Bodies 0..1000; body b owns b % 7 pairs (a lumpy list, sorted by i as the real
+        // one). Every cut must be increasing from 0 to n, and each range's cost (own pairs
+        // plus BODY_COST per body) within one body's largest cost (6 + BODY_COST) of the
+        // mean, plus one: the cut is the first body reaching its share, so it overshoots by at most
+        // one body.
+        let n = 1000;
+        let pi: Vec<u32> = (0..n as u32)
+            .flat_map(|b| vec![b; b as usize % 7])
+            .collect();
+        let cost = |a: usize, b: usize| {
+            pi.iter()
+                .filter(|&&i| (a..b).contains(&(i as usize)))
+                .count()
+                + BODY_COST * (b - a)
+        };
+        for ranges in [1, 2, 3, 7, 16] {
+            let b = balanced_bounds(&pi, n, ranges);
+            assert_eq!(b.len(), ranges + 1);
+            assert_eq!((b[0], b[ranges]), (0, n));
+            assert!(b.windows(2).all(|w| w[0] <= w[1]), "{b:?}");
+            let mean = cost(0, n) as f64 / ranges as f64;
+            for w in b.windows(2) {
+                let c = cost(w[0], w[1]) as f64;
+                // One more for the integer division of the targets.
+                assert!(
+                    (c - mean).abs() <= (7 + BODY_COST) as f64,
+                    "{ranges}: {c} vs {mean}"
+                );
+            }
+        }
+        // No pairs at all, and fewer bodies than ranges: still an increasing cover (some
+        // ranges empty).
+        let b = balanced_bounds(&[], 3, 4);
+        assert_eq!((b.len(), b[0], b[4]), (5, 0, 3));
+        assert!(b.windows(2).all(|w| w[0] <= w[1]), "{b:?}");
+    }
+
+    #[test]
     fn several_threads_give_the_one_thread_sums_bit_for_bit() {
         // The jumble (planes, a tilted polygon, a removed wall, spinning spheres, random ξ)
-        // evaluated on 1, 2, 3 and 5 threads: forces, torques, histories, counts and worst
+        // evaluated on 1, 2, 3 and 5 threads (4, 6 and 9 ranges, cut by cost): forces, torques, histories, counts and worst
         // overlaps must be the same bits. Exact equality: the several-thread passes promise
         // the same additions in the same order. Both the paper's laws (the batched wall
         // pass, split by range) and other laws (the scalar wall loop after the ranges), one
@@ -387,6 +547,13 @@ mod tests {
                             eval.count.particle_particle > 100 && eval.count.particle_wall > 10
                         );
                         all.extend(bits(&buffers, &p, &w, &eval));
+                    }
+                    if pool.is_some() {
+                        // The jumble's order is random, so pairs cross every cut: the
+                        // comparison covers the incoming pairs resolved twice.
+                        let crossing: usize =
+                            buffers.ranges.iter().map(|r| r.incoming.i.len()).sum();
+                        assert!(buffers.ranges.len() >= 4 && crossing > 50, "{crossing}");
                     }
                     all
                 };
