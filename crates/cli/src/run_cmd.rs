@@ -27,8 +27,9 @@ pub struct RunArgs {
     resume: bool,
     /// Worker threads (results are identical for any value). The forces and the kick and
     /// drift run in parallel; list builds and the run's measurements stay on one thread. For
-    /// the paper's 3000 spheres two threads are about 15 % faster than one, for 10^5 spheres
-    /// and more nearly twice as fast (docs/performance.md). Several cases use the cores
+    /// 10^5 spheres and more two threads are nearly twice as fast as one; for the paper's
+    /// 3000 spheres a whole run is not faster (the outlet checks between short stretches of
+    /// steps cost what the forces gain; docs/performance.md). Several cases use the cores
     /// better side by side: `study --jobs`.
     #[arg(long, default_value_t = 1)]
     threads: usize,
