@@ -683,6 +683,16 @@ impl Simulation {
         }
     }
 
+    /// The simulation's thread pool, if it has one, for callers that alternate short
+    /// [`Simulation::run`]s with work of their own (a run protocol measuring the outlet every
+    /// few steps). Such a caller does better to run its whole loop inside the pool
+    /// (`pool.install`): each `run` then starts on a pool thread at once, instead of handing
+    /// its steps over to a sleeping one and waiting for them. Changes no result, only which
+    /// thread does the work.
+    pub fn pool_handle(&self) -> Option<Arc<rayon::ThreadPool>> {
+        self.pool.clone()
+    }
+
     /// The loop of [`Simulation::run`], on the calling thread.
     fn run_steps(&mut self, n: u64) -> Result<(), DemError> {
         for k in 0..n {

@@ -177,7 +177,20 @@ impl CaseRun {
     }
 
     /// Advances by one protocol chunk (at most `CHECK_INTERVAL` of simulated time).
+    ///
+    /// On a thread pool the whole chunk runs inside it ([`Simulation::pool_handle`]): the
+    /// discharge measures the outlet every few steps, and each of those short runs would
+    /// otherwise hand its steps over to the pool and back.
     pub fn advance(&mut self) -> Result<(), RunError> {
+        let pool = self.sim.pool_handle();
+        match pool {
+            Some(pool) => pool.install(|| self.advance_here()),
+            None => self.advance_here(),
+        }
+    }
+
+    /// [`CaseRun::advance`] on the calling thread.
+    fn advance_here(&mut self) -> Result<(), RunError> {
         let dt = self.case.time_step;
         let chunk = (CHECK_INTERVAL / dt).round().max(1.0) as u64;
         match self.state.phase {
