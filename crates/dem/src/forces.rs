@@ -2,9 +2,9 @@
 //! order, so that sums are bit-identical at any thread count.
 //!
 //! One thread (this file): each contact force is added to its two bodies as soon as it is
-//! computed. Several threads (`parallel`): contacts are computed in parallel chunks into
-//! buffers, then each range of bodies adds its own shares, and its wall contacts, in the same
-//! order. Both paths run the same kernel and give every body the same sequence of
+//! computed. Several threads (`parallel`): each range of bodies, in one parallel pass,
+//! resolves its own pairs, again the pairs that reach into it from earlier ranges, and its
+//! wall contacts. Both paths run the same kernel and give every body the same sequence of
 //! floating-point additions (gravity, pairs in list order, walls in list order).
 
 use glam::{BVec3, DVec3};
@@ -79,19 +79,20 @@ impl WorstOverlap {
     }
 }
 
-/// Scratch of one chunk of candidate pairs, reused from step to step.
+/// Scratch of one pass of the pair and wall loops, reused from step to step.
 #[derive(Debug, Default)]
-struct ChunkScratch {
-    /// Chunk-local indices of the touching candidates, in order.
+struct KernelScratch {
+    /// Indices (into the slice being filtered) of the touching pair candidates, in order.
     touching: Vec<u32>,
-    /// The batch the chunk's contacts are resolved in.
+    /// The batch the contacts are resolved in.
     batch: Box<Batch>,
 }
 
 /// Reusable buffers.
 #[derive(Debug, Default)]
 pub(crate) struct ForceBuffers {
-    chunks: Vec<ChunkScratch>,
+    /// Scratch of the one-thread pass.
+    kernel: KernelScratch,
     /// Indices of the touching wall candidates.
     wall_hits: Vec<u32>,
     /// Whether each wall candidate touches (1) or not (0), for the split plane filter.
@@ -225,10 +226,7 @@ pub(crate) fn evaluate(
     let mut count = ContactCount::default();
     let ids = (&pairs.i[..], &pairs.j[..]);
 
-    if buffers.chunks.is_empty() {
-        buffers.chunks.push(ChunkScratch::default());
-    }
-    let scratch = &mut buffers.chunks[0];
+    let scratch = &mut buffers.kernel;
     let mut acc = Accumulator::new(&mut buffers.force, &mut buffers.torque);
     let worst_pair = pair_loop(
         input,
@@ -259,7 +257,7 @@ pub(crate) fn evaluate(
                 &mut buffers.wall_hits,
                 &mut buffers.wall_touch,
                 &mut buffers.wall_probes,
-                &mut buffers.chunks[0].batch,
+                &mut buffers.kernel.batch,
             ),
             sink,
         )

@@ -66,6 +66,19 @@ impl HistoryArrays {
         self.live.push(LIVE);
     }
 
+    /// Appends contact `k` of `from` as stored, live flags included: a copy that the force
+    /// loops read exactly as they would read the original.
+    #[inline]
+    pub(crate) fn push_stored(
+        &mut self,
+        (tangential, rolling, live): (&[DVec3], &[DVec3], &[u8]),
+        k: usize,
+    ) {
+        self.tangential.push(tangential[k]);
+        self.rolling.push(rolling[k]);
+        self.live.push(live[k]);
+    }
+
     /// History of contact `k`.
     #[inline]
     pub fn get(&self, k: usize) -> ContactHistory {

@@ -29,6 +29,8 @@
 //! ranges are cut.
 
 use super::*;
+use crate::history::HistoryArrays;
+use crate::ranges::{cost_bounds, pair_start};
 use rayon::prelude::*;
 
 /// Ranges per pool thread: more than one lets the pool balance ranges whose cost the cut
@@ -57,33 +59,20 @@ pub(super) struct RangeScratch {
     hits: Vec<u32>,
     /// Whether each wall candidate of a piece touches (1) or not (0).
     touch: Vec<u8>,
-    /// The batch its pair and wall contacts are resolved in.
-    batch: Box<Batch>,
-    /// Indices of the touching pair candidates, for the pair filter.
-    touching: Vec<u32>,
-    /// The incoming pairs, in list order: i, j, and copies of ξ, the rolling history and the
-    /// live flags (`HistoryArrays`) as they were before the pass.
+    /// Its pair filter's hits and the batch its pair and wall contacts are resolved in.
+    kernel: KernelScratch,
+    /// The incoming pairs, in list order, with copies of their histories as they were before
+    /// the pass.
     incoming: IncomingPairs,
 }
 
-/// Pairs resolved by a range for j's share only, with their histories copied.
+/// Pairs resolved by a range for j's share only.
 #[derive(Debug, Default)]
 struct IncomingPairs {
     i: Vec<u32>,
     j: Vec<u32>,
-    tangential: Vec<DVec3>,
-    rolling: Vec<DVec3>,
-    live: Vec<u8>,
-}
-
-impl IncomingPairs {
-    fn clear(&mut self) {
-        self.i.clear();
-        self.j.clear();
-        self.tangential.clear();
-        self.rolling.clear();
-        self.live.clear();
-    }
+    /// Their histories, live flags included, copied from the pair list.
+    history: HistoryArrays,
 }
 
 /// What one body range owns for the pass.
@@ -137,7 +126,7 @@ pub(super) fn evaluate(
     let ranges = (pool.current_num_threads() * RANGES_PER_THREAD)
         .min(n / MIN_RANGE)
         .max(1);
-    let bounds = balanced_bounds(ids.0, n, ranges);
+    let bounds = cost_bounds(ids.0, n, ranges, BODY_COST);
     let pair_starts: Vec<usize> = bounds.iter().map(|&b| pair_start(ids.0, b)).collect();
     buffers.ranges.resize_with(ranges, RangeScratch::default);
 
@@ -245,53 +234,22 @@ fn copy_all_incoming(
 /// their histories, in list order.
 fn copy_incoming(
     (pi, pj): (&[u32], &[u32]),
-    (tangential, rolling, live): (&[DVec3], &[DVec3], &[u8]),
+    history: (&[DVec3], &[DVec3], &[u8]),
     (lo, hi): (usize, usize),
     window: std::ops::Range<usize>,
     inc: &mut IncomingPairs,
 ) {
-    inc.clear();
+    inc.i.clear();
+    inc.j.clear();
+    inc.history.clear();
     for k in window {
         let j = pj[k];
         if (lo..hi).contains(&(j as usize)) {
             inc.i.push(pi[k]);
             inc.j.push(j);
-            inc.tangential.push(tangential[k]);
-            inc.rolling.push(rolling[k]);
-            inc.live.push(live[k]);
+            inc.history.push_stored(history, k);
         }
     }
-}
-
-/// Index of the first pair whose i is at least `body` (the list is sorted by i).
-fn pair_start(pi: &[u32], body: usize) -> usize {
-    pi.partition_point(|&i| (i as usize) < body)
-}
-
-/// Bounds (from 0 to `n`, increasing) of `ranges` ranges of bodies of about equal cost: a
-/// body costs [`BODY_COST`] plus its own candidate pairs. Where the cuts fall changes no
-/// result, only the balance.
-fn balanced_bounds(pi: &[u32], n: usize, ranges: usize) -> Vec<usize> {
-    let cost = |body: usize| pair_start(pi, body) + BODY_COST * body;
-    let total = cost(n);
-    let mut bounds = Vec::with_capacity(ranges + 1);
-    bounds.push(0);
-    for r in 1..ranges {
-        let target = r * total / ranges;
-        // The first body whose cost reaches the target (`cost` increases with the body).
-        let (mut a, mut b) = (*bounds.last().unwrap_or(&0), n);
-        while a < b {
-            let mid = a + (b - a) / 2;
-            if cost(mid) < target {
-                a = mid + 1;
-            } else {
-                b = mid;
-            }
-        }
-        bounds.push(a);
-    }
-    bounds.push(n);
-    bounds
 }
 
 /// The wall candidates' particles and walls, and their ξ and live flags, as the force loop
@@ -414,13 +372,14 @@ fn range_pass(
     let mut result = RangeResult::default();
     let mut acc = Accumulator::new(&mut *force, &mut *torque);
     let inc = &mut scratch.incoming;
+    let kernel = &mut scratch.kernel;
     // Its worst overlap is the owner's to report.
     pair_loop(
         input,
         (&inc.i, &inc.j),
         0,
-        (&mut inc.tangential, &mut inc.rolling, &mut inc.live),
-        (&mut scratch.touching, &mut scratch.batch),
+        inc.history.parts_mut(),
+        (&mut kernel.touching, &mut kernel.batch),
         &mut IncomingSink { acc: &mut acc, lo },
     );
     let mut own = OwnSink {
@@ -434,7 +393,7 @@ fn range_pass(
         ids,
         pair_base,
         pairs,
-        (&mut scratch.touching, &mut scratch.batch),
+        (&mut kernel.touching, &mut kernel.batch),
         &mut own,
     );
     result.pair_contacts = own.contacts;
@@ -443,7 +402,7 @@ fn range_pass(
     if walls.is_empty() {
         return result;
     }
-    prepare_wall_batch(input, &mut scratch.batch);
+    prepare_wall_batch(input, &mut kernel.batch);
     let mut sink = |i: usize, cf: &ContactForce| {
         force[i - lo] += cf.force;
         torque[i - lo] += cf.torque_i;
@@ -470,7 +429,7 @@ fn range_pass(
             (
                 &mut scratch.hits[..len],
                 &mut scratch.touch[..len],
-                &mut scratch.batch,
+                &mut kernel.batch,
             ),
             &mut worst,
             &mut sink,
@@ -525,7 +484,7 @@ mod tests {
         let ids = (&pairs.i[..], &pairs.j[..]);
         let h = &pairs.history;
         let history = (&h.tangential[..], &h.rolling[..], &h.live[..]);
-        let bounds = balanced_bounds(ids.0, jumble.set.len(), 5);
+        let bounds = cost_bounds(ids.0, jumble.set.len(), 5, BODY_COST);
         let starts: Vec<usize> = bounds.iter().map(|&b| pair_start(ids.0, b)).collect();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
@@ -553,57 +512,19 @@ mod tests {
                 assert_eq!((got.i.clone(), got.j.clone()), (pick(ids.0), pick(ids.1)));
                 let t: Vec<DVec3> = want.iter().map(|&k| history.0[k]).collect();
                 let l: Vec<u8> = want.iter().map(|&k| history.2[k]).collect();
-                assert_eq!((&got.tangential, &got.live), (&t, &l), "range {r}");
+                let copied = (&got.history.tangential, &got.history.live);
+                assert_eq!(copied, (&t, &l), "range {r}");
             }
             assert!(crossing > 100, "pairs must cross the cuts: {crossing}");
         }
     }
 
     #[test]
-    fn ranges_are_cut_at_about_equal_cost_and_cover_every_body_once() {
-        // Bodies 0..1000; body b owns b % 7 pairs (a lumpy list, sorted by i as the real
-        // one). Every cut must be increasing from 0 to n, and each range's cost (own pairs
-        // plus BODY_COST per body) within one body's largest cost (6 + BODY_COST) of the
-        // mean, plus one: the cut is the first body reaching its share, so it overshoots by at most
-        // one body.
-        let n = 1000;
-        let pi: Vec<u32> = (0..n as u32)
-            .flat_map(|b| vec![b; b as usize % 7])
-            .collect();
-        let cost = |a: usize, b: usize| {
-            pi.iter()
-                .filter(|&&i| (a..b).contains(&(i as usize)))
-                .count()
-                + BODY_COST * (b - a)
-        };
-        for ranges in [1, 2, 3, 7, 16] {
-            let b = balanced_bounds(&pi, n, ranges);
-            assert_eq!(b.len(), ranges + 1);
-            assert_eq!((b[0], b[ranges]), (0, n));
-            assert!(b.windows(2).all(|w| w[0] <= w[1]), "{b:?}");
-            let mean = cost(0, n) as f64 / ranges as f64;
-            for w in b.windows(2) {
-                let c = cost(w[0], w[1]) as f64;
-                // One more for the integer division of the targets.
-                assert!(
-                    (c - mean).abs() <= (7 + BODY_COST) as f64,
-                    "{ranges}: {c} vs {mean}"
-                );
-            }
-        }
-        // No pairs at all, and fewer bodies than ranges: still an increasing cover (some
-        // ranges empty).
-        let b = balanced_bounds(&[], 3, 4);
-        assert_eq!((b.len(), b[0], b[4]), (5, 0, 3));
-        assert!(b.windows(2).all(|w| w[0] <= w[1]), "{b:?}");
-    }
-
-    #[test]
     fn several_threads_give_the_one_thread_sums_bit_for_bit() {
         // The jumble (planes, a tilted polygon, a removed wall, spinning spheres, random ξ)
-        // evaluated on 1, 2, 3 and 5 threads (4, 6 and 9 ranges, cut by cost): forces, torques, histories, counts and worst
-        // overlaps must be the same bits. Exact equality: the several-thread passes promise
-        // the same additions in the same order. Both the paper's laws (the batched wall
+        // evaluated on 1, 2, 3 and 5 threads (4, 6 and 9 ranges, cut by cost): forces,
+        // torques, histories, counts and worst overlaps must be the same bits. Exact
+        // equality: the several-thread passes promise the same additions in the same order. Both the paper's laws (the batched wall
         // pass, split by range) and other laws (the scalar wall loop after the ranges), one
         // and two materials, equal and unequal spheres; and twice in a row, so that scratch
         // left by one evaluation cannot leak into the next.
