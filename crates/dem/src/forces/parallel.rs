@@ -21,8 +21,8 @@
 //! - gravity first;
 //! - then its pairs. The list holds i < j, sorted by i, so the contacts in which a body is j
 //!   all come before its own run as i, the incoming ones (i before the range) first. The
-//!   one-thread [`Accumulator`] subtracts those one by one, then adds the run's register sum
-//!   when the run ends; a range does the same;
+//!   one-thread [`Accumulator`] adds them one by one in that order; a range adds its
+//!   incoming pairs first, then its own, in list order, and so does the same;
 //! - then its walls, in increasing wall order (the list is wall-major).
 //!
 //! So the sums, and the whole trajectory, do not depend on the thread count or on where the
@@ -397,7 +397,6 @@ fn range_pass(
         &mut own,
     );
     result.pair_contacts = own.contacts;
-    acc.finish();
 
     if walls.is_empty() {
         return result;
