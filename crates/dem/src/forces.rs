@@ -125,10 +125,11 @@ pub(crate) struct Evaluation {
 /// Adds pair forces to the bodies in pair order, the one summation both evaluation paths share.
 ///
 /// Each share is added to its body at once, i's as j's: every body receives its contacts
-/// one by one, in pair-list order, onto gravity. (From the third to the twelfth session i's run of
-/// pairs was summed in registers and added once when the run ended. Runs are about one
-/// contact long, so that saved almost no memory traffic, and keeping the run branch-free
-/// cost twelve selects per contact: the plain additions are about 7 % faster per step.)
+/// one by one, in pair-list order, onto gravity. (From the third to the twelfth session,
+/// i's run of pairs was summed in registers and added once when the run ended. Runs are
+/// about one contact long, so that saved almost no memory traffic, and keeping the run
+/// branch-free cost twelve selects per contact: the plain additions are about 6 % faster
+/// per step, docs/performance.md.)
 struct Accumulator<'a> {
     force: &'a mut [DVec3],
     torque: &'a mut [DVec3],
