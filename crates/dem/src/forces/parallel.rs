@@ -29,7 +29,6 @@
 //! ranges are cut.
 
 use super::*;
-use crate::history::HistoryArrays;
 use crate::ranges::{cost_bounds, pair_start};
 use rayon::prelude::*;
 
@@ -61,18 +60,9 @@ pub(super) struct RangeScratch {
     touch: Vec<u8>,
     /// Its pair filter's hits and the batch its pair and wall contacts are resolved in.
     kernel: KernelScratch,
-    /// The incoming pairs, in list order, with copies of their histories as they were before
-    /// the pass.
-    incoming: IncomingPairs,
-}
-
-/// Pairs resolved by a range for j's share only.
-#[derive(Debug, Default)]
-struct IncomingPairs {
-    i: Vec<u32>,
-    j: Vec<u32>,
-    /// Their histories, live flags included, copied from the pair list.
-    history: HistoryArrays,
+    /// The incoming pairs (resolved for j's share only), in list order, with copies of their
+    /// histories, live flags included, as they were before the pass.
+    incoming: PairList,
 }
 
 /// What one body range owns for the pass.
@@ -237,7 +227,7 @@ fn copy_incoming(
     history: (&[DVec3], &[DVec3], &[u8]),
     (lo, hi): (usize, usize),
     window: std::ops::Range<usize>,
-    inc: &mut IncomingPairs,
+    inc: &mut PairList,
 ) {
     inc.i.clear();
     inc.j.clear();
