@@ -414,12 +414,26 @@ fn filter_touching_with(
     if touching.len() < live.len() {
         touching.resize(live.len(), 0);
     }
-    let touches = pi.iter().zip(pj).map(|(&i, &j)| {
+    let len = live.len();
+    // Three loops, as the plane filter: the flags, with no count carried from one candidate
+    // to the next; the live flags, over bytes; then the compaction, in place.
+    let flags = &mut touching[..len];
+    for (f, (&i, &j)) in flags.iter_mut().zip(pi.iter().zip(pj)) {
         let (i, j) = (i as usize, j as usize);
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
-        !((pos[i] - pos[j]).length_squared() >= cut2(i, j))
-    });
-    compact_touching(touches, live, touching)
+        *f = u32::from(!((pos[i] - pos[j]).length_squared() >= cut2(i, j)));
+    }
+    for (l, &f) in live.iter_mut().zip(flags.iter()) {
+        *l = live_flags(f as u8, *l);
+    }
+    // In place: slot `count` ≤ k has been read before it is written.
+    let mut count = 0;
+    for k in 0..len {
+        let t = flags[k];
+        flags[count.min(len - 1)] = k as u32;
+        count += t as usize;
+    }
+    count
 }
 
 /// Lists in `hits` (count returned) the indices of the candidates for which `touches` yields
