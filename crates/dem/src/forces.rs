@@ -376,7 +376,7 @@ fn batched_pair_loop(
 
 /// Lists (in `touching[..count]`, count returned) the candidates of `pi`/`pj` whose spheres
 /// overlap, without a branch on the outcome, and marks the others' histories as not live
-/// (see [`compact_touching`]).
+/// (see [`note_live`]).
 #[inline(never)]
 fn filter_touching(
     p: &ParticleSet,
@@ -423,9 +423,7 @@ fn filter_touching_with(
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
         *f = u32::from(!((pos[i] - pos[j]).length_squared() >= cut2(i, j)));
     }
-    for (l, &f) in live.iter_mut().zip(flags.iter()) {
-        *l = live_flags(f as u8, *l);
-    }
+    note_live(flags, live);
     // In place: slot `count` ≤ k has been read before it is written.
     let mut count = 0;
     for k in 0..len {
@@ -507,13 +505,16 @@ fn plane_touches(
     }
 }
 
-/// Pass 2 of the plane filter: the live flags after `touch` ([`live_flags`]); a contact
-/// that opens forgets its history (physics.md §3.1) by losing [`LIVE`], one byte per
-/// candidate instead of rewriting ξ. Vectorised: bytes only, no count.
+/// Pass 2 of the plane and pair filters: the live flags after `touch` ([`live_flags`]); a
+/// contact that opens forgets its history (physics.md §3.1) by losing [`LIVE`], one byte per
+/// candidate instead of rewriting ξ. Vectorised: no count. The flags are bytes for the plane
+/// filter and 32-bit words for the pair filter, whose compaction then overwrites them in
+/// place.
 #[inline(always)]
-fn note_live(touch: &[u8], live: &mut [u8]) {
+fn note_live<T: Copy + Into<u32>>(touch: &[T], live: &mut [u8]) {
     for (l, &t) in live.iter_mut().zip(touch) {
-        *l = live_flags(t, *l);
+        // A flag is 0 or 1, so the narrowing keeps it.
+        *l = live_flags(t.into() as u8, *l);
     }
 }
 

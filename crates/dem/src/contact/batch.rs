@@ -126,9 +126,9 @@ impl Batch {
     /// As [`Batch::resolve_pairs`], for a batch whose spheres all have radius `radius` [m] and
     /// mass `mass` [kg] (the `radius` and `mass` arrays must hold them). R* and m* are then
     /// constants, which spares three of the eleven divisions and square roots per contact.
-    /// Bit-identical to `resolve_pairs` in forces,
-    /// torques and history (R* and m* are the same expressions); the overlap fraction is
-    /// formed with a reciprocal and may differ in its last bit.
+    /// Bit-identical to `resolve_pairs` in forces, torques and history (R* and m* are the
+    /// same expressions); the overlap fraction is formed with a reciprocal and may differ in
+    /// its last bit.
     #[inline(never)]
     pub fn resolve_pairs_uniform(&mut self, dt: f64, radius: f64, mass: f64) {
         let shared = SharedBody {
