@@ -74,7 +74,7 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         None => doc.push(Block::Paragraph("No study.json: version, config hash and seeds are unknown.".into())),
     }
     doc.push(Block::Paragraph(format!(
-        "{} case(s) in results.csv: {} complete, {} clogged, {} failed. Clogged and failed cases are left out of every fit; replicas are averaged (mean ± standard error) before fitting. Uncertainties are one standard error unless an interval is given. g = {} m/s².",
+        "{} case(s) in results.csv: {} complete, {} clogged, {} failed. Clogged and failed cases are left out of every fit; replicas are averaged before fitting (mean ± standard error over replicas, floored at the runs' own errors carried to the mean where they have one). Uncertainties are one standard error unless an interval is given. g = {} m/s².",
         data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed), super::GRAVITY
     )));
 
@@ -89,10 +89,10 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         2,
         "Table 2: centred outlets by hopper angle".into(),
     ));
-    doc.push(Block::Paragraph("a and b: exponents of (1 − x*²)^p fitted to the velocity and area-fraction profiles of all widths of one angle, each divided by its centre value (|x*| < 0.1), bins |x*| ≤ 0.9. γ: least squares of v_c = √(2γgR). φ∞, τ₁, τ₂: Eq. 12 over φ_c(R), R in mm (needs four widths).".into()));
+    doc.push(Block::Paragraph("a and b: exponents of (1 − x*²)^p fitted to the velocity and area-fraction profiles of all widths of one angle, each divided by its centre value (|x*| < 0.1), bins |x*| ≤ 0.9, each bin weighted by its error (over replicas: the larger of their spread and the runs' own bin errors carried to the mean). γ: least squares of v_c = √(2γgR), equal weights. φ∞, τ₁, τ₂: Eq. 12 over φ_c(R), R in mm, equal weights (needs four widths).".into()));
     doc.push(tables::table2(&analysis));
     doc.push(Block::Heading(2, "Beverloo constants".into()));
-    doc.push(Block::Paragraph("Weighted straight line of (W/Z)^(2/3) against D; k from the x-intercept, C from the slope under three densities (physics spec §8.2): bulk φ_B ρ_p (φ_B the measured settled fraction), particle ρ_p, and ρ_p φ_2D with φ_2D the mean measured centre area fraction. Intervals are 95 %.".into()));
+    doc.push(Block::Paragraph("Weighted straight line of (W/Z)^(2/3) against D (W's error over replicas: the larger of their spread and the runs' own blocking errors carried to the mean); k from the x-intercept, C from the slope under three densities (physics spec §8.2): bulk φ_B ρ_p (φ_B the measured settled fraction), particle ρ_p, and ρ_p φ_2D with φ_2D the mean measured centre area fraction. Intervals are 95 %.".into()));
     doc.push(tables::beverloo_table(&analysis));
     doc.push(Block::Heading(2, "Eq. 14 against the measured rate".into()));
     doc.push(tables::eq14_table(&analysis));

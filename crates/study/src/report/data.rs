@@ -55,9 +55,10 @@ pub struct GridPoint {
     pub particles: usize,
     /// Replicas averaged.
     pub replicas: usize,
-    /// W [kg/s]: replica mean ± standard error (one replica: its own blocking error).
+    /// W [kg/s]: replica mean ± error, the standard error over replicas floored at the
+    /// runs' own blocking errors carried to the mean (one replica: its own blocking error).
     pub discharge_rate: Estimate,
-    /// v_c [m/s].
+    /// v_c [m/s], ± the standard error over replicas (NaN with one).
     pub centre_velocity: Estimate,
     /// φ_c [-].
     pub centre_area_fraction: Estimate,
@@ -107,19 +108,38 @@ fn point_key(id: &str) -> &str {
     }
 }
 
-/// Mean ± standard error of replica values; with one value, `single_error` is its error.
-fn replica_mean(values: &[f64], single_error: f64) -> Estimate {
-    let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+/// Mean ± error of replica values, each `(value, its own error)` (NaN when the run gives
+/// none).
+///
+/// The error is the larger of two estimates of the mean's uncertainty:
+/// - the standard error over replicas, s/√n;
+/// - each run's own error carried to the mean, √(Σe²)/n, when every run gives one.
+///
+/// With two or three replicas, s has one or two degrees of freedom and comes out near zero
+/// whenever the runs happen to agree: in the three-replica study, two D = 18 mm runs at 90°
+/// agreed to 0.03 % in one profile bin, and that bin then carried about 60 % of the weight
+/// of the whole 90° shape fit. A run's own error (blocking error of W, a bin's error over
+/// its crossings) is a floor that chance agreement cannot lower. With one value, its own
+/// error is used.
+fn replica_mean(samples: &[(f64, f64)]) -> Estimate {
+    let finite: Vec<(f64, f64)> = samples
+        .iter()
+        .copied()
+        .filter(|v| v.0.is_finite())
+        .collect();
     let n = finite.len();
     if n == 0 {
         return Estimate::new(f64::NAN, f64::NAN);
     }
-    let mean = finite.iter().sum::<f64>() / n as f64;
+    let mean = finite.iter().map(|v| v.0).sum::<f64>() / n as f64;
     if n == 1 {
-        return Estimate::new(mean, single_error);
+        return Estimate::new(mean, finite[0].1);
     }
-    let variance = finite.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
-    Estimate::new(mean, (variance / n as f64).sqrt())
+    let variance = finite.iter().map(|v| (v.0 - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+    let between = (variance / n as f64).sqrt();
+    // NaN when some run has no error of its own: then only the spread is known.
+    let within = finite.iter().map(|v| v.1 * v.1).sum::<f64>().sqrt() / n as f64;
+    Estimate::new(mean, if within > between { within } else { between })
 }
 
 /// Reads `profiles.csv` rows; `None` when absent or unreadable (the report then says the
@@ -144,8 +164,8 @@ fn read_flow(path: &Path) -> Option<(Vec<f64>, Vec<f64>)> {
     Some((t, w))
 }
 
-/// Bin-wise replica average of profiles with equal bins: mean ± standard error over the
-/// replicas that populate a bin (one replica keeps its own bin error).
+/// Bin-wise replica average of profiles with equal bins: mean ± error ([`replica_mean`]) over
+/// the replicas that populate a bin.
 fn average_profiles(
     profiles: &[Vec<ProfileRow>],
     value: impl Fn(&ProfileRow) -> f64,
@@ -163,9 +183,11 @@ fn average_profiles(
             .map(|p| &p[i])
             .filter(|row| count(row) > 0 && value(row).is_finite())
             .collect();
-        let samples: Vec<f64> = populated.iter().map(|row| value(row)).collect();
-        let single = populated.first().map_or(f64::NAN, |row| error(row));
-        let mean = replica_mean(&samples, single);
+        let samples: Vec<(f64, f64)> = populated
+            .iter()
+            .map(|row| (value(row), error(row)))
+            .collect();
+        let mean = replica_mean(&samples);
         centres.push(bin.x_star);
         values.push(mean.value);
         counts.push(populated.iter().map(|row| count(row)).sum());
@@ -192,7 +214,14 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
     let mut points = Vec::new();
     for (key, replicas) in groups {
         let first = replicas[0];
-        let values = |f: fn(&ResultRow) -> f64| replicas.iter().map(|r| f(r)).collect::<Vec<_>>();
+        // Results with no error of their own (the centre values) get NaN: their mean's
+        // error is then the spread over replicas alone.
+        let values = |f: fn(&ResultRow) -> f64| {
+            replicas
+                .iter()
+                .map(|r| (f(r), f64::NAN))
+                .collect::<Vec<_>>()
+        };
         let profiles: Vec<Vec<ProfileRow>> = replicas
             .iter()
             .filter_map(|r| read_profiles(&paths.case_dir(&r.id).join("profiles.csv")))
@@ -232,11 +261,16 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             particle_density: first.particle_density,
             particles: first.particles,
             replicas: replicas.len(),
-            discharge_rate: replica_mean(&values(|r| r.discharge_rate), first.discharge_rate_error),
-            centre_velocity: replica_mean(&values(|r| r.centre_velocity), f64::NAN),
-            centre_area_fraction: replica_mean(&values(|r| r.centre_area_fraction), f64::NAN),
-            max_area_fraction: replica_mean(&values(|r| r.max_area_fraction), f64::NAN),
-            bulk_volume_fraction: replica_mean(&values(|r| r.bulk_volume_fraction), f64::NAN).value,
+            discharge_rate: replica_mean(
+                &replicas
+                    .iter()
+                    .map(|r| (r.discharge_rate, r.discharge_rate_error))
+                    .collect::<Vec<_>>(),
+            ),
+            centre_velocity: replica_mean(&values(|r| r.centre_velocity)),
+            centre_area_fraction: replica_mean(&values(|r| r.centre_area_fraction)),
+            max_area_fraction: replica_mean(&values(|r| r.max_area_fraction)),
+            bulk_volume_fraction: replica_mean(&values(|r| r.bulk_volume_fraction)).value,
             velocity_profile,
             area_fraction_profile,
             flow: read_flow(&paths.case_dir(&first.id).join("flow.csv")),
@@ -261,11 +295,29 @@ mod tests {
 
     #[test]
     fn replica_mean_gives_the_standard_error_of_the_mean() {
-        // Values 1, 2, 3: sample standard deviation 1, so the error is 1/√3 exactly.
-        let m = replica_mean(&[1.0, 2.0, 3.0], 9.0);
+        // Values 1, 2, 3 with no errors of their own: sample standard deviation 1, so the
+        // error is 1/√3 (to rounding: 1e-15 is a few ulps of numbers near 1).
+        let nan = f64::NAN;
+        let m = replica_mean(&[(1.0, nan), (2.0, nan), (3.0, nan)]);
         assert!((m.value - 2.0).abs() < 1e-15);
         assert!((m.standard_error - 1.0 / 3f64.sqrt()).abs() < 1e-15);
+        // Own errors smaller than the spread change nothing: √(3 · 0.1²)/3 ≈ 0.058 < 0.577.
+        let m = replica_mean(&[(1.0, 0.1), (2.0, 0.1), (3.0, 0.1)]);
+        assert!((m.standard_error - 1.0 / 3f64.sqrt()).abs() < 1e-15);
         // One replica keeps the error it came with.
-        assert_eq!(replica_mean(&[4.0], 0.5).standard_error, 0.5);
+        assert_eq!(replica_mean(&[(4.0, 0.5)]).standard_error, 0.5);
+    }
+
+    #[test]
+    fn replicas_that_agree_by_chance_keep_their_own_errors() {
+        // Two runs 0.0003 apart, each ± 0.008 (the 90° D = 18 mm bin of the three-replica
+        // study): the spread alone would give 0.00015, the runs' own errors give
+        // √2 · 0.008/2 ≈ 0.00566, and the larger is the honest one.
+        let m = replica_mean(&[(0.3051, 0.008), (0.3048, 0.008)]);
+        assert!((m.value - 0.30495).abs() < 1e-12);
+        assert!((m.standard_error - 0.008 / 2f64.sqrt()).abs() < 1e-12);
+        // Identical runs: the spread is zero, the floor is not.
+        let m = replica_mean(&[(1.0, 0.2), (1.0, 0.2)]);
+        assert!(m.standard_error > 0.1);
     }
 }

@@ -137,13 +137,9 @@ pub fn analyse_eccentric(all: &[GridPoint]) -> EccentricAnalysis {
         let mut maxima = |label: &str, keep: &dyn Fn(&GridPoint) -> bool| {
             let group: Vec<&GridPoint> = members.iter().copied().filter(|p| keep(p)).collect();
             let radii: Vec<f64> = group.iter().map(|p| p.radius()).collect();
-            let phi: Vec<Estimate> = group.iter().map(|p| p.max_area_fraction).collect();
-            let fit = fit_maximum_packing(
-                &radii,
-                &phi.iter().map(|e| e.value).collect::<Vec<_>>(),
-                errors_if_known(&phi).as_deref(),
-            )
-            .map_err(|e| e.to_string());
+            // Equal weights, as γ and φ∞ (`centred::fit_angle` says why).
+            let phi: Vec<f64> = group.iter().map(|p| p.max_area_fraction.value).collect();
+            let fit = fit_maximum_packing(&radii, &phi, None).map_err(|e| e.to_string());
             analysis
                 .maximum_packing_fits
                 .push((name.to_string(), label.to_string(), fit));
