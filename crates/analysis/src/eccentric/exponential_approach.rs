@@ -18,10 +18,24 @@ pub struct ExponentialApproachFit {
     pub amplitude: Estimate,
     /// Rate c₂ (per unit of s*, dimensionless for s*).
     pub rate: Estimate,
+    /// Whether the data determine c₂. False when the fitted approach is complete to
+    /// [`UNRESOLVED_APPROACH`] of c₁ at the smallest s* > 0: the data then show a step at
+    /// s* = 0, every larger c₂ fits as well, and `rate`'s error (from a derivative near zero)
+    /// means nothing.
+    #[serde(default = "resolved")]
+    pub rate_resolved: bool,
     /// Weighted sum of squared residuals.
     pub chi_squared: f64,
     /// Residual degrees of freedom (n − 3).
     pub degrees_of_freedom: usize,
+}
+
+/// The fraction e^{−c₂ s*₁} of the approach left at the smallest s*₁ > 0 below which c₂ is
+/// not determined: a thousandth of c₁ is far below any σ_s1 scatter (0.01–0.03 per case).
+pub const UNRESOLVED_APPROACH: f64 = 1e-3;
+
+fn resolved() -> bool {
+    true
 }
 
 /// y = c₀ − c₁ e^{−c₂ s*}.
@@ -81,10 +95,18 @@ pub fn fit_exponential_approach(
             ParameterBounds::between(1e-6, 1e3),
         ]),
     )?;
+    let rate = fit.parameters[2];
+    let first = s_star
+        .iter()
+        .copied()
+        .filter(|s| *s > 0.0)
+        .fold(f64::INFINITY, f64::min);
     Ok(ExponentialApproachFit {
         limit: fit.parameters[0],
         amplitude: fit.parameters[1],
-        rate: fit.parameters[2],
+        rate,
+        // A NaN rate counts as resolved, so that the table prints it, NaN and all.
+        rate_resolved: (-rate.value * first).exp() >= UNRESOLVED_APPROACH || rate.value.is_nan(),
         chi_squared: fit.chi_squared,
         degrees_of_freedom: fit.degrees_of_freedom,
     })
@@ -126,6 +148,25 @@ mod tests {
             (fit.rate.value - 3.74).abs() < 4.0 * fit.rate.standard_error,
             "{fit:?}"
         );
+        assert!(fit.rate_resolved);
+    }
+
+    #[test]
+    fn a_step_at_zero_eccentricity_leaves_the_rate_undetermined() {
+        // As σ_s1 in the three-replica study (Table 3): 0.27 at s* = 0, then 0.40–0.43
+        // from the first gap on (s* ≥ 0.146), the first of them the highest: no sign of a gradual
+        // approach. The fit runs c₂ up until the exponential vanishes at s*₁; it must say
+        // that c₂ is not determined rather than report a huge c₂ with a vanishing error.
+        let s_star = [
+            0.0, 0.0, 0.146, 0.171, 0.293, 0.343, 0.439, 0.514, 0.585, 0.686,
+        ];
+        let values = [0.27, 0.275, 0.42, 0.41, 0.40, 0.41, 0.42, 0.40, 0.41, 0.41];
+        let fit = fit_exponential_approach(&s_star, &values, None).unwrap();
+        assert!(!fit.rate_resolved, "{fit:?}");
+        // The plateau and the depth are still measured: c₀ near the mean of the s* > 0
+        // points (0.41) and c₁ near 0.41 − 0.2725; 0.02 is twice the points' scatter.
+        assert!((fit.limit.value - 0.41).abs() < 0.02, "{fit:?}");
+        assert!((fit.amplitude.value - 0.1375).abs() < 0.02, "{fit:?}");
     }
 
     #[test]

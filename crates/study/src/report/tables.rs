@@ -348,7 +348,11 @@ pub fn eccentric_fit_blocks(analysis: &StudyAnalysis) -> Vec<Block> {
                     "c₀ {}, c₁ {}, c₂ {}",
                     estimate(&Ok(f.limit)),
                     estimate(&Ok(f.amplitude)),
-                    estimate(&Ok(f.rate))
+                    if f.rate_resolved {
+                        estimate(&Ok(f.rate))
+                    } else {
+                        "not determined (σ_s1 reaches its plateau by the smallest s* > 0: a step at s* = 0)".into()
+                    }
                 ),
                 "c₀ 0.39, c₁ 0.12, c₂ 3.74".into(),
             ],
