@@ -1,5 +1,6 @@
 //! Criterion benchmark of the contact kernel: the scalar `ContactLaws::resolve` and the
-//! structure-of-arrays batch the engine uses for the paper's laws, on Table-1 contacts.
+//! structure-of-arrays batch the engine uses for the paper's laws, on Table-1 contacts
+//! (sphere pairs, and sphere–wall contacts like those on the slab's faces).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use dem::contact::batch::{coefficient_row, Batch, BATCH};
@@ -106,6 +107,27 @@ fn kernels(c: &mut Criterion) {
             uniform.xi = fresh;
             black_box(&mut uniform).resolve_pairs_uniform(DT, r, mass);
             uniform.force[0][0]
+        })
+    });
+    // The wall kernel on the slab faces' contacts: normal ±y, a small overlap, the wall at
+    // rest and not spinning (ω_j = 0), every coefficient shared.
+    let mut walls = batch_of_table1_contacts(&coeff, r, mass);
+    for k in 0..BATCH {
+        let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+        walls.d[0][k] = 0.0;
+        walls.d[1][k] = side;
+        walls.d[2][k] = 0.0;
+        walls.overlap[k] = 1e-7 * (1 + k % 5) as f64;
+        for c in 0..3 {
+            walls.omega[1][c][k] = 0.0;
+        }
+    }
+    let fresh = walls.xi;
+    group.bench_function("batch_resolve_walls_one_batch", |b| {
+        b.iter(|| {
+            walls.xi = fresh;
+            black_box(&mut walls).resolve_walls(DT);
+            walls.force[0][0]
         })
     });
     group.finish();
