@@ -137,9 +137,9 @@ fn replica_mean(samples: &[(f64, f64)]) -> Estimate {
     }
     let variance = finite.iter().map(|v| (v.0 - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
     let between = (variance / n as f64).sqrt();
-    // NaN when some run has no error of its own: then only the spread is known.
+    // NaN when some run has no error of its own; `max` then keeps the spread alone.
     let within = finite.iter().map(|v| v.1 * v.1).sum::<f64>().sqrt() / n as f64;
-    Estimate::new(mean, if within > between { within } else { between })
+    Estimate::new(mean, between.max(within))
 }
 
 /// Reads `profiles.csv` rows; `None` when absent or unreadable (the report then says the
@@ -214,14 +214,12 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
     let mut points = Vec::new();
     for (key, replicas) in groups {
         let first = replicas[0];
-        // Results with no error of their own (the centre values) get NaN: their mean's
-        // error is then the spread over replicas alone.
-        let values = |f: fn(&ResultRow) -> f64| {
-            replicas
-                .iter()
-                .map(|r| (f(r), f64::NAN))
-                .collect::<Vec<_>>()
+        // Each replica's value of `f` with its own error `e`; results with none (the
+        // centre values) get NaN, and their mean's error is the spread over replicas alone.
+        let with_errors = |f: fn(&ResultRow) -> f64, e: fn(&ResultRow) -> f64| {
+            replicas.iter().map(|r| (f(r), e(r))).collect::<Vec<_>>()
         };
+        let values = |f: fn(&ResultRow) -> f64| with_errors(f, |_| f64::NAN);
         let profiles: Vec<Vec<ProfileRow>> = replicas
             .iter()
             .filter_map(|r| read_profiles(&paths.case_dir(&r.id).join("profiles.csv")))
@@ -261,12 +259,10 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             particle_density: first.particle_density,
             particles: first.particles,
             replicas: replicas.len(),
-            discharge_rate: replica_mean(
-                &replicas
-                    .iter()
-                    .map(|r| (r.discharge_rate, r.discharge_rate_error))
-                    .collect::<Vec<_>>(),
-            ),
+            discharge_rate: replica_mean(&with_errors(
+                |r| r.discharge_rate,
+                |r| r.discharge_rate_error,
+            )),
             centre_velocity: replica_mean(&values(|r| r.centre_velocity)),
             centre_area_fraction: replica_mean(&values(|r| r.centre_area_fraction)),
             max_area_fraction: replica_mean(&values(|r| r.max_area_fraction)),
