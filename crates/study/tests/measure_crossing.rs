@@ -92,14 +92,24 @@ fn velocity_profile_recovers_known_bin_means_and_standard_errors() {
     let mut probe = CrossingProbe::new(g).unwrap();
     observe_at(&mut probe, &particles, 0.0);
     assert_eq!(observe_at(&mut probe, &particles, 0.001), 4);
+    // The window's ten time blocks are 0.1 ms long, and bin 2's crossings (at 0.07, 0.50
+    // and 0.75 ms) fall into three different blocks: one sample per block, so the block
+    // error is the plain one.
     let profile = probe
         .record()
-        .velocity_profile(TimeWindow::new(0.0, 1.0).unwrap(), &bins);
+        .velocity_profile(TimeWindow::new(0.0, 0.001).unwrap(), &bins);
     let b2 = profile.entries[2];
     assert_eq!(b2.count, 3);
     // Mean 1.2 and sample standard deviation 0.2 ⇒ standard error 0.2/√3; round-off only.
     assert!((b2.mean_speed.unwrap() - 1.2).abs() < 1e-12);
     assert!((b2.standard_error.unwrap() - 0.2 / 3f64.sqrt()).abs() < 1e-12);
+    // Over a window ten times longer all three share its first block: no spread between
+    // blocks can be seen, so no error is claimed.
+    let long = probe
+        .record()
+        .velocity_profile(TimeWindow::new(0.0, 0.01).unwrap(), &bins);
+    assert_eq!(long.entries[2].mean_speed, b2.mean_speed);
+    assert_eq!(long.entries[2].standard_error, None);
     let b7 = profile.entries[7];
     assert_eq!(b7.count, 1);
     assert!((b7.mean_speed.unwrap() - 0.5).abs() < 1e-12);

@@ -12,6 +12,7 @@ use std::collections::HashMap;
 
 use serde::{Deserialize, Serialize};
 
+use super::block_error::BlockSums;
 use super::error::MeasureError;
 use super::frame::{FrameView, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
@@ -71,8 +72,9 @@ pub struct ProfileBin {
     pub count: u64,
     /// Mean downward speed −v_z over the crossings [m/s]; `None` without crossings.
     pub mean_speed: Option<f64>,
-    /// Standard error of that mean, s/√n [m/s]; `None` with fewer than two crossings.
-    /// Crossings are treated as independent.
+    /// Standard error of that mean [m/s], from the spread between the window's time blocks
+    /// (crossings come in clusters, so s/√n would understate it; see `block_error`);
+    /// `None` unless two blocks saw crossings.
     pub standard_error: Option<f64>,
 }
 
@@ -243,25 +245,20 @@ impl CrossingRecord {
     /// Mean downward speed at the crossing per x*-bin over the crossings in `window`.
     pub fn velocity_profile(&self, window: TimeWindow, bins: &OutletBins) -> VelocityProfile {
         let mut sum = vec![0.0; bins.count];
-        let mut sum_sq = vec![0.0; bins.count];
         let mut count = vec![0u64; bins.count];
+        let mut blocks = BlockSums::new(bins.count, window);
         for e in self.events.iter().filter(|e| window.contains(e.time)) {
             if let Some(i) = bins.index_of(e.x) {
                 let speed = -e.velocity_z;
                 sum[i] += speed;
-                sum_sq[i] += speed * speed;
                 count[i] += 1;
+                blocks.add(i, e.time, speed);
             }
         }
         let entries = (0..bins.count)
             .map(|i| {
-                let n = count[i] as f64;
-                let mean = (count[i] > 0).then(|| sum[i] / n);
-                let standard_error = (count[i] > 1).then(|| {
-                    let m = sum[i] / n;
-                    let variance = ((sum_sq[i] - n * m * m) / (n - 1.0)).max(0.0);
-                    (variance / n).sqrt()
-                });
+                let mean = (count[i] > 0).then(|| sum[i] / count[i] as f64);
+                let standard_error = mean.and_then(|m| blocks.standard_error(i, m));
                 ProfileBin {
                     x_star: bins.x_star_centre(i),
                     x: bins.x_centre(i),

@@ -17,6 +17,7 @@
 // NaN through.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod block_error;
 mod bulk;
 mod crossing;
 mod disc_area;
@@ -27,6 +28,7 @@ mod strip;
 mod summary;
 mod velocity_field;
 
+pub use block_error::ERROR_BLOCKS;
 pub use bulk::{sphere_volume_below, BulkMeasurement, BulkProbe, ContainerOutline, CrossSection};
 pub use crossing::{
     CrossingEvent, CrossingProbe, CrossingRecord, CrossingTally, DischargeSeries, ProfileBin,

@@ -17,6 +17,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::block_error::BlockSums;
 use super::crossing::mean_of;
 use super::disc_area::{overlap_area, section_radius, Disc, Rectangle};
 use super::error::MeasureError;
@@ -109,7 +110,9 @@ pub struct AreaFractionBin {
     pub x: f64,
     /// Area fraction φ_2D, covered area / bin area, averaged over frames.
     pub area_fraction: f64,
-    /// Standard error of φ over frames (frames treated as independent); `None` for one frame.
+    /// Standard error of that average, from the spread between the window's time blocks
+    /// (successive frames are correlated; see `block_error`); `None` unless two blocks hold
+    /// frames.
     pub area_fraction_standard_error: Option<f64>,
     /// ⟨φ v⟩: frame average of Σ_k |D_k ∩ B| (−v_z,k) / |B| [m/s], downward positive.
     pub area_fraction_speed: f64,
@@ -165,7 +168,7 @@ impl StripRecord {
         let n_bins = bins.count;
         let bin_area = bins.width() * self.config.strip_height;
         let mut phi_sum = vec![0.0; n_bins];
-        let mut phi_sq = vec![0.0; n_bins];
+        let mut blocks = BlockSums::new(n_bins, window);
         let mut flux_sum = vec![0.0; n_bins];
         let mut velocity_sum = vec![0.0; n_bins];
         let mut velocity_count = vec![0u64; n_bins];
@@ -175,7 +178,7 @@ impl StripRecord {
             for i in 0..n_bins {
                 let phi = frame.covered_area[i] / bin_area;
                 phi_sum[i] += phi;
-                phi_sq[i] += phi * phi;
+                blocks.add(i, frame.time, phi);
                 flux_sum[i] -= frame.area_velocity[i] / bin_area;
                 velocity_sum[i] -= frame.centre_velocity_sum[i];
                 velocity_count[i] += u64::from(frame.centre_count[i]);
@@ -191,10 +194,7 @@ impl StripRecord {
         let entries = (0..n_bins)
             .map(|i| {
                 let mean = phi_sum[i] / n;
-                let standard_error = (frames > 1).then(|| {
-                    let variance = ((phi_sq[i] - n * mean * mean) / (n - 1.0)).max(0.0);
-                    (variance / n).sqrt()
-                });
+                let standard_error = blocks.standard_error(i, mean);
                 AreaFractionBin {
                     x_star: bins.x_star_centre(i),
                     x: bins.x_centre(i),
