@@ -91,6 +91,8 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     ));
     doc.push(Block::Paragraph("a and b: exponents of (1 − x*²)^p fitted to the velocity and area-fraction profiles of all widths of one angle, each divided by its centre value (|x*| < 0.1), bins |x*| ≤ 0.9, each bin weighted by its error (over replicas: the larger of their spread and the runs' own bin errors carried to the mean). γ: least squares of v_c = √(2γgR), equal weights. φ∞, τ₁, τ₂: Eq. 12 over φ_c(R), R in mm, equal weights (needs four widths).".into()));
     doc.push(tables::table2(&analysis));
+    doc.push(Block::Paragraph("γ_D = v_c²/(2gR) of each width alone, beside the fitted γ (error from v_c's). Where γ_D rises with D, v_c grows faster than √R, and the fitted γ depends on which widths enter the fit.".into()));
+    doc.push(tables::width_gamma_table(&analysis));
     doc.push(Block::Heading(2, "Beverloo constants".into()));
     doc.push(Block::Paragraph("Weighted straight line of (W/Z)^(2/3) against D (W's error over replicas: the larger of their spread and the runs' own blocking errors carried to the mean); k from the x-intercept, C from the slope under three densities (physics spec §8.2): bulk φ_B ρ_p (φ_B the measured settled fraction), particle ρ_p, and ρ_p φ_2D with φ_2D the mean measured centre area fraction. Intervals are 95 %.".into()));
     doc.push(tables::beverloo_table(&analysis));

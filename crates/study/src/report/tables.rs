@@ -2,6 +2,7 @@
 
 use analysis::Estimate;
 
+use super::centred::width_gamma;
 use super::comparison::ComparisonItem;
 use super::data::StudyData;
 use super::document::Block;
@@ -134,6 +135,45 @@ pub fn table2(analysis: &StudyAnalysis) -> Block {
         ],
         rows,
     )
+}
+
+/// γ_D = v_c²/(2gR) of each width beside the fitted γ, per series and angle.
+pub fn width_gamma_table(analysis: &StudyAnalysis) -> Block {
+    let mut widths: Vec<f64> = analysis
+        .angles
+        .iter()
+        .flat_map(|f| f.points.iter().map(|p| p.outlet_width))
+        .collect();
+    widths.sort_by(f64::total_cmp);
+    widths.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    let rows = analysis
+        .angles
+        .iter()
+        .map(|f| {
+            let mut row = vec![f.series.clone(), format!("{}", f.hopper_angle_deg)];
+            row.extend(widths.iter().map(|&d| {
+                f.points
+                    .iter()
+                    .find(|p| (p.outlet_width - d).abs() < 1e-12)
+                    .map_or("—".to_string(), |p| estimate(&Ok(width_gamma(p))))
+            }));
+            row.push(estimate(
+                &f.centre_velocity
+                    .as_ref()
+                    .map(|c| c.gamma)
+                    .map_err(Clone::clone),
+            ));
+            row
+        })
+        .collect();
+    let labels: Vec<String> = widths
+        .iter()
+        .map(|d| format!("γ_D, D = {:.0} mm", d * 1e3))
+        .collect();
+    let mut headers = vec!["series", "α [°]"];
+    headers.extend(labels.iter().map(String::as_str));
+    headers.push("γ (fit)");
+    table(&headers, rows)
 }
 
 /// Beverloo constants beside the paper's (C = 0.58, k = 1.55 overall; Fig. 8b, Fig. 15b).
