@@ -129,7 +129,7 @@ pub(crate) struct Evaluation {
 /// i's run of pairs was summed in registers and added once when the run ended. Runs are
 /// about one contact long, so that saved almost no memory traffic, and keeping the run
 /// branch-free cost twelve selects per contact: the plain additions are about 6 % faster
-/// per step, docs/performance.md.)
+/// per step, docs/performance-log.md, thirteenth session.)
 struct Accumulator<'a> {
     force: &'a mut [DVec3],
     torque: &'a mut [DVec3],
