@@ -6,9 +6,9 @@
 //! the spread of three independent fills of each of the paper's 44 cases, the bins' s/√n
 //! were 1.46 (v) and 1.88 (φ) times too small; these block errors are 1.12 and 1.04 times
 //! too small (docs/reproduction.md, sixteenth session). Here the window is cut into
-//! [`ERROR_BLOCKS`] equal time blocks, and the blocks are treated as the independent units. The mean is the ratio of totals
-//! m = Σ s_b / Σ n_b (the same number as the plain mean); its error is the delta-method
-//! (cluster) estimate
+//! [`ERROR_BLOCKS`] equal time blocks, and the blocks are treated as the independent
+//! units. The mean is the ratio of totals m = Σ s_b / Σ n_b (the same number as the plain
+//! mean); its error is the delta-method (cluster) estimate
 //!
 //! se² = G/(G − 1) · Σ_b (s_b − m n_b)² / (Σ n_b)²,
 //!
@@ -25,6 +25,9 @@ use super::frame::TimeWindow;
 pub const ERROR_BLOCKS: usize = 10;
 
 /// Per-bin, per-block sums and counts over one window.
+///
+/// Callers keep their own running total per bin for the mean: summing the block totals
+/// instead would regroup the additions and change the mean's last bits.
 #[derive(Debug, Clone)]
 pub(crate) struct BlockSums {
     start: f64,

@@ -38,6 +38,11 @@ pub fn estimate(value: &Fitted<Estimate>) -> String {
     }
 }
 
+/// [`estimate`] of one field of a fit, or the fit's reason for missing.
+fn estimate_of<T>(value: &Fitted<T>, field: impl FnOnce(&T) -> Estimate) -> String {
+    estimate(&value.as_ref().map(field).map_err(Clone::clone))
+}
+
 fn number(value: &serde_json::Value) -> String {
     match value {
         serde_json::Value::Number(n) => n.as_f64().map_or(n.to_string(), |x| format!("{x:.4}")),
@@ -91,29 +96,14 @@ pub fn table2(analysis: &StudyAnalysis) -> Block {
                 f.points.len().to_string(),
                 estimate(&f.velocity_exponent),
                 show(paper.map(|p| p.1)),
-                estimate(
-                    &f.centre_velocity
-                        .as_ref()
-                        .map(|c| c.gamma)
-                        .map_err(Clone::clone),
-                ),
+                estimate_of(&f.centre_velocity, |c| c.gamma),
                 show(paper.map(|p| p.2)),
                 estimate(&f.packing_exponent),
                 show(paper.map(|p| p.3)),
-                estimate(
-                    &f.saturation
-                        .as_ref()
-                        .map(|s| s.phi_infinity)
-                        .map_err(Clone::clone),
-                ),
+                estimate_of(&f.saturation, |s| s.phi_infinity),
                 show(paper.map(|p| p.4)),
-                estimate(&f.saturation.as_ref().map(|s| s.tau1).map_err(Clone::clone)),
-                estimate(
-                    &f.saturation
-                        .as_ref()
-                        .map(|s| s.tau2_per_millimetre)
-                        .map_err(Clone::clone),
-                ),
+                estimate_of(&f.saturation, |s| s.tau1),
+                estimate_of(&f.saturation, |s| s.tau2_per_millimetre),
             ]
         })
         .collect();
@@ -157,12 +147,7 @@ pub fn width_gamma_table(analysis: &StudyAnalysis) -> Block {
                     .find(|p| (p.outlet_width - d).abs() < 1e-12)
                     .map_or("—".to_string(), |p| estimate(&Ok(width_gamma(p))))
             }));
-            row.push(estimate(
-                &f.centre_velocity
-                    .as_ref()
-                    .map(|c| c.gamma)
-                    .map_err(Clone::clone),
-            ));
+            row.push(estimate_of(&f.centre_velocity, |c| c.gamma));
             row
         })
         .collect();
@@ -312,23 +297,19 @@ pub fn table3(analysis: &StudyAnalysis) -> Block {
         .map(|g| {
             let s_mm = g.outlet_gap * 1e3;
             let paper = PAPER_TABLE3.iter().find(|p| (p.0 - s_mm).abs() < 1e-9);
-            let pick = |f: &Fitted<analysis::eccentric::AsymmetricProfileFit>,
-                        which: fn(&analysis::eccentric::AsymmetricProfileFit) -> Estimate| {
-                estimate(&f.as_ref().map(which).map_err(Clone::clone))
-            };
             let p = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x}"));
             vec![
                 g.series.clone(),
                 format!("{s_mm}"),
-                pick(&g.fits.velocity, |f| f.asymmetry),
+                estimate_of(&g.fits.velocity, |f| f.asymmetry),
                 p(paper.map(|r| r.1)),
-                pick(&g.fits.packing, |f| f.asymmetry),
+                estimate_of(&g.fits.packing, |f| f.asymmetry),
                 p(paper.map(|r| r.2)),
-                pick(&g.fits.velocity, |f| f.amplitude),
+                estimate_of(&g.fits.velocity, |f| f.amplitude),
                 p(paper.map(|r| r.3)),
-                pick(&g.fits.velocity, |f| f.exponent),
+                estimate_of(&g.fits.velocity, |f| f.exponent),
                 p(paper.map(|r| r.5)),
-                pick(&g.fits.packing, |f| f.exponent),
+                estimate_of(&g.fits.packing, |f| f.exponent),
                 p(paper.map(|r| r.6)),
             ]
         })
