@@ -17,6 +17,7 @@ use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
 use crate::wall::{Wall, WallShape};
 
+mod gather;
 mod parallel;
 
 /// Read-only inputs of the kernel.
@@ -333,17 +334,27 @@ fn batched_pair_loop(
     }
     let mut worst = WorstOverlap::default();
     for group in touching.chunks(BATCH) {
-        for (m, &k) in group.iter().enumerate() {
+        let state = gather::PairState {
+            position: pos,
+            velocity: vel,
+            omega,
+            pi,
+            pj,
+            history,
+            live,
+        };
+        gather::pair_motion(batch, group, &state);
+        // Radii, masses and coefficients, where the contacts do not share them.
+        let shared = input.uniform_body.is_some() && uniform.is_some();
+        for (m, &k) in group
+            .iter()
+            .enumerate()
+            .take(if shared { 0 } else { BATCH })
+        {
             // `m < BATCH` already; the mask tells the compiler so.
             let m = m & (BATCH - 1);
             let k = k as usize;
             let (i, j) = (pi[k] as usize, pj[k] as usize);
-            batch.set_pair_motion(
-                m,
-                (pos[i] - pos[j], vel[i] - vel[j]),
-                (omega[i], omega[j]),
-                live_history(live[k], history[k]),
-            );
             if input.uniform_body.is_none() {
                 batch.radius[0][m] = radius[i];
                 batch.radius[1][m] = radius[j];

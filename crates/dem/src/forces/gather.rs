@@ -1,0 +1,310 @@
+//! The pair gather: the touching pairs' motion copied into a [`Batch`], four contacts at a
+//! time by vector rows where the build has AVX, one at a time otherwise.
+//!
+//! The scalar gather (`Batch::set_pair_motion`) stores 16 numbers per contact one at a
+//! time, and stores are what the gather is short of (docs/performance.md, "What limits it
+//! now"). With AVX each body's position, velocity and spin is loaded whole, as one 4-lane
+//! vector (x, y, z, and the next body's x, never used); the differences are taken on these
+//! rows, and four contacts' rows are transposed into the batch's columns in registers, so
+//! that each column of four is one vector store: 16 stores per contact become 4.
+//!
+//! Every number is computed by the same operations as in the scalar gather (a lane of a
+//! vector subtraction or multiplication rounds as the scalar one), so the batch holds the
+//! same bits either way; a test checks it. The intrinsics come through `safe_arch`, whose
+//! functions are safe to call where the build enables the feature (the workspace builds for
+//! the host, `.cargo/config.toml`): this crate keeps no `unsafe` code.
+
+use glam::DVec3;
+
+use super::live_history;
+use crate::contact::batch::{Batch, BATCH};
+use crate::history::WAS_LIVE;
+
+/// What the pair gather reads: the bodies, and the candidates with their histories.
+pub(super) struct PairState<'a> {
+    /// Positions [m].
+    pub position: &'a [DVec3],
+    /// Velocities [m/s].
+    pub velocity: &'a [DVec3],
+    /// Angular velocities [rad/s].
+    pub omega: &'a [DVec3],
+    /// Bodies i and j of each candidate [-].
+    pub pi: &'a [u32],
+    /// See `pi`.
+    pub pj: &'a [u32],
+    /// Tangential history ξ of each candidate [m].
+    pub history: &'a [DVec3],
+    /// Live flags of each candidate (`crate::history`) [-].
+    pub live: &'a [u8],
+}
+
+impl PairState<'_> {
+    /// Bodies i, j, the candidate, and whether its ξ was live before the filter.
+    #[inline(always)]
+    fn contact(&self, k: u32) -> (usize, usize, usize, bool) {
+        let k = k as usize;
+        let was_live = self.live[k] & WAS_LIVE != 0;
+        (self.pi[k] as usize, self.pj[k] as usize, k, was_live)
+    }
+}
+
+/// Fills slots `0..group.len()` of `batch` with the motion of the touching candidates
+/// `group` (at most [`BATCH`]): what `Batch::set_pair_motion` fills, with the laws' ξ
+/// (zero for a contact that was not live, §3.1).
+#[inline(always)]
+pub(super) fn pair_motion(batch: &mut Batch, group: &[u32], state: &PairState) {
+    let group = &group[..group.len().min(BATCH)];
+    let done = fours(batch, group, state);
+    for (m, &k) in group.iter().enumerate().skip(done) {
+        // `m < BATCH` already; the mask tells the compiler so.
+        let m = m & (BATCH - 1);
+        let (i, j, k, _) = state.contact(k);
+        let s = state;
+        batch.set_pair_motion(
+            m,
+            (s.position[i] - s.position[j], s.velocity[i] - s.velocity[j]),
+            (s.omega[i], s.omega[j]),
+            live_history(s.live[k], s.history[k]),
+        );
+    }
+}
+
+/// Without AVX no contact is gathered by fours.
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+#[inline(always)]
+fn fours(_: &mut Batch, _: &[u32], _: &PairState) -> usize {
+    0
+}
+
+/// Gathers the whole fours of `group` by vector rows; returns how many contacts that is.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+#[inline(always)]
+fn fours(batch: &mut Batch, group: &[u32], state: &PairState) -> usize {
+    let bodies = rows::Bodies {
+        position: bytemuck::cast_slice(state.position),
+        velocity: bytemuck::cast_slice(state.velocity),
+        omega: bytemuck::cast_slice(state.omega),
+        history: bytemuck::cast_slice(state.history),
+    };
+    for (q, four) in group.chunks_exact(4).enumerate() {
+        // Written out, not mapped: `array::map` was not inlined here (3 % of a step).
+        let four = [
+            state.contact(four[0]),
+            state.contact(four[1]),
+            state.contact(four[2]),
+            state.contact(four[3]),
+        ];
+        rows::gather_four(batch, 4 * q, &bodies, four);
+    }
+    group.len() / 4 * 4
+}
+
+#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+mod rows {
+    use crate::contact::batch::Batch;
+    use safe_arch::{
+        add_m256d, bitand_m256d, cast_to_m256d_from_m256i, load_unaligned_m256d, m256d, mul_m256d,
+        permute2z_m256d, set_reversed_m256d, set_splat_i64_m256i, store_unaligned_m256d, sub_m256d,
+        unpack_hi_m256d, unpack_lo_m256d,
+    };
+
+    /// Lanes of a body row: x, y, z and one that is not used.
+    const LANES: usize = 4;
+
+    /// The bodies' state as flat arrays of 3-vectors, and the candidates' histories.
+    pub(super) struct Bodies<'a> {
+        /// Positions [m].
+        pub position: &'a [f64],
+        /// Velocities [m/s].
+        pub velocity: &'a [f64],
+        /// Angular velocities [rad/s].
+        pub omega: &'a [f64],
+        /// Tangential histories ξ of the candidates [m].
+        pub history: &'a [f64],
+    }
+
+    /// Row `i` of a flat array of 3-vectors, as a 4-lane vector whose last lane is junk
+    /// (the next vector's x, or zero after the last vector).
+    #[inline(always)]
+    fn row(flat: &[f64], i: usize) -> m256d {
+        match flat.get(3 * i..3 * i + LANES) {
+            Some(s) => load_unaligned_m256d(s.try_into().expect("four lanes")),
+            None => {
+                let s = &flat[3 * i..3 * i + 3];
+                set_reversed_m256d(s[0], s[1], s[2], 0.0)
+            }
+        }
+    }
+
+    /// Columns x, y and z of four rows (a 4 × 4 transpose without its last column).
+    #[inline(always)]
+    fn columns(r: [m256d; 4]) -> [m256d; 3] {
+        // [r0.x r1.x r0.z r1.z], [r0.y r1.y r0.w r1.w], and the same for r2, r3.
+        let t0 = unpack_lo_m256d(r[0], r[1]);
+        let t1 = unpack_hi_m256d(r[0], r[1]);
+        let t2 = unpack_lo_m256d(r[2], r[3]);
+        let t3 = unpack_hi_m256d(r[2], r[3]);
+        [
+            permute2z_m256d::<0x20>(t0, t2),
+            permute2z_m256d::<0x20>(t1, t3),
+            permute2z_m256d::<0x31>(t0, t2),
+        ]
+    }
+
+    /// Stores four numbers at slots `m..m + 4` of a batch row.
+    #[inline(always)]
+    fn put(row: &mut [f64], m: usize, v: m256d) {
+        let dst: &mut [f64; 4] = (&mut row[m..m + LANES]).try_into().expect("four slots");
+        store_unaligned_m256d(dst, v);
+    }
+
+    /// One contact's rows: d = x_i − x_j, v_i − v_j, ω_i, ω_j and ξ, or +0.0 where ξ was
+    /// not live (the bits `live_history`'s select gives).
+    #[inline(always)]
+    fn contact_rows(
+        bodies: &Bodies,
+        (i, j, k, was_live): (usize, usize, usize, bool),
+    ) -> [m256d; 5] {
+        let keep = cast_to_m256d_from_m256i(set_splat_i64_m256i(-i64::from(was_live)));
+        [
+            sub_m256d(row(bodies.position, i), row(bodies.position, j)),
+            sub_m256d(row(bodies.velocity, i), row(bodies.velocity, j)),
+            row(bodies.omega, i),
+            row(bodies.omega, j),
+            bitand_m256d(row(bodies.history, k), keep),
+        ]
+    }
+
+    /// Gathers four touching pairs into batch slots `m..m + 4`: for each, bodies i, j,
+    /// candidate k and whether its ξ was live. Fills what `Batch::set_pair_motion` fills,
+    /// with the same bits.
+    #[inline(always)]
+    pub(super) fn gather_four(
+        batch: &mut Batch,
+        m: usize,
+        bodies: &Bodies,
+        contacts: [(usize, usize, usize, bool); 4],
+    ) {
+        // Written out four times, not looped: a loop kept the rows on the stack.
+        let [d0, v0, a0, b0, x0] = contact_rows(bodies, contacts[0]);
+        let [d1, v1, a1, b1, x1] = contact_rows(bodies, contacts[1]);
+        let [d2, v2, a2, b2, x2] = contact_rows(bodies, contacts[2]);
+        let [d3, v3, a3, b3, x3] = contact_rows(bodies, contacts[3]);
+        let d = columns([d0, d1, d2, d3]);
+        for (a, c) in d.iter().enumerate() {
+            put(&mut batch.d[a], m, *c);
+        }
+        for (a, c) in columns([v0, v1, v2, v3]).into_iter().enumerate() {
+            put(&mut batch.dv[a], m, c);
+        }
+        for (a, c) in columns([a0, a1, a2, a3]).into_iter().enumerate() {
+            put(&mut batch.omega[0][a], m, c);
+        }
+        for (a, c) in columns([b0, b1, b2, b3]).into_iter().enumerate() {
+            put(&mut batch.omega[1][a], m, c);
+        }
+        for (a, c) in columns([x0, x1, x2, x3]).into_iter().enumerate() {
+            put(&mut batch.xi[a], m, c);
+        }
+        // |d|² as glam's `length_squared`: (x x + y y) + z z.
+        let dist2 = add_m256d(
+            add_m256d(mul_m256d(d[0], d[0]), mul_m256d(d[1], d[1])),
+            mul_m256d(d[2], d[2]),
+        );
+        put(&mut batch.dist2, m, dist2);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    /// Random vectors with components of every sign and size, including zeros of both
+    /// signs, which a select and a mask could treat differently.
+    fn vectors(rng: &mut Xoshiro256PlusPlus, n: usize) -> Vec<DVec3> {
+        let mut c = || match rng.gen_range(0..10) {
+            0 => 0.0,
+            1 => -0.0,
+            _ => rng.gen_range(-1.0..1.0) * 10f64.powi(rng.gen_range(-9..3)),
+        };
+        (0..n).map(|_| DVec3::new(c(), c(), c())).collect()
+    }
+
+    /// The batch as the scalar gather fills it, slot by slot.
+    fn scalar(group: &[u32], s: &PairState) -> Batch {
+        let mut batch = Batch::default();
+        for (m, &k) in group.iter().enumerate() {
+            let (i, j, k) = (
+                s.pi[k as usize] as usize,
+                s.pj[k as usize] as usize,
+                k as usize,
+            );
+            batch.set_pair_motion(
+                m,
+                (s.position[i] - s.position[j], s.velocity[i] - s.velocity[j]),
+                (s.omega[i], s.omega[j]),
+                live_history(s.live[k], s.history[k]),
+            );
+        }
+        batch
+    }
+
+    #[test]
+    fn the_gather_fills_the_batch_bit_for_bit_as_the_scalar_one() {
+        // Exact equality of every bit: the vector path must not change a trajectory.
+        // Bodies include the last one (whose row cannot be read as four lanes) and
+        // candidates the last one (the same for ξ); groups of every length 0..=BATCH
+        // exercise both the fours and the remainder.
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        let n = 40;
+        let (position, velocity, omega) = (
+            vectors(&mut rng, n),
+            vectors(&mut rng, n),
+            vectors(&mut rng, n),
+        );
+        let candidates = 60;
+        let pi: Vec<u32> = (0..candidates)
+            .map(|_| rng.gen_range(0..n as u32))
+            .collect();
+        let mut pj: Vec<u32> = (0..candidates)
+            .map(|_| rng.gen_range(0..n as u32))
+            .collect();
+        pj[candidates - 1] = n as u32 - 1;
+        let history = vectors(&mut rng, candidates);
+        let live: Vec<u8> = (0..candidates).map(|_| rng.gen_range(0..4)).collect();
+        let state = PairState {
+            position: &position,
+            velocity: &velocity,
+            omega: &omega,
+            pi: &pi,
+            pj: &pj,
+            history: &history,
+            live: &live,
+        };
+        for len in 0..=BATCH {
+            let mut group: Vec<u32> = (0..len)
+                .map(|_| rng.gen_range(0..candidates as u32))
+                .collect();
+            if len > 0 {
+                group[len - 1] = candidates as u32 - 1;
+            }
+            let want = scalar(&group, &state);
+            let mut got = Batch::default();
+            pair_motion(&mut got, &group, &state);
+            let bits = |b: &Batch| {
+                let rows =
+                    b.d.iter()
+                        .chain(&b.dv)
+                        .chain(&b.omega[0])
+                        .chain(&b.omega[1]);
+                rows.chain(&b.xi)
+                    .chain(std::iter::once(&b.dist2))
+                    .flat_map(|r| r[..len].iter().map(|x| x.to_bits()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&got), bits(&want), "group of {len}");
+        }
+    }
+}
