@@ -344,7 +344,8 @@ fn batched_pair_loop(
             live,
         };
         gather::pair_motion(batch, group, &state);
-        // Radii, masses and coefficients, where the contacts do not share them.
+        // Radii, masses and coefficients, where the contacts do not share them. (An `if`
+        // around the loop instead of the `take` timed 1.4 % slower, A/B 0.986: layout.)
         let shared = input.uniform_body.is_some() && uniform.is_some();
         for (m, &k) in group
             .iter()
