@@ -57,16 +57,20 @@ pub(super) fn pair_motion(batch: &mut Batch, group: &[u32], state: &PairState) {
     let done = fours(batch, group, state);
     for (m, &k) in group.iter().enumerate().skip(done) {
         // `m < BATCH` already; the mask tells the compiler so.
-        let m = m & (BATCH - 1);
-        let (i, j, k, _) = state.contact(k);
-        let s = state;
-        batch.set_pair_motion(
-            m,
-            (s.position[i] - s.position[j], s.velocity[i] - s.velocity[j]),
-            (s.omega[i], s.omega[j]),
-            live_history(s.live[k], s.history[k]),
-        );
+        one(batch, m & (BATCH - 1), k, state);
     }
+}
+
+/// The scalar gather of candidate `k` into slot `m`.
+#[inline(always)]
+fn one(batch: &mut Batch, m: usize, k: u32, s: &PairState) {
+    let (i, j, k, _) = s.contact(k);
+    batch.set_pair_motion(
+        m,
+        (s.position[i] - s.position[j], s.velocity[i] - s.velocity[j]),
+        (s.omega[i], s.omega[j]),
+        live_history(s.live[k], s.history[k]),
+    );
 }
 
 /// Without AVX no contact is gathered by fours.
@@ -236,17 +240,7 @@ mod tests {
     fn scalar(group: &[u32], s: &PairState) -> Batch {
         let mut batch = Batch::default();
         for (m, &k) in group.iter().enumerate() {
-            let (i, j, k) = (
-                s.pi[k as usize] as usize,
-                s.pj[k as usize] as usize,
-                k as usize,
-            );
-            batch.set_pair_motion(
-                m,
-                (s.position[i] - s.position[j], s.velocity[i] - s.velocity[j]),
-                (s.omega[i], s.omega[j]),
-                live_history(s.live[k], s.history[k]),
-            );
+            one(&mut batch, m, k, s);
         }
         batch
     }
