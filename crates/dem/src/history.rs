@@ -16,6 +16,8 @@ pub(crate) const LIVE: u8 = 1;
 /// Bit of [`HistoryArrays::live`]: [`LIVE`] as it was before this evaluation's filter, which
 /// the gather of a touching contact reads.
 pub(crate) const WAS_LIVE: u8 = 2;
+/// An entry of [`HistoryArrays::carry_from`]'s sources: no earlier contact, no history.
+pub(crate) const NO_SOURCE: u32 = u32::MAX;
 
 /// The histories of a candidate list, index-aligned with it.
 ///
@@ -77,6 +79,23 @@ impl HistoryArrays {
         self.tangential.push(tangential[k]);
         self.rolling.push(rolling[k]);
         self.live.push(live[k]);
+    }
+
+    /// Replaces the contents with, for each entry of `source`, the history of contact
+    /// `source[k]` of `old` (as [`HistoryArrays::get`] reads it), or none where it is
+    /// [`NO_SOURCE`]; every entry is live. Array by array, for the list rebuilds.
+    pub(crate) fn carry_from(&mut self, old: &HistoryArrays, source: &[u32]) {
+        let live = &old.live;
+        let pick = |field: &[DVec3], c: u32| match live.get(c as usize) {
+            Some(&l) if l & LIVE != 0 => field[c as usize],
+            _ => DVec3::ZERO,
+        };
+        self.clear();
+        self.tangential
+            .extend(source.iter().map(|&c| pick(&old.tangential, c)));
+        self.rolling
+            .extend(source.iter().map(|&c| pick(&old.rolling, c)));
+        self.live.resize(source.len(), LIVE);
     }
 
     /// History of contact `k`.

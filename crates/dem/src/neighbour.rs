@@ -9,7 +9,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactHistory;
-use crate::history::HistoryArrays;
+use crate::history::{HistoryArrays, NO_SOURCE};
 use crate::particles::ParticleSet;
 use crate::wall::{Wall, WallShape};
 
@@ -107,23 +107,21 @@ impl CellGrid {
         &self.sorted
     }
 
-    /// Calls `visit(j)` for every particle j in the 27 cells around `p`.
+    /// Calls `visit(row)` with the particles of each run of up to three cells along x in
+    /// the 27 cells around `p` (the cells of one row are contiguous in `sorted`).
     #[inline]
-    fn for_each_near(&self, p: DVec3, mut visit: impl FnMut(u32)) {
+    fn for_each_row_near(&self, p: DVec3, mut visit: impl FnMut(&[u32])) {
         let [x, y, z] = self.coords(p);
         let range = |c: usize, d: usize| c.saturating_sub(1)..=(c + 1).min(d - 1);
+        let xs = range(x, self.dims[0]);
         for cz in range(z, self.dims[2]) {
             for cy in range(y, self.dims[1]) {
                 let row = (cz * self.dims[1] + cy) * self.dims[0];
-                let xs = range(x, self.dims[0]);
                 let (a, b) = (
                     self.start[row + xs.start()] as usize,
                     self.start[row + xs.end() + 1] as usize,
                 );
-                // Cells of one row are contiguous in `sorted`.
-                for &j in &self.sorted[a..b] {
-                    visit(j);
-                }
+                visit(&self.sorted[a..b]);
             }
         }
     }
@@ -247,6 +245,97 @@ impl TaggedHistory {
     }
 }
 
+/// Sorts a few indices in place: insertion sort, as the lists of one particle's new
+/// neighbours hold a handful.
+#[inline]
+fn sort_small(v: &mut [u32]) {
+    for k in 1..v.len() {
+        let x = v[k];
+        let mut m = k;
+        while m > 0 && v[m - 1] > x {
+            v[m] = v[m - 1];
+            m -= 1;
+        }
+        v[m] = x;
+    }
+}
+
+/// Fills the histories of the new candidates `pairs` (sorted by (i, j)): from `carry` by tag,
+/// or else from the previous lists `old` (sorted the same way).
+fn carry_pair_histories(
+    particles: &ParticleSet,
+    old: &PairList,
+    carry: Option<&TaggedHistory>,
+    pairs: &mut PairList,
+) {
+    let history = &mut pairs.history;
+    match carry {
+        Some(tagged) => {
+            history.clear();
+            let tag = &particles.tag;
+            for (&i, &j) in pairs.i.iter().zip(&pairs.j) {
+                history.push(tagged.pair(tag[i as usize], tag[j as usize]));
+            }
+        }
+        None => {
+            let source = matching(keys(&pairs.i, &pairs.j), (&old.i, &old.j));
+            history.carry_from(&old.history, &source);
+        }
+    }
+}
+
+/// As [`carry_pair_histories`], for wall candidates sorted by (wall, particle).
+fn carry_wall_histories(
+    particles: &ParticleSet,
+    old: &WallPairList,
+    carry: Option<&TaggedHistory>,
+    walls: &mut WallPairList,
+) {
+    let history = &mut walls.history;
+    match carry {
+        Some(tagged) => {
+            history.clear();
+            let tag = &particles.tag;
+            for (&i, &w) in walls.particle.iter().zip(&walls.wall) {
+                history.push(tagged.wall(tag[i as usize], w));
+            }
+        }
+        None => {
+            let source = matching(
+                keys(&walls.wall, &walls.particle),
+                (&old.wall, &old.particle),
+            );
+            history.carry_from(&old.history, &source);
+        }
+    }
+}
+
+/// The keys (a, b) of a list sorted by (a, b), as ascending numbers.
+fn keys<'a>(a: &'a [u32], b: &'a [u32]) -> impl Iterator<Item = u64> + 'a {
+    a.iter()
+        .zip(b)
+        .map(|(&a, &b)| (u64::from(a) << 32) | u64::from(b))
+}
+
+/// For each of the ascending keys `new`, the index of the same key in the list `old` (sorted
+/// by its two columns), or [`NO_SOURCE`]: one merge, the cursor only moving forward.
+fn matching(new: impl Iterator<Item = u64>, (old_a, old_b): (&[u32], &[u32])) -> Vec<u32> {
+    let old_len = old_a.len().min(old_b.len());
+    let old_key = |c: usize| (u64::from(old_a[c]) << 32) | u64::from(old_b[c]);
+    let mut cursor = 0;
+    new.map(|key| {
+        while cursor < old_len && old_key(cursor) < key {
+            cursor += 1;
+        }
+        if cursor < old_len && old_key(cursor) == key {
+            cursor as u32
+        } else {
+            NO_SOURCE
+        }
+    })
+    .collect()
+}
+
 /// History of j relative to i is minus that of i relative to j (ξ and the rolling torque on i).
 fn negate(h: ContactHistory) -> ContactHistory {
     ContactHistory {
@@ -277,89 +366,67 @@ pub(crate) fn build_lists(
     pairs.i.clear();
     pairs.j.clear();
     pairs.history.clear();
-    let mut near: Vec<u32> = Vec::with_capacity(64);
-    let mut cursor = 0usize; // merge cursor into old_pairs (index mode)
+    let (pos, rad) = (&pos[..n], &rad[..n]);
+    let mut buf: Vec<u32> = vec![0; 64];
     for i in 0..n {
         let (xi, ri) = (pos[i], rad[i]);
-        near.clear();
-        grid.for_each_near(xi, |j| {
-            if (j as usize) > i {
+        let mut count = 0;
+        grid.for_each_row_near(xi, |row| {
+            if buf.len() < count + row.len() {
+                buf.resize(2 * (count + row.len()), 0);
+            }
+            for &j in row {
                 let cut = ri + rad[j as usize] + skin;
-                if (pos[j as usize] - xi).length_squared() < cut * cut {
-                    near.push(j);
-                }
+                let d2 = (pos[j as usize] - xi).length_squared();
+                buf[count] = j;
+                count += usize::from((j as usize > i) & (d2 < cut * cut));
             }
         });
-        near.sort_unstable();
-        for &j in &near {
-            let h = match carry {
-                Some(tagged) => tagged.pair(particles.tag[i], particles.tag[j as usize]),
-                None => {
-                    // Both lists are sorted by (i, j): advance the old cursor to this pair.
-                    let key = (i as u32, j);
-                    while cursor < old_pairs.len()
-                        && (old_pairs.i[cursor], old_pairs.j[cursor]) < key
-                    {
-                        cursor += 1;
-                    }
-                    if cursor < old_pairs.len() && (old_pairs.i[cursor], old_pairs.j[cursor]) == key
-                    {
-                        old_pairs.history.get(cursor)
-                    } else {
-                        ContactHistory::default()
-                    }
-                }
-            };
-            pairs.i.push(i as u32);
-            pairs.j.push(j);
-            pairs.history.push(h);
-        }
+        let near = &mut buf[..count];
+        sort_small(near);
+        pairs.i.extend(std::iter::repeat_n(i as u32, count));
+        pairs.j.extend_from_slice(near);
     }
+    carry_pair_histories(particles, old_pairs, carry, pairs);
 
     wall_pairs.particle.clear();
     wall_pairs.wall.clear();
-    wall_pairs.history.clear();
     // Wall-major, particles in index order within a wall: the force loop then treats one
     // wall at a time, and each particle still meets its walls in increasing order.
     debug_assert!(old_walls.is_wall_major());
-    let mut wcursor = 0usize;
     for (w, wall) in walls.iter().enumerate() {
         let Some(wall) = wall else { continue };
-        for i in 0..n {
-            if wall.certainly_beyond(pos[i], rad[i] + skin) {
-                continue;
+        let before = wall_pairs.particle.len();
+        match wall.shape() {
+            // Every particle is tested, without a branch on the outcome: the slab's faces
+            // keep nearly all of them, other planes few, and a branch would be
+            // mispredicted at the edge of every run.
+            WallShape::Plane { .. } => {
+                wall_pairs.particle.resize(before + n, 0);
+                let out = &mut wall_pairs.particle[before..];
+                let mut count = 0;
+                for i in 0..n {
+                    let (_, dist) = wall.closest_point(pos[i]);
+                    out[count] = i as u32;
+                    count += usize::from((dist < rad[i] + skin) & (dist > -rad[i]));
+                }
+                wall_pairs.particle.truncate(before + count);
             }
-            let (_, dist) = wall.closest_point(pos[i]);
-            let near = match wall.shape() {
-                WallShape::Plane { .. } => dist < rad[i] + skin && dist > -rad[i],
-                WallShape::Polygon { .. } => dist < rad[i] + skin,
-            };
-            if !near {
-                continue;
-            }
-            let h = match carry {
-                Some(tagged) => tagged.wall(particles.tag[i], w as u32),
-                None => {
-                    let key = (w as u32, i as u32);
-                    while wcursor < old_walls.particle.len()
-                        && (old_walls.wall[wcursor], old_walls.particle[wcursor]) < key
-                    {
-                        wcursor += 1;
+            WallShape::Polygon { .. } => {
+                for i in 0..n {
+                    if wall.certainly_beyond(pos[i], rad[i] + skin) {
+                        continue;
                     }
-                    if wcursor < old_walls.particle.len()
-                        && (old_walls.wall[wcursor], old_walls.particle[wcursor]) == key
-                    {
-                        old_walls.history.get(wcursor)
-                    } else {
-                        ContactHistory::default()
+                    if wall.closest_point(pos[i]).1 < rad[i] + skin {
+                        wall_pairs.particle.push(i as u32);
                     }
                 }
-            };
-            wall_pairs.particle.push(i as u32);
-            wall_pairs.wall.push(w as u32);
-            wall_pairs.history.push(h);
+            }
         }
+        let added = wall_pairs.particle.len() - before;
+        wall_pairs.wall.extend(std::iter::repeat_n(w as u32, added));
     }
+    carry_wall_histories(particles, old_walls, carry, wall_pairs);
 }
 
 #[cfg(test)]
@@ -411,6 +478,68 @@ mod tests {
             .zip(pairs.j.iter().copied())
             .collect();
         assert_eq!(found, brute);
+    }
+
+    #[test]
+    fn a_rebuild_carries_each_pairs_history_by_index_and_starts_new_pairs_empty() {
+        // Exact: a carried history is the old one bit for bit, as `get` reads it (zero where
+        // it was not live), and a pair the old list lacked starts from zero. The reference is
+        // a map from (i, j) to the old history; the particles then move by up to a tenth of
+        // their radius, so that pairs both persist and appear.
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(9);
+        let mut set = ParticleSet::default();
+        for _ in 0..300 {
+            let p = DVec3::new(rng.gen::<f64>(), rng.gen::<f64>() * 0.1, rng.gen::<f64>()) * 0.2;
+            let init =
+                crate::particles::ParticleInit::at_rest(p, 0.01, crate::particles::MaterialId(0));
+            set.push(&init, 1000.0);
+        }
+        let skin = 0.002;
+        let build = |set: &ParticleSet, old: &PairList| {
+            let grid = CellGrid::build(&set.position, 0.02 + skin);
+            let (mut p, mut w) = (PairList::default(), WallPairList::default());
+            build_lists(
+                &grid,
+                set,
+                &[],
+                skin,
+                old,
+                &WallPairList::default(),
+                None,
+                &mut p,
+                &mut w,
+            );
+            p
+        };
+        let mut first = build(&set, &PairList::default());
+        for k in 0..first.len() {
+            let h = &mut first.history;
+            h.tangential[k] = DVec3::new(k as f64 + 1.0, 0.5, -0.25);
+            h.rolling[k] = DVec3::new(0.0, k as f64 + 2.0, 0.0);
+            if k % 3 == 0 {
+                h.live[k] = 0;
+            }
+        }
+        let old: std::collections::HashMap<(u32, u32), ContactHistory> = (0..first.len())
+            .map(|k| ((first.i[k], first.j[k]), first.history.get(k)))
+            .collect();
+        for x in &mut set.position {
+            *x += DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 0.002 - 0.001;
+        }
+        let again = build(&set, &first);
+        let (mut carried, mut fresh) = (0, 0);
+        for k in 0..again.len() {
+            let key = (again.i[k], again.j[k]);
+            let want = old.get(&key).copied().unwrap_or_default();
+            assert_eq!(again.history.get(k), want, "pair {key:?}");
+            assert_eq!(again.history.live[k], crate::history::LIVE);
+            match old.get(&key) {
+                Some(h) if !h.is_empty() => carried += 1,
+                Some(_) => {}
+                None => fresh += 1,
+            }
+        }
+        assert!(carried > 10 && fresh > 10, "carried {carried}, new {fresh}");
     }
 
     #[test]
