@@ -260,77 +260,45 @@ fn sort_small(v: &mut [u32]) {
     }
 }
 
-/// Fills the histories of the new candidates `pairs` (sorted by (i, j)): from `carry` by tag,
-/// or else from the previous lists `old` (sorted the same way).
-fn carry_pair_histories(
-    particles: &ParticleSet,
-    old: &PairList,
-    carry: Option<&TaggedHistory>,
-    pairs: &mut PairList,
+/// Fills `history` for the new candidates `ids`, a list sorted by its two columns: from
+/// `by_tag(a, b)` when indices changed (a re-sort, tag-keyed history), or else from the
+/// previous list `old` (its columns and histories, sorted the same way), in one merge.
+fn carry_histories(
+    history: &mut HistoryArrays,
+    ids: (&[u32], &[u32]),
+    old: ((&[u32], &[u32]), &HistoryArrays),
+    by_tag: Option<impl Fn(u32, u32) -> ContactHistory>,
 ) {
-    let history = &mut pairs.history;
-    match carry {
-        Some(tagged) => {
+    match by_tag {
+        Some(by_tag) => {
             history.clear();
-            let tag = &particles.tag;
-            for (&i, &j) in pairs.i.iter().zip(&pairs.j) {
-                history.push(tagged.pair(tag[i as usize], tag[j as usize]));
+            for (&a, &b) in ids.0.iter().zip(ids.1) {
+                history.push(by_tag(a, b));
             }
         }
         None => {
-            let source = matching(keys(&pairs.i, &pairs.j), (&old.i, &old.j));
-            history.carry_from(&old.history, &source);
-        }
-    }
-}
-
-/// As [`carry_pair_histories`], for wall candidates sorted by (wall, particle).
-fn carry_wall_histories(
-    particles: &ParticleSet,
-    old: &WallPairList,
-    carry: Option<&TaggedHistory>,
-    walls: &mut WallPairList,
-) {
-    let history = &mut walls.history;
-    match carry {
-        Some(tagged) => {
-            history.clear();
-            let tag = &particles.tag;
-            for (&i, &w) in walls.particle.iter().zip(&walls.wall) {
-                history.push(tagged.wall(tag[i as usize], w));
-            }
-        }
-        None => {
-            let source = matching(
-                keys(&walls.wall, &walls.particle),
-                (&old.wall, &old.particle),
-            );
-            history.carry_from(&old.history, &source);
+            let source = matching(keys(ids), keys(old.0));
+            history.carry_from(old.1, &source);
         }
     }
 }
 
 /// The keys (a, b) of a list sorted by (a, b), as ascending numbers.
-fn keys<'a>(a: &'a [u32], b: &'a [u32]) -> impl Iterator<Item = u64> + 'a {
+fn keys<'a>((a, b): (&'a [u32], &'a [u32])) -> impl Iterator<Item = u64> + 'a {
     a.iter()
         .zip(b)
         .map(|(&a, &b)| (u64::from(a) << 32) | u64::from(b))
 }
 
-/// For each of the ascending keys `new`, the index of the same key in the list `old` (sorted
-/// by its two columns), or [`NO_SOURCE`]: one merge, the cursor only moving forward.
-fn matching(new: impl Iterator<Item = u64>, (old_a, old_b): (&[u32], &[u32])) -> Vec<u32> {
-    let old_len = old_a.len().min(old_b.len());
-    let old_key = |c: usize| (u64::from(old_a[c]) << 32) | u64::from(old_b[c]);
-    let mut cursor = 0;
+/// For each of the ascending keys `new`, the index of the same key among the ascending keys
+/// `old`, or [`NO_SOURCE`]: one merge, the old cursor only moving forward.
+fn matching(new: impl Iterator<Item = u64>, old: impl Iterator<Item = u64>) -> Vec<u32> {
+    let mut old = old.enumerate().peekable();
     new.map(|key| {
-        while cursor < old_len && old_key(cursor) < key {
-            cursor += 1;
-        }
-        if cursor < old_len && old_key(cursor) == key {
-            cursor as u32
-        } else {
-            NO_SOURCE
+        while old.next_if(|&(_, k)| k < key).is_some() {}
+        match old.peek() {
+            Some(&(c, k)) if k == key => c as u32,
+            _ => NO_SOURCE,
         }
     })
     .collect()
@@ -363,9 +331,9 @@ pub(crate) fn build_lists(
     let pos = &particles.position;
     let rad = &particles.radius;
     let n = pos.len();
+    // The histories are written whole by `carry_histories`, after the candidates.
     pairs.i.clear();
     pairs.j.clear();
-    pairs.history.clear();
     let (pos, rad) = (&pos[..n], &rad[..n]);
     let mut buf: Vec<u32> = vec![0; 64];
     for i in 0..n {
@@ -387,7 +355,13 @@ pub(crate) fn build_lists(
         pairs.i.extend(std::iter::repeat_n(i as u32, count));
         pairs.j.extend_from_slice(near);
     }
-    carry_pair_histories(particles, old_pairs, carry, pairs);
+    let tag = &particles.tag;
+    carry_histories(
+        &mut pairs.history,
+        (&pairs.i, &pairs.j),
+        ((&old_pairs.i, &old_pairs.j), &old_pairs.history),
+        carry.map(|t| move |i: u32, j: u32| t.pair(tag[i as usize], tag[j as usize])),
+    );
 
     wall_pairs.particle.clear();
     wall_pairs.wall.clear();
@@ -426,7 +400,12 @@ pub(crate) fn build_lists(
         let added = wall_pairs.particle.len() - before;
         wall_pairs.wall.extend(std::iter::repeat_n(w as u32, added));
     }
-    carry_wall_histories(particles, old_walls, carry, wall_pairs);
+    carry_histories(
+        &mut wall_pairs.history,
+        (&wall_pairs.wall, &wall_pairs.particle),
+        ((&old_walls.wall, &old_walls.particle), &old_walls.history),
+        carry.map(|t| move |w: u32, i: u32| t.wall(tag[i as usize], w)),
+    );
 }
 
 #[cfg(test)]
