@@ -17,6 +17,7 @@ use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
 use crate::wall::{Wall, WallShape};
 
+mod compact;
 mod gather;
 mod parallel;
 
@@ -428,7 +429,8 @@ fn filter_touching_with(
     }
     let len = live.len();
     // Three loops, as the plane filter: the flags, with no count carried from one candidate
-    // to the next; the live flags, over bytes; then the compaction, in place.
+    // to the next; the live flags, over bytes; then the compaction, in place
+    // (`compact`).
     let flags = &mut touching[..len];
     for (f, (&i, &j)) in flags.iter_mut().zip(pi.iter().zip(pj)) {
         let (i, j) = (i as usize, j as usize);
@@ -436,14 +438,7 @@ fn filter_touching_with(
         *f = u32::from(!((pos[i] - pos[j]).length_squared() >= cut2(i, j)));
     }
     note_live(flags, live);
-    // In place: slot `count` ≤ k has been read before it is written.
-    let mut count = 0;
-    for k in 0..len {
-        let t = flags[k];
-        flags[count.min(len - 1)] = k as u32;
-        count += t as usize;
-    }
-    count
+    compact::in_place(flags)
 }
 
 /// Lists in `hits` (count returned) the indices of the candidates for which `touches` yields
@@ -528,19 +523,6 @@ fn note_live<T: Copy + Into<u32>>(touch: &[T], live: &mut [u8]) {
         // A flag is 0 or 1, so the narrowing keeps it.
         *l = live_flags(t.into() as u8, *l);
     }
-}
-
-/// Lists in `hits` (count returned) the indices k with `touch[k] = 1`, in order, without a
-/// branch on the outcome (see [`compact_touching`]).
-#[inline(always)]
-fn compact_flags(touch: &[u8], hits: &mut [u32]) -> usize {
-    let len = touch.len();
-    let mut count = 0;
-    for (k, &t) in touch.iter().enumerate() {
-        hits[count.min(len - 1)] = k as u32;
-        count += usize::from(t);
-    }
-    count
 }
 
 /// What the wall filter needs of one wall, flattened so that planes need no closest-point call.
@@ -704,7 +686,7 @@ fn wall_run(
                 let touch = &mut touch[..pi.len()];
                 plane_touches(pos, pi, (normal, offset, r), touch);
                 note_live(touch, live);
-                compact_flags(touch, hits)
+                compact::from_bytes(touch, hits)
             }
             None => {
                 let touches = pi.iter().map(|&i| {
@@ -1029,7 +1011,7 @@ pub(super) mod tests {
             history.live.copy_from_slice(&before);
             plane_touches(&pos, &pi, (normal, offset, r), &mut touch);
             note_live(&touch, &mut history.live);
-            let count = compact_flags(&touch, &mut hits);
+            let count = compact::from_bytes(&touch, &mut hits);
             let expect_hits: Vec<u32> = (0..pi.len() as u32)
                 .filter(|&k| expect_touch[k as usize])
                 .collect();
