@@ -429,8 +429,7 @@ fn filter_touching_with(
     }
     let len = live.len();
     // Three loops, as the plane filter: the flags, with no count carried from one candidate
-    // to the next; the live flags, over bytes; then the compaction, in place
-    // (`compact`).
+    // to the next; the live flags, over bytes; then the listing, in place (`compact`).
     let flags = &mut touching[..len];
     for (f, (&i, &j)) in flags.iter_mut().zip(pi.iter().zip(pj)) {
         let (i, j) = (i as usize, j as usize);
