@@ -170,6 +170,17 @@ impl<'a> Accumulator<'a> {
     }
 }
 
+/// Sets `buffers` to the starting values of an evaluation: each body's weight m g [N]
+/// (gravity `g` [m/s²]) and zero torque. The step does not call it: its integrator pass
+/// writes the same products.
+#[cfg(test)]
+pub(crate) fn start(p: &ParticleSet, g: DVec3, buffers: &mut ForceBuffers) {
+    buffers.force.clear();
+    buffers.force.extend(p.mass.iter().map(|&m| m * g));
+    buffers.torque.clear();
+    buffers.torque.resize(p.len(), DVec3::ZERO);
+}
+
 /// Where the pair loops hand each contact's force, in pair order. A trait rather than a
 /// closure so that the call is always inlined into the loop.
 trait PairSink {
@@ -183,24 +194,25 @@ impl PairSink for Accumulator<'_> {
     }
 }
 
-/// Evaluates all contacts, updating histories, and leaves gravity plus contact forces and
-/// torques in `buffers.force` and `buffers.torque`.
+/// Evaluates all contacts, updating histories, and adds their forces and torques to
+/// `buffers.force` and `buffers.torque`, which must hold each body's starting values on
+/// entry: its weight m g and zero torque ([`start`], or the integrator's pass, which writes
+/// them while its cache lines are at hand).
 pub(crate) fn evaluate(
     input: &KernelInput,
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
-    gravity: DVec3,
     buffers: &mut ForceBuffers,
     pool: Option<&rayon::ThreadPool>,
 ) -> Evaluation {
+    let n = input.particles.len();
+    assert!(
+        buffers.force.len() == n && buffers.torque.len() == n,
+        "the force buffers hold one starting value per body"
+    );
     if let Some(pool) = pool {
-        return parallel::evaluate(input, pairs, wall_pairs, gravity, buffers, pool);
+        return parallel::evaluate(input, pairs, wall_pairs, buffers, pool);
     }
-    let p = input.particles;
-    buffers.force.clear();
-    buffers.force.extend(p.mass.iter().map(|&m| m * gravity));
-    buffers.torque.clear();
-    buffers.torque.resize(p.len(), DVec3::ZERO);
     let mut count = ContactCount::default();
     let ids = (&pairs.i[..], &pairs.j[..]);
 
@@ -1155,14 +1167,8 @@ pub(super) mod tests {
             let input = jumble_input(&jumble, &laws);
             let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
             let mut buffers = ForceBuffers::default();
-            let eval = evaluate(
-                &input,
-                &mut pairs,
-                &mut wall_pairs,
-                DVec3::ZERO,
-                &mut buffers,
-                None,
-            );
+            start(set, DVec3::ZERO, &mut buffers);
+            let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None);
             assert!(eval.count.particle_particle > 100 && eval.count.particle_wall > 10);
             assert!(
                 eval.count.particle_particle < p2.len(),

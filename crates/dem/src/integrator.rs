@@ -11,6 +11,14 @@
 //!   numbers, which the compiler vectorises. Each component goes through exactly the
 //!   operations of the general form, in the same order, so the trajectory is bit-identical
 //!   (a test checks it).
+//!
+//! The pass that drifts also restarts the force arrays for the coming evaluation: once a
+//! particle's force and torque have given their kicks they are dead until the next
+//! evaluation, which starts each body from its weight m g and zero torque. Writing those
+//! here, into cache lines the pass has just read, replaces a sweep of its own over both
+//! arrays at the start of the evaluation (about 4 % of a step on the paper's base case,
+//! docs/performance-log.md, twenty-second session). The values are the same products, so the
+//! trajectory is unchanged.
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -19,17 +27,21 @@ use crate::particles::{ParticleSet, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
 use crate::ranges::even_bounds;
 
 /// 1/m [1/kg] and 1/I [1/(kg m²)] shared by every particle, when every particle is free
-/// (no flags) and they are all alike; `None` otherwise.
+/// (no flags) and they are all alike (their masses too, which the flat pass writes the
+/// weights from); `None` otherwise.
 pub(crate) fn uniform_free_body(p: &ParticleSet) -> Option<(f64, f64)> {
-    let (&m, &i) = (p.inv_mass.first()?, p.inv_inertia.first()?);
+    let (&m, &i, &mass) = (p.inv_mass.first()?, p.inv_inertia.first()?, p.mass.first()?);
     let alike = p.flags.iter().all(|&f| f == 0)
         && p.inv_mass.iter().all(|&x| x == m)
-        && p.inv_inertia.iter().all(|&x| x == i);
+        && p.inv_inertia.iter().all(|&x| x == i)
+        && p.mass.iter().all(|&x| x == mass);
     alike.then_some((m, i))
 }
 
-/// Half kick and drift (see [`kick_drift_general`] for the contract). `uniform`: the result
-/// of [`uniform_free_body`] for the current particles. With a `pool`, contiguous ranges of
+/// Half kick and drift (see [`kick_drift_general`] for the contract), leaving each body's
+/// weight m g [N] (`gravity` g [m/s²]) in its force and zero in its torque once they have
+/// given their kicks. `uniform`: the result of [`uniform_free_body`] for the current
+/// particles. With a `pool`, contiguous ranges of
 /// particles are moved in parallel: each particle's arithmetic is its own, and the reductions
 /// (a maximum and two all-finite flags) do not depend on the order they are merged in, so
 /// the result is the same on any number of threads.
@@ -39,15 +51,22 @@ pub(crate) fn kick_drift(
     (half, dt): (f64, f64),
     pending: bool,
     uniform: Option<(f64, f64)>,
+    gravity: DVec3,
     pool: Option<&rayon::ThreadPool>,
 ) -> (f64, bool, bool) {
     let n = p.len();
+    // Every body's weight, when they share one mass (`uniform_free_body` checked it): the
+    // same product as each body's own, m g.
+    let weight = p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity);
     let bodies = Bodies::of(p, reference);
     let one = |b: Bodies| match uniform {
-        Some((inv_mass, inv_inertia)) => {
-            kick_drift_uniform(b, (half * inv_mass, half * inv_inertia), dt, pending)
-        }
-        None => kick_drift_general(b, half, dt, pending),
+        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
+            b,
+            (half * inv_mass, half * inv_inertia),
+            (dt, weight),
+            pending,
+        ),
+        None => kick_drift_general(b, (half, dt), gravity, pending),
     };
     let bounds =
         pool.map(|pool| even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE));
@@ -84,8 +103,12 @@ const MIN_RANGE: usize = 256;
 /// cut to one length so that indexing is checked once.
 struct Bodies<'a> {
     flags: &'a [u8],
-    force: &'a [DVec3],
-    torque: &'a [DVec3],
+    /// Forces [N]: read for the kicks, then set to the weight m g.
+    force: &'a mut [DVec3],
+    /// Torques [N m]: read for the kicks, then set to zero.
+    torque: &'a mut [DVec3],
+    /// Masses [kg].
+    mass: &'a [f64],
     inv_mass: &'a [f64],
     inv_inertia: &'a [f64],
     velocity: &'a mut [DVec3],
@@ -101,8 +124,9 @@ impl<'a> Bodies<'a> {
         let n = p.len();
         Self {
             flags: &p.flags[..n],
-            force: &p.force[..n],
-            torque: &p.torque[..n],
+            force: &mut p.force[..n],
+            torque: &mut p.torque[..n],
+            mass: &p.mass[..n],
             inv_mass: &p.inv_mass[..n],
             inv_inertia: &p.inv_inertia[..n],
             velocity: &mut p.velocity[..n],
@@ -119,8 +143,9 @@ impl<'a> Bodies<'a> {
     /// The first `k` particles and the rest.
     fn split_at(self, k: usize) -> (Self, Self) {
         let (flags, flags_b) = self.flags.split_at(k);
-        let (force, force_b) = self.force.split_at(k);
-        let (torque, torque_b) = self.torque.split_at(k);
+        let (force, force_b) = self.force.split_at_mut(k);
+        let (torque, torque_b) = self.torque.split_at_mut(k);
+        let (mass, mass_b) = self.mass.split_at(k);
         let (inv_mass, inv_mass_b) = self.inv_mass.split_at(k);
         let (inv_inertia, inv_inertia_b) = self.inv_inertia.split_at(k);
         let (velocity, velocity_b) = self.velocity.split_at_mut(k);
@@ -132,6 +157,7 @@ impl<'a> Bodies<'a> {
                 flags,
                 force,
                 torque,
+                mass,
                 inv_mass,
                 inv_inertia,
                 velocity,
@@ -143,6 +169,7 @@ impl<'a> Bodies<'a> {
                 flags: flags_b,
                 force: force_b,
                 torque: torque_b,
+                mass: mass_b,
                 inv_mass: inv_mass_b,
                 inv_inertia: inv_inertia_b,
                 velocity: velocity_b,
@@ -161,27 +188,29 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
         Some((inv_mass, inv_inertia)) => {
             let (kv, kw) = (half * inv_mass, half * inv_inertia);
             let (v, w, x) = (&mut p.velocity, &mut p.omega, &mut p.position);
-            flat_pass::<true, false>((v, w, x), (&p.force, &p.torque), (kv, kw, 0.0)) == 0.0
+            let forces = (&mut p.force[..], &mut p.torque[..]);
+            flat_pass::<true, false>((v, w, x), forces, (kv, kw, 0.0), DVec3::ZERO) == 0.0
         }
         None => kick_general(p, half),
     }
 }
 
 /// [`kick_drift`] for free particles sharing `kv` = Δt/2m [s/kg] and `kw` = Δt/2I
-/// [s/(kg m²)]: per component, v += kv F (pending), v += kv F, x += Δt v, and the same for
-/// ω with kw and the torque; then the displacements in a second pass.
+/// [s/(kg m²)], and the weight m g [N]: per component, v += kv F (pending), v += kv F,
+/// x += Δt v, and the same for ω with kw and the torque, then F = m g and T = 0; then the
+/// displacements in a second pass.
 fn kick_drift_uniform(
     b: Bodies,
     (kv, kw): (f64, f64),
-    dt: f64,
+    (dt, weight): (f64, DVec3),
     pending: bool,
 ) -> (f64, bool, bool) {
     let moved = (&mut *b.velocity, &mut *b.omega, &mut *b.position);
-    let forces = (b.force, b.torque);
+    let forces = (&mut *b.force, &mut *b.torque);
     let velocity_probe = if pending {
-        flat_pass::<true, true>(moved, forces, (kv, kw, dt))
+        flat_pass::<true, true>(moved, forces, (kv, kw, dt), weight)
     } else {
-        flat_pass::<false, true>(moved, forces, (kv, kw, dt))
+        flat_pass::<false, true>(moved, forces, (kv, kw, dt), weight)
     };
     let (max_disp2, position_probe) = largest_displacement(b.position, b.reference);
     (max_disp2, position_probe == 0.0, velocity_probe == 0.0)
@@ -192,18 +221,24 @@ const WIDTH: usize = 8;
 
 /// One pass over every component of every particle, with kv = Δt/2m, kw = Δt/2I and Δt
 /// in `k`: with `KICK`, `kick`'s v += kv F, ω += kw T and its check on v + ω; with
-/// `KICK_DRIFT`, this step's v += kv F, ω += kw T and x += Δt v. Returns the check's sum,
-/// zero unless some velocity or spin is not finite (0 without `KICK`).
+/// `KICK_DRIFT`, this step's v += kv F, ω += kw T and x += Δt v, and then F = `weight` and
+/// T = 0 for the next evaluation. Returns the check's sum, zero unless some velocity or
+/// spin is not finite (0 without `KICK`).
 fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
     (v, w, x): (&mut [DVec3], &mut [DVec3], &mut [DVec3]),
-    (f, t): (&[DVec3], &[DVec3]),
+    (f, t): (&mut [DVec3], &mut [DVec3]),
     (kv, kw, dt): (f64, f64, f64),
+    weight: DVec3,
 ) -> f64 {
     let v: &mut [f64] = bytemuck::cast_slice_mut(v);
     let w: &mut [f64] = bytemuck::cast_slice_mut(w);
     let x: &mut [f64] = bytemuck::cast_slice_mut(x);
-    let f: &[f64] = bytemuck::cast_slice(f);
-    let t: &[f64] = bytemuck::cast_slice(t);
+    let f: &mut [f64] = bytemuck::cast_slice_mut(f);
+    let t: &mut [f64] = bytemuck::cast_slice_mut(t);
+    // The flat force array repeats the weight's three components: the run of WIDTH numbers
+    // that starts at flat index q is `weights[q % 3..][..WIDTH]`.
+    let weights: [f64; WIDTH + 2] = std::array::from_fn(|q| weight[q % 3]);
+    let mut phase = 0;
     let mut probe = [0.0; WIDTH];
     // Whole vectors of WIDTH numbers, each lane with its own probe, copied into registers
     // (which tells the compiler that the five arrays do not overlap), then the remainder.
@@ -211,7 +246,7 @@ fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
         .chunks_exact_mut(WIDTH)
         .zip(w.chunks_exact_mut(WIDTH))
         .zip(x.chunks_exact_mut(WIDTH))
-        .zip(f.chunks_exact(WIDTH).zip(t.chunks_exact(WIDTH)));
+        .zip(f.chunks_exact_mut(WIDTH).zip(t.chunks_exact_mut(WIDTH)));
     for (((vc, wc), xc), (fc, tc)) in chunks {
         let mut vv: [f64; WIDTH] = (&*vc).try_into().expect("whole chunk");
         let mut ww: [f64; WIDTH] = (&*wc).try_into().expect("whole chunk");
@@ -227,15 +262,23 @@ fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
         vc.copy_from_slice(&vv);
         wc.copy_from_slice(&ww);
         xc.copy_from_slice(&xx);
+        if KICK_DRIFT {
+            fc.copy_from_slice(&weights[phase..phase + WIDTH]);
+            tc.fill(0.0);
+            phase = (phase + WIDTH) % 3;
+        }
     }
     let whole = v.len() - v.len() % WIDTH;
     let rest = v[whole..]
         .iter_mut()
         .zip(&mut w[whole..])
         .zip(&mut x[whole..])
-        .zip(f[whole..].iter().zip(&t[whole..]));
-    for (((v, w), x), (&f, &t)) in rest {
-        one::<KICK, KICK_DRIFT>((v, w, x), (f, t), (kv, kw, dt), &mut probe[0]);
+        .zip(f[whole..].iter_mut().zip(&mut t[whole..]));
+    for (q, (((v, w), x), (f, t))) in (whole..).zip(rest) {
+        one::<KICK, KICK_DRIFT>((v, w, x), (*f, *t), (kv, kw, dt), &mut probe[0]);
+        if KICK_DRIFT {
+            (*f, *t) = (weight[q % 3], 0.0);
+        }
     }
     probe.iter().sum()
 }
@@ -281,7 +324,9 @@ fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
 }
 
 /// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2), preceded
-/// when `pending` by the previous step's second half kick. Returns the largest squared
+/// when `pending` by the previous step's second half kick, with Δt/2 and Δt [s] in
+/// `(half, dt)`; then every body's force becomes its weight m g (`gravity` g [m/s²]) and
+/// its torque zero, frozen bodies' too (the evaluation starts from them). Returns the largest squared
 /// displacement from `reference` [m²], whether every displacement was finite, and whether
 /// the pending kick left every velocity finite.
 ///
@@ -290,9 +335,19 @@ fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
 /// reduction made each particle wait on the previous one's `max` and additions. The maximum
 /// of a set does not depend on the order it is taken in, and the two finiteness probes are
 /// sums of zeros unless something is not finite, so the results are the same as one pass.
-fn kick_drift_general(b: Bodies, half: f64, dt: f64, pending: bool) -> (f64, bool, bool) {
+fn kick_drift_general(
+    b: Bodies,
+    (half, dt): (f64, f64),
+    gravity: DVec3,
+    pending: bool,
+) -> (f64, bool, bool) {
     let n = b.len();
-    let mut body = KickDrift { b, half, dt };
+    let mut body = KickDrift {
+        b,
+        half,
+        dt,
+        gravity,
+    };
     let mut acc = [Reduction::default(); LANES];
     let whole = n - n % LANES;
     for start in (0..whole).step_by(LANES) {
@@ -357,18 +412,23 @@ struct KickDrift<'a> {
     half: f64,
     /// Δt [s].
     dt: f64,
+    /// Gravitational acceleration g [m/s²].
+    gravity: DVec3,
 }
 
 impl KickDrift<'_> {
     #[inline(always)]
     fn one(&mut self, k: usize, pending: bool, acc: &mut Reduction) {
         let b = &mut self.b;
+        let (f, t) = (b.force[k], b.torque[k]);
+        // The evaluation's starting values (the same product as its own), frozen bodies' too.
+        b.force[k] = b.mass[k] * self.gravity;
+        b.torque[k] = DVec3::ZERO;
         let flags = b.flags[k];
         if flags & FLAG_FROZEN != 0 {
             return;
         }
         let rotates = flags & FLAG_ROTATION_LOCKED == 0;
-        let (f, t) = (b.force[k], b.torque[k]);
         let (kv, kw) = (self.half * b.inv_mass[k], self.half * b.inv_inertia[k]);
         let (mut v, mut w) = (b.velocity[k], b.omega[k]);
         if pending {
@@ -423,6 +483,10 @@ mod tests {
     use crate::particles::{MaterialId, ParticleInit};
     use rand::{Rng, SeedableRng};
 
+    /// Gravity [m/s²] with three unequal components, so that a weight written from the
+    /// wrong component of the flat force array shows.
+    const G: DVec3 = DVec3::new(0.3, -1.7, -9.81);
+
     /// 203 equal free spheres (not a multiple of the vector width, so the remainder loop
     /// runs too) with random positions, velocities, spins, forces and torques.
     fn bed(seed: u64) -> (ParticleSet, Vec<DVec3>) {
@@ -459,12 +523,20 @@ mod tests {
             let uniform = uniform_free_body(&flat);
             assert!(uniform.is_some(), "equal free spheres share one body");
             let (half, dt) = (1.25e-6, 2.5e-6);
-            let a = kick_drift_general(Bodies::of(&mut general, &reference), half, dt, pending);
-            let b = kick_drift(&mut flat, &reference, (half, dt), pending, uniform, None);
+            let a = kick_drift_general(Bodies::of(&mut general, &reference), (half, dt), G, pending);
+            let b = kick_drift(&mut flat, &reference, (half, dt), pending, uniform, G, None);
             assert_eq!(a, b, "displacement and probes");
             assert_eq!(general.position, flat.position);
             assert_eq!(general.velocity, flat.velocity);
             assert_eq!(general.omega, flat.omega);
+            // Both forms leave the evaluation's starting values: the weight m g, the same
+            // product the evaluation used to form itself, exactly, and zero torque.
+            for p in [&general, &flat] {
+                for k in 0..p.len() {
+                    assert_eq!(p.force[k], p.mass[k] * G, "particle {k}");
+                    assert_eq!(p.torque[k], DVec3::ZERO, "particle {k}");
+                }
+            }
             assert_eq!(
                 kick_general(&mut general, half),
                 kick(&mut flat, half, uniform)
@@ -488,8 +560,8 @@ mod tests {
         reference2[77] -= DVec3::new(0.0, 0.0, 5e-3);
         let mut flat = general.clone();
         let uniform = uniform_free_body(&flat);
-        let a = kick_drift_general(Bodies::of(&mut general, &reference2), 1e-6, 2e-6, false);
-        let b = kick_drift(&mut flat, &reference2, (1e-6, 2e-6), false, uniform, None);
+        let a = kick_drift_general(Bodies::of(&mut general, &reference2), (1e-6, 2e-6), G, false);
+        let b = kick_drift(&mut flat, &reference2, (1e-6, 2e-6), false, uniform, G, None);
         assert_eq!(a, b);
         assert!(
             a.0 >= 2.4e-5,
@@ -531,8 +603,8 @@ mod tests {
                 let uniform = uniform_free_body(&one);
                 assert_eq!(uniform.is_none(), general);
                 let step = (1.25e-6, 2.5e-6);
-                let a = kick_drift(&mut one, &reference, step, pending, uniform, None);
-                let b = kick_drift(&mut many, &reference, step, pending, uniform, Some(&pool));
+                let a = kick_drift(&mut one, &reference, step, pending, uniform, G, None);
+                let b = kick_drift(&mut many, &reference, step, pending, uniform, G, Some(&pool));
                 assert_eq!(a, b, "displacement and probes");
                 // Moved 3 mm from a reference within 0.1 mm of it: d² ≥ (2.9 mm)².
                 assert!(
@@ -543,6 +615,8 @@ mod tests {
                 assert_eq!(one.position, many.position);
                 assert_eq!(one.velocity, many.velocity);
                 assert_eq!(one.omega, many.omega);
+                assert_eq!(one.force, many.force, "the weights");
+                assert_eq!(one.torque, many.torque);
             }
         }
         let (mut one, reference) = bed_of(8, 10_000);
@@ -550,8 +624,8 @@ mod tests {
         let mut many = one.clone();
         let uniform = uniform_free_body(&one);
         let step = (1.25e-6, 2.5e-6);
-        let a = kick_drift(&mut one, &reference, step, true, uniform, None);
-        let b = kick_drift(&mut many, &reference, step, true, uniform, Some(&pool));
+        let a = kick_drift(&mut one, &reference, step, true, uniform, G, None);
+        let b = kick_drift(&mut many, &reference, step, true, uniform, G, Some(&pool));
         assert!(
             !a.2 && !b.2,
             "a NaN force fails the velocity probe on any thread count"

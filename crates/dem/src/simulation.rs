@@ -571,6 +571,7 @@ impl Simulation {
             (half, dt),
             kick_pending,
             self.uniform_free,
+            self.state.config.gravity,
             self.pool.as_deref(),
         );
         if !kicked_finite {
@@ -601,8 +602,13 @@ impl Simulation {
         }
         StepClock::mark(&mut clock, Mark::Listed);
 
-        // Forces at the drifted positions with half-step velocities.
+        // Forces at the drifted positions with half-step velocities, summed onto the weights
+        // and zero torques that the pass above left in the particles' arrays (a list build
+        // permutes them with the particles); the arrays are lent to the evaluation and come
+        // back right after it, before any check can return.
         let s = &mut self.state;
+        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
         let input = KernelInput {
             particles: &s.particles,
             laws: &s.config.laws,
@@ -617,10 +623,11 @@ impl Simulation {
             &input,
             &mut s.pairs,
             &mut s.wall_pairs,
-            s.config.gravity,
             &mut self.buffers,
             self.pool.as_deref(),
         );
+        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
         StepClock::mark(&mut clock, Mark::Forced);
         let limit = s.config.max_overlap_fraction;
         if eval.worst_pair.fraction > limit {
@@ -647,8 +654,6 @@ impl Simulation {
                 s.time,
             ));
         }
-        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
         s.contacts = eval.count;
 
         // Second half kick, unless the next step does it.

@@ -2,7 +2,7 @@
 //!
 //! One parallel pass. The particles are cut into contiguous index ranges of about equal
 //! cost, and each range's task, alone, computes every force on its bodies:
-//! 1. gravity;
+//! 1. its bodies start from their weights and zero torques (the integrator's pass wrote them);
 //! 2. its **incoming** pairs, those whose i lies before the range and whose j lies in it.
 //!    They belong to an earlier range, which resolves them too, as its own. This task
 //!    resolves them again from copies of their histories taken before the pass, and keeps
@@ -18,7 +18,7 @@
 //! resolved twice: about one cell layer of pairs per range boundary.
 //!
 //! Every body receives the additions of the one-thread path, in the same order:
-//! - gravity first;
+//! - the weight first;
 //! - then its pairs. The list holds i < j, sorted by i, so the contacts in which a body is j
 //!   all come before its own run as i, the incoming ones (i before the range) first. The
 //!   one-thread [`Accumulator`] adds them one by one in that order; a range adds its
@@ -107,7 +107,6 @@ pub(super) fn evaluate(
     input: &KernelInput,
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
-    gravity: DVec3,
     buffers: &mut ForceBuffers,
     pool: &rayon::ThreadPool,
 ) -> Evaluation {
@@ -130,9 +129,6 @@ pub(super) fn evaluate(
         (pool, PARALLEL_COPY),
     );
 
-    // Every number is overwritten by the ranges; only the length matters.
-    buffers.force.resize(n, DVec3::ZERO);
-    buffers.torque.resize(n, DVec3::ZERO);
     let batched_walls = *input.laws == ContactLaws::default();
     wall_probes(input.walls, &mut buffers.wall_probes);
     let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
@@ -151,7 +147,7 @@ pub(super) fn evaluate(
             .into_par_iter()
             .zip(buffers.ranges.par_iter_mut())
             .with_max_len(1)
-            .map(|(task, scratch)| range_pass(input, gravity, ids, probes, task, scratch))
+            .map(|(task, scratch)| range_pass(input, ids, probes, task, scratch))
             .collect()
     });
 
@@ -335,10 +331,10 @@ impl PairSink for OwnSink<'_, '_> {
     }
 }
 
-/// One body range: gravity, its incoming and own pairs, its wall contacts.
+/// One body range: its incoming and own pairs, its wall contacts, onto the weights and zero
+/// torques its force arrays start with.
 fn range_pass(
     input: &KernelInput,
-    gravity: DVec3,
     ids: (&[u32], &[u32]),
     probes: &[WallProbe],
     task: RangeTask,
@@ -353,11 +349,6 @@ fn range_pass(
         walls,
     } = task;
     let hi = lo + force.len();
-    // The same product as the one-thread path's.
-    for (f, &m) in force.iter_mut().zip(&input.particles.mass[lo..hi]) {
-        *f = m * gravity;
-    }
-    torque.fill(DVec3::ZERO);
 
     let mut result = RangeResult::default();
     let mut acc = Accumulator::new(&mut *force, &mut *torque);
@@ -543,14 +534,9 @@ mod tests {
                     let mut buffers = ForceBuffers::default();
                     let mut all = Vec::new();
                     for _ in 0..2 {
-                        let eval = super::super::evaluate(
-                            &input,
-                            &mut p,
-                            &mut w,
-                            jumble.gravity,
-                            &mut buffers,
-                            pool,
-                        );
+                        super::super::start(&jumble.set, jumble.gravity, &mut buffers);
+                        let eval =
+                            super::super::evaluate(&input, &mut p, &mut w, &mut buffers, pool);
                         assert!(
                             eval.count.particle_particle > 100 && eval.count.particle_wall > 10
                         );
