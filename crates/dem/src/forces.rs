@@ -102,9 +102,11 @@ pub(crate) struct ForceBuffers {
     wall_probes: Vec<WallProbe>,
     /// Scratch of the body ranges (several threads only).
     ranges: Vec<parallel::RangeScratch>,
-    /// Accumulated forces [N], swapped into the particle set after evaluation.
+    /// Forces [N] the contacts are added to: during a step's evaluation, the particles'
+    /// own array (holding the weights the integrator wrote), lent by swapping and swapped
+    /// back after.
     pub force: Vec<DVec3>,
-    /// Accumulated torques [N m].
+    /// Torques [N m], lent the same way.
     pub torque: Vec<DVec3>,
 }
 
