@@ -523,7 +523,8 @@ mod tests {
             let uniform = uniform_free_body(&flat);
             assert!(uniform.is_some(), "equal free spheres share one body");
             let (half, dt) = (1.25e-6, 2.5e-6);
-            let a = kick_drift_general(Bodies::of(&mut general, &reference), (half, dt), G, pending);
+            let a =
+                kick_drift_general(Bodies::of(&mut general, &reference), (half, dt), G, pending);
             let b = kick_drift(&mut flat, &reference, (half, dt), pending, uniform, G, None);
             assert_eq!(a, b, "displacement and probes");
             assert_eq!(general.position, flat.position);
@@ -560,8 +561,21 @@ mod tests {
         reference2[77] -= DVec3::new(0.0, 0.0, 5e-3);
         let mut flat = general.clone();
         let uniform = uniform_free_body(&flat);
-        let a = kick_drift_general(Bodies::of(&mut general, &reference2), (1e-6, 2e-6), G, false);
-        let b = kick_drift(&mut flat, &reference2, (1e-6, 2e-6), false, uniform, G, None);
+        let a = kick_drift_general(
+            Bodies::of(&mut general, &reference2),
+            (1e-6, 2e-6),
+            G,
+            false,
+        );
+        let b = kick_drift(
+            &mut flat,
+            &reference2,
+            (1e-6, 2e-6),
+            false,
+            uniform,
+            G,
+            None,
+        );
         assert_eq!(a, b);
         assert!(
             a.0 >= 2.4e-5,
@@ -604,7 +618,15 @@ mod tests {
                 assert_eq!(uniform.is_none(), general);
                 let step = (1.25e-6, 2.5e-6);
                 let a = kick_drift(&mut one, &reference, step, pending, uniform, G, None);
-                let b = kick_drift(&mut many, &reference, step, pending, uniform, G, Some(&pool));
+                let b = kick_drift(
+                    &mut many,
+                    &reference,
+                    step,
+                    pending,
+                    uniform,
+                    G,
+                    Some(&pool),
+                );
                 assert_eq!(a, b, "displacement and probes");
                 // Moved 3 mm from a reference within 0.1 mm of it: d² ≥ (2.9 mm)².
                 assert!(
