@@ -1219,6 +1219,38 @@ pub(super) mod tests {
         }
     }
 
+    /// The scalar path's pair contacts summed onto `n` bodies: F and M_i on i, −F and M_j
+    /// on j.
+    fn summed(n: usize, contacts: Vec<(u32, u32, ContactForce)>) -> (Vec<DVec3>, Vec<DVec3>) {
+        let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+        for (a, b, cf) in contacts {
+            let (a, b) = (a as usize, b as usize);
+            force[a] += cf.force;
+            force[b] -= cf.force;
+            torque[a] += cf.torque_i;
+            torque[b] += cf.torque_j;
+        }
+        (force, torque)
+    }
+
+    /// The batched path's sums in `buffers` against the scalar path's: the same formulas
+    /// with a few operations regrouped, so agreement to 1e-12 of each body's own force or
+    /// torque.
+    fn assert_close(buffers: &ForceBuffers, force: &[DVec3], torque: &[DVec3]) {
+        for k in 0..force.len() {
+            let f = force[k].length().max(1e-30);
+            let t = torque[k].length().max(1e-30);
+            assert!(
+                (buffers.force[k] - force[k]).length() <= 1e-12 * f,
+                "force {k}"
+            );
+            assert!(
+                (buffers.torque[k] - torque[k]).length() <= 1e-12 * t,
+                "torque {k}"
+            );
+        }
+    }
+
     #[test]
     fn bodies_beyond_the_prefetch_size_get_the_scalar_laws_forces() {
         // Copies of the jumble, far apart, hold more bodies than `PREFETCH_BODIES`, so the
@@ -1258,30 +1290,11 @@ pub(super) mod tests {
         let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None);
         assert!(eval.count.particle_particle > copies * 100);
 
-        let n = big.set.len();
-        let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
         let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
         let mut contacts = Vec::new();
         pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
-        for (a, b, cf) in contacts {
-            let (a, b) = (a as usize, b as usize);
-            force[a] += cf.force;
-            force[b] -= cf.force;
-            torque[a] += cf.torque_i;
-            torque[b] += cf.torque_j;
-        }
-        for k in 0..n {
-            let f = force[k].length().max(1e-30);
-            let t = torque[k].length().max(1e-30);
-            assert!(
-                (buffers.force[k] - force[k]).length() <= 1e-12 * f,
-                "force {k}"
-            );
-            assert!(
-                (buffers.torque[k] - torque[k]).length() <= 1e-12 * t,
-                "torque {k}"
-            );
-        }
+        let (force, torque) = summed(big.set.len(), contacts);
+        assert_close(&buffers, &force, &torque);
 
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
@@ -1322,36 +1335,17 @@ pub(super) mod tests {
                 "some candidates must be apart"
             );
 
-            let n = set.len();
-            let (mut force, mut torque) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
             let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
             let mut contacts = Vec::new();
             let worst = pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
-            for (a, b, cf) in contacts {
-                let (a, b) = (a as usize, b as usize);
-                force[a] += cf.force;
-                force[b] -= cf.force;
-                torque[a] += cf.torque_i;
-                torque[b] += cf.torque_j;
-            }
+            let (mut force, mut torque) = summed(set.len(), contacts);
             let wids = (&w2.particle.clone()[..], &w2.wall.clone()[..]);
             wall_loop(&input, wids, w2.history.split_mut(), |a, cf| {
                 force[a] += cf.force;
                 torque[a] += cf.torque_i;
             });
             assert_eq!(eval.worst_pair.index, worst.index);
-            for k in 0..n {
-                let f = force[k].length().max(1e-30);
-                let t = torque[k].length().max(1e-30);
-                assert!(
-                    (buffers.force[k] - force[k]).length() <= 1e-12 * f,
-                    "force {k}"
-                );
-                assert!(
-                    (buffers.torque[k] - torque[k]).length() <= 1e-12 * t,
-                    "torque {k}"
-                );
-            }
+            assert_close(&buffers, &force, &torque);
             for (a, b) in pairs
                 .history
                 .iter()

@@ -197,8 +197,8 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
 
 /// [`kick_drift`] for free particles sharing `kv` = Δt/2m [s/kg] and `kw` = Δt/2I
 /// [s/(kg m²)], and the weight m g [N]: per component, v += kv F (pending), v += kv F,
-/// x += Δt v, and the same for ω with kw and the torque, then F = m g and T = 0; then the
-/// displacements in a second pass.
+/// x += Δt v, and the same for ω with kw and the torque, then F = m g and T = 0; each
+/// block of particles then gives its displacements.
 fn kick_drift_uniform(
     b: Bodies,
     (kv, kw): (f64, f64),
