@@ -17,9 +17,12 @@ use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
 use crate::wall::{Wall, WallShape};
 
+mod chunked;
 mod compact;
 mod gather;
 mod parallel;
+
+pub(crate) use chunked::{chunk_bounds, evaluate_chunk};
 
 /// Read-only inputs of the kernel.
 pub(crate) struct KernelInput<'a> {
@@ -739,6 +742,53 @@ fn plane_distance(x: DVec3, normal: DVec3, offset: f64) -> f64 {
     x.dot(normal) - offset
 }
 
+/// The candidates of one wall whose particles lie in one body range.
+struct WallPiece<'a> {
+    /// The wall's index.
+    wall: usize,
+    /// Index of the piece's first candidate in the whole wall list.
+    base: usize,
+    particles: &'a [u32],
+    /// Their ξ and live flags (`HistoryArrays`).
+    history: &'a mut [DVec3],
+    live: &'a mut [u8],
+}
+
+/// Filters and resolves the wall candidates of `pieces`, in their order, into `sink`, with
+/// the filter buffers `hits` and `touch` (only grown, never cleared, as in
+/// [`batched_wall_loop`]) and a batch that [`prepare_wall_batch`] has prepared.
+fn wall_pieces<'a>(
+    input: &KernelInput,
+    probes: &[WallProbe],
+    pieces: impl IntoIterator<Item = WallPiece<'a>>,
+    (hits, touch, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Batch),
+    sink: &mut impl FnMut(usize, &ContactForce),
+) -> WorstOverlap {
+    let mut worst = WorstOverlap::default();
+    for piece in pieces {
+        let len = piece.particles.len();
+        if hits.len() < len {
+            hits.resize(len, 0);
+            touch.resize(len, 0);
+        }
+        let run = WallRun {
+            probe: probes[piece.wall],
+            index: piece.wall,
+            base: piece.base,
+        };
+        wall_run(
+            input,
+            &run,
+            piece.particles,
+            (piece.history, piece.live),
+            (&mut hits[..len], &mut touch[..len], batch),
+            &mut worst,
+            sink,
+        );
+    }
+    worst
+}
+
 /// Filters and resolves the candidates `pi` of one wall.
 #[inline(always)]
 fn wall_run(
@@ -1124,6 +1174,34 @@ pub(super) mod tests {
                 );
             }
         }
+    }
+
+    /// Everything an evaluation leaves behind, as bits.
+    pub(super) fn bits(
+        buffers: &ForceBuffers,
+        pairs: &PairList,
+        walls: &WallPairList,
+        eval: &Evaluation,
+    ) -> Vec<u64> {
+        let histories = pairs.history.iter().chain(walls.history.iter());
+        let vectors = buffers
+            .force
+            .iter()
+            .copied()
+            .chain(buffers.torque.iter().copied())
+            .chain(histories.flat_map(|h| [h.tangential, h.rolling]));
+        let mut out: Vec<u64> = vectors
+            .flat_map(|v| v.to_array().map(f64::to_bits))
+            .collect();
+        out.extend([
+            eval.count.particle_particle as u64,
+            eval.count.particle_wall as u64,
+            eval.worst_pair.index as u64,
+            eval.worst_pair.fraction.to_bits(),
+            eval.worst_wall.index as u64,
+            eval.worst_wall.fraction.to_bits(),
+        ]);
+        out
     }
 
     /// The jumble with everything an evaluation needs: coefficients of its materials and

@@ -55,19 +55,9 @@ pub(crate) fn kick_drift(
     pool: Option<&rayon::ThreadPool>,
 ) -> (f64, bool, bool) {
     let n = p.len();
-    // Every body's weight, when they share one mass (`uniform_free_body` checked it): the
-    // same product as each body's own, m g.
-    let weight = p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity);
+    let weight = shared_weight(p, gravity);
     let bodies = Bodies::of(p, reference);
-    let one = |b: Bodies| match uniform {
-        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
-            b,
-            (half * inv_mass, half * inv_inertia),
-            (dt, weight),
-            pending,
-        ),
-        None => kick_drift_general(b, (half, dt), gravity, pending),
-    };
+    let one = |b: Bodies| kick_drift_bodies(b, (half, dt), pending, uniform, (gravity, weight));
     let bounds =
         pool.map(|pool| even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE));
     let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
@@ -87,6 +77,51 @@ pub(crate) fn kick_drift(
         .fold((0.0, true, true), |(d, x, v), (d2, x2, v2)| {
             (if d2 > d { d2 } else { d }, x & x2, v & v2)
         })
+}
+
+/// [`kick_drift`] of the particles in `range` only, on the calling thread: each of them
+/// gets exactly the arithmetic of the whole pass, and the reductions cover the range. The
+/// one-thread evaluation of large systems (`Simulation`) calls it on each chunk of bodies
+/// as soon as the chunk's forces are whole, while its numbers are still in the cache.
+pub(crate) fn kick_drift_range(
+    p: &mut ParticleSet,
+    reference: &[DVec3],
+    range: std::ops::Range<usize>,
+    (half, dt): (f64, f64),
+    pending: bool,
+    uniform: Option<(f64, f64)>,
+    gravity: DVec3,
+) -> (f64, bool, bool) {
+    let weight = shared_weight(p, gravity);
+    let (_, rest) = Bodies::of(p, reference).split_at(range.start);
+    let (bodies, _) = rest.split_at(range.len());
+    kick_drift_bodies(bodies, (half, dt), pending, uniform, (gravity, weight))
+}
+
+/// Every body's weight m g [N] (`gravity` g [m/s²]) when they share one mass
+/// (`uniform_free_body` checks it): the same product as each body's own.
+fn shared_weight(p: &ParticleSet, gravity: DVec3) -> DVec3 {
+    p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity)
+}
+
+/// The half kick and drift of the bodies `b`, by the flat pass when `uniform` holds 1/m and
+/// 1/I, particle by particle otherwise; `weight` is [`shared_weight`].
+fn kick_drift_bodies(
+    b: Bodies,
+    (half, dt): (f64, f64),
+    pending: bool,
+    uniform: Option<(f64, f64)>,
+    (gravity, weight): (DVec3, DVec3),
+) -> (f64, bool, bool) {
+    match uniform {
+        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
+            b,
+            (half * inv_mass, half * inv_inertia),
+            (dt, weight),
+            pending,
+        ),
+        None => kick_drift_general(b, (half, dt), gravity, pending),
+    }
 }
 
 /// Ranges per pool thread in the parallel [`kick_drift`]: more than one balances them.

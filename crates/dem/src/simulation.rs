@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
-use crate::integrator::{kick, kick_drift, uniform_free_body};
+use crate::integrator::{kick, kick_drift, kick_drift_range, uniform_free_body};
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
@@ -540,16 +540,25 @@ impl Simulation {
 
     /// Advances one step of velocity Verlet (physics.md §6.2).
     pub fn step(&mut self) -> Result<(), DemError> {
-        self.advance(false, true)
+        self.advance(false, true, None).map(|_| ())
     }
 
     /// One step. `kick_pending`: the previous step left its second half kick undone, to be
     /// done here in the same pass as this step's first half kick and drift. `final_kick`:
     /// finish this step's second half kick now (otherwise the next call must be pending).
+    /// `drifted`: the previous step already did this step's kicks and drift, body chunk by
+    /// body chunk inside its evaluation, and this is what that pass found.
     ///
     /// The fused pass performs the same additions in the same order as two separate
     /// passes, so the trajectory is bit-identical; it only saves a sweep over the particles.
-    fn advance(&mut self, kick_pending: bool, final_kick: bool) -> Result<(), DemError> {
+    /// Returns what the next step's kicks and drift found when this step did them (see
+    /// [`Simulation::fuses_next_drift`]).
+    fn advance(
+        &mut self,
+        kick_pending: bool,
+        final_kick: bool,
+        drifted: Option<Drift>,
+    ) -> Result<Option<Drift>, DemError> {
         if !self.prepared {
             self.prepare()?;
         }
@@ -560,27 +569,101 @@ impl Simulation {
 
         // First half kick and drift, tracking the largest displacement since the last build.
         let reference_valid = self.state.reference.len() == p.len();
-        if !reference_valid {
-            // The list is rebuilt below anyway; a reference is needed only to measure from.
-            self.state.reference.clear();
-            self.state.reference.extend_from_slice(&p.position);
+        let drift = match drifted {
+            Some(drift) => drift,
+            None => {
+                if !reference_valid {
+                    // The list is rebuilt below anyway; a reference is needed only to
+                    // measure from.
+                    self.state.reference.clear();
+                    self.state.reference.extend_from_slice(&p.position);
+                }
+                Drift::from(kick_drift(
+                    p,
+                    &self.state.reference,
+                    (half, dt),
+                    kick_pending,
+                    self.uniform_free,
+                    self.state.config.gravity,
+                    self.pool.as_deref(),
+                ))
+            }
+        };
+        self.check_drift(drift)?;
+        StepClock::mark(&mut clock, Mark::Drifted);
+        let half_skin = 0.5 * self.state.skin;
+        if self.state.needs_rebuild
+            || !reference_valid
+            || drift.max_disp2.sqrt() + self.state.wall_drift > half_skin
+        {
+            self.rebuild(None);
         }
-        let (max_disp2, finite, kicked_finite) = kick_drift(
-            p,
-            &self.state.reference,
-            (half, dt),
-            kick_pending,
-            self.uniform_free,
-            self.state.config.gravity,
-            self.pool.as_deref(),
-        );
-        if !kicked_finite {
-            // The previous step's deferred kick: reported as `kick` below would have.
+        StepClock::mark(&mut clock, Mark::Listed);
+
+        // Forces at the drifted positions with half-step velocities, summed onto the weights
+        // and zero torques that the pass above left in the particles' arrays (a list build
+        // permutes them with the particles); the arrays are lent to the evaluation and come
+        // back right after it, before any check can return.
+        let next = if !final_kick && self.fuses_next_drift() {
+            let next = self.evaluate_and_drift((half, dt))?;
+            StepClock::mark(&mut clock, Mark::Forced);
+            Some(next)
+        } else {
+            let s = &mut self.state;
+            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+            let input = KernelInput {
+                particles: &s.particles,
+                laws: &s.config.laws,
+                pair_coeffs: &self.pair_coeffs,
+                materials: s.materials.len(),
+                walls: &s.walls,
+                wall_coeffs: &self.wall_coeffs,
+                uniform_body: self.uniform_body,
+                dt,
+            };
+            let eval = forces::evaluate(
+                &input,
+                &mut s.pairs,
+                &mut s.wall_pairs,
+                &mut self.buffers,
+                self.pool.as_deref(),
+            );
+            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+            StepClock::mark(&mut clock, Mark::Forced);
+            check_overlaps(s, &eval)?;
+            s.contacts = eval.count;
+
+            // Second half kick, unless the next step does it.
+            let p = &mut s.particles;
+            if final_kick && !kick(p, half, self.uniform_free) {
+                if let Some(e) = non_finite_velocity(p, s.time) {
+                    return Err(e);
+                }
+            }
+            None
+        };
+        let s = &mut self.state;
+        s.steps += 1;
+        s.time = s.steps as f64 * dt;
+        if let Some(times) = &mut self.phase_times {
+            StepClock::finish(clock, times);
+        }
+        Ok(next)
+    }
+
+    /// Reports what a kick-and-drift pass found: a velocity made non-finite by the previous
+    /// step's deferred kick, or a non-finite position.
+    fn check_drift(&self, drift: Drift) -> Result<(), DemError> {
+        let p = &self.state.particles;
+        if !drift.kicked_finite {
+            // The previous step's deferred kick: reported as `kick` would have.
             if let Some(e) = non_finite_velocity(p, self.state.time) {
                 return Err(e);
             }
         }
-        if !finite {
+        if !drift.finite {
             // The fast check flags a non-finite or absurdly distant (|Δx|² overflowing)
             // particle; only a truly non-finite one is an error.
             if let Some(k) = p.position.iter().position(|x| !x.is_finite()) {
@@ -592,83 +675,80 @@ impl Simulation {
                 });
             }
         }
-        StepClock::mark(&mut clock, Mark::Drifted);
-        let half_skin = 0.5 * self.state.skin;
-        if self.state.needs_rebuild
-            || !reference_valid
-            || max_disp2.sqrt() + self.state.wall_drift > half_skin
-        {
-            self.rebuild(None);
-        }
-        StepClock::mark(&mut clock, Mark::Listed);
-
-        // Forces at the drifted positions with half-step velocities, summed onto the weights
-        // and zero torques that the pass above left in the particles' arrays (a list build
-        // permutes them with the particles); the arrays are lent to the evaluation and come
-        // back right after it, before any check can return.
-        let s = &mut self.state;
-        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
-        let input = KernelInput {
-            particles: &s.particles,
-            laws: &s.config.laws,
-            pair_coeffs: &self.pair_coeffs,
-            materials: s.materials.len(),
-            walls: &s.walls,
-            wall_coeffs: &self.wall_coeffs,
-            uniform_body: self.uniform_body,
-            dt,
-        };
-        let eval = forces::evaluate(
-            &input,
-            &mut s.pairs,
-            &mut s.wall_pairs,
-            &mut self.buffers,
-            self.pool.as_deref(),
-        );
-        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
-        StepClock::mark(&mut clock, Mark::Forced);
-        let limit = s.config.max_overlap_fraction;
-        if eval.worst_pair.fraction > limit {
-            let w = eval.worst_pair;
-            let (i, j) = (s.pairs.i[w.index] as usize, s.pairs.j[w.index] as usize);
-            return Err(overlap_error(
-                &s.particles,
-                i,
-                format!("particle {}", s.particles.tag[j]),
-                w,
-                limit,
-                s.time,
-            ));
-        }
-        if eval.worst_wall.fraction > limit {
-            let w = eval.worst_wall;
-            let i = s.wall_pairs.particle[w.index] as usize;
-            return Err(overlap_error(
-                &s.particles,
-                i,
-                format!("wall {}", s.wall_pairs.wall[w.index]),
-                w,
-                limit,
-                s.time,
-            ));
-        }
-        s.contacts = eval.count;
-
-        // Second half kick, unless the next step does it.
-        let p = &mut s.particles;
-        if final_kick && !kick(p, half, self.uniform_free) {
-            if let Some(e) = non_finite_velocity(p, s.time) {
-                return Err(e);
-            }
-        }
-        s.steps += 1;
-        s.time = s.steps as f64 * dt;
-        if let Some(times) = &mut self.phase_times {
-            StepClock::finish(clock, times);
-        }
         Ok(())
+    }
+
+    /// Whether a step that defers its second half kick also does the next step's kicks and
+    /// drift, inside its evaluation ([`Simulation::evaluate_and_drift`]): on one thread, for
+    /// the paper's laws, and for systems of more than [`FUSE_BODIES`] bodies.
+    fn fuses_next_drift(&self) -> bool {
+        self.pool.is_none()
+            && self.state.particles.len() > FUSE_BODIES
+            && self.state.config.laws == ContactLaws::default()
+    }
+
+    /// The evaluation of the step's forces cut into chunks of bodies
+    /// ([`forces::evaluate_chunk`]), each chunk, once its forces are whole, given the
+    /// next step's deferred and first half kicks and its drift
+    /// ([`crate::integrator::kick_drift_range`]), while its numbers are in the cache.
+    ///
+    /// Every body gets the additions, and then the kicks and drift, of the separate
+    /// evaluation and pass, in the same order: the trajectory is bit-identical to theirs and
+    /// so to that on any number of threads. Each chunk's overlaps are checked before its
+    /// bodies move, so an overlap error reports the positions it was found at; it names the
+    /// worst contact of the first chunk that has one too deep, and the bodies of the
+    /// chunks before it have then already moved on.
+    fn evaluate_and_drift(&mut self, (half, dt): (f64, f64)) -> Result<Drift, DemError> {
+        let s = &mut self.state;
+        let n = s.particles.len();
+        let mut eval: Option<forces::Evaluation> = None;
+        let mut drift = Drift {
+            max_disp2: 0.0,
+            finite: true,
+            kicked_finite: true,
+        };
+        for bodies in forces::chunk_bounds(n) {
+            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+            let input = KernelInput {
+                particles: &s.particles,
+                laws: &s.config.laws,
+                pair_coeffs: &self.pair_coeffs,
+                materials: s.materials.len(),
+                walls: &s.walls,
+                wall_coeffs: &self.wall_coeffs,
+                uniform_body: self.uniform_body,
+                dt,
+            };
+            let part = forces::evaluate_chunk(
+                &input,
+                &mut s.pairs,
+                &mut s.wall_pairs,
+                &mut self.buffers,
+                bodies.clone(),
+            );
+            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+            check_overlaps(s, &part)?;
+            eval = Some(match eval {
+                Some(e) => e.merge(part),
+                None => part,
+            });
+            let moved = Drift::from(kick_drift_range(
+                &mut s.particles,
+                &s.reference,
+                bodies,
+                (half, dt),
+                true,
+                self.uniform_free,
+                s.config.gravity,
+            ));
+            drift = drift.merge(moved);
+        }
+        if let Some(eval) = eval {
+            s.contacts = eval.count;
+        }
+        Ok(drift)
     }
 
     /// Takes `n` steps, each one's second half kick fused with the next one's first.
@@ -700,8 +780,9 @@ impl Simulation {
 
     /// The loop of [`Simulation::run`], on the calling thread.
     fn run_steps(&mut self, n: u64) -> Result<(), DemError> {
+        let mut drifted = None;
         for k in 0..n {
-            self.advance(k > 0, k + 1 == n)?;
+            drifted = self.advance(k > 0, k + 1 == n, drifted)?;
         }
         Ok(())
     }
@@ -789,6 +870,81 @@ fn check_interaction(i: &Interaction) -> Result<(), DemError> {
             "friction ≥ 0, rolling friction ≥ 0 and restitution in (0, 1] required, got {i:?}"
         )))
     }
+}
+
+/// Bodies beyond which a one-thread step does the next step's kicks and drift inside its
+/// evaluation, chunk by chunk ([`Simulation::fuses_next_drift`]). Below it (the paper's
+/// hopper) every body's numbers stay in the caches between the evaluation and a separate
+/// pass, and the chunks would only add their fixed costs. Above it the separate pass
+/// streamed every body from memory again, at the memory's full rate; done inside the
+/// evaluation, it overlaps the evaluation's waits on partner bodies (docs/performance.md,
+/// twenty-fourth session).
+const FUSE_BODIES: usize = 1 << 15;
+
+/// What a kick-and-drift pass found ([`kick_drift`]).
+#[derive(Debug, Clone, Copy)]
+struct Drift {
+    /// Largest squared displacement since the last list build [m²].
+    max_disp2: f64,
+    /// Every displacement was finite.
+    finite: bool,
+    /// The deferred kick left every velocity and spin finite.
+    kicked_finite: bool,
+}
+
+impl From<(f64, bool, bool)> for Drift {
+    fn from((max_disp2, finite, kicked_finite): (f64, bool, bool)) -> Self {
+        Self {
+            max_disp2,
+            finite,
+            kicked_finite,
+        }
+    }
+}
+
+impl Drift {
+    /// Both passes' findings, as one pass over both sets of bodies would give them.
+    fn merge(self, other: Self) -> Self {
+        Self {
+            max_disp2: if other.max_disp2 > self.max_disp2 {
+                other.max_disp2
+            } else {
+                self.max_disp2
+            },
+            finite: self.finite & other.finite,
+            kicked_finite: self.kicked_finite & other.kicked_finite,
+        }
+    }
+}
+
+/// The error for an overlap deeper than the configured limit, if `eval` found one.
+fn check_overlaps(s: &SimulationState, eval: &forces::Evaluation) -> Result<(), DemError> {
+    let limit = s.config.max_overlap_fraction;
+    if eval.worst_pair.fraction > limit {
+        let w = eval.worst_pair;
+        let (i, j) = (s.pairs.i[w.index] as usize, s.pairs.j[w.index] as usize);
+        return Err(overlap_error(
+            &s.particles,
+            i,
+            format!("particle {}", s.particles.tag[j]),
+            w,
+            limit,
+            s.time,
+        ));
+    }
+    if eval.worst_wall.fraction > limit {
+        let w = eval.worst_wall;
+        let i = s.wall_pairs.particle[w.index] as usize;
+        return Err(overlap_error(
+            &s.particles,
+            i,
+            format!("wall {}", s.wall_pairs.wall[w.index]),
+            w,
+            limit,
+            s.time,
+        ));
+    }
+    Ok(())
 }
 
 fn overlap_error(

@@ -81,18 +81,6 @@ struct RangeTask<'a> {
     walls: Vec<WallPiece<'a>>,
 }
 
-/// The candidates of one wall whose particles lie in one body range.
-struct WallPiece<'a> {
-    /// The wall's index.
-    wall: usize,
-    /// Index of the piece's first candidate in the whole wall list.
-    base: usize,
-    particles: &'a [u32],
-    /// Their ξ and live flags (`HistoryArrays`).
-    history: &'a mut [DVec3],
-    live: &'a mut [u8],
-}
-
 /// What one range's task found.
 #[derive(Default)]
 struct RangeResult {
@@ -388,70 +376,21 @@ fn range_pass(
         torque[i - lo] += cf.torque_i;
         result.wall_contacts += 1;
     };
-    let mut worst = WorstOverlap::default();
-    for piece in walls {
-        let len = piece.particles.len();
-        // Only grown, never cleared, as in `batched_wall_loop`.
-        if scratch.hits.len() < len {
-            scratch.hits.resize(len, 0);
-            scratch.touch.resize(len, 0);
-        }
-        let run = WallRun {
-            probe: probes[piece.wall],
-            index: piece.wall,
-            base: piece.base,
-        };
-        wall_run(
-            input,
-            &run,
-            piece.particles,
-            (piece.history, piece.live),
-            (
-                &mut scratch.hits[..len],
-                &mut scratch.touch[..len],
-                &mut kernel.batch,
-            ),
-            &mut worst,
-            &mut sink,
-        );
-    }
-    result.worst_wall = worst;
+    result.worst_wall = wall_pieces(
+        input,
+        probes,
+        walls,
+        (&mut scratch.hits, &mut scratch.touch, &mut kernel.batch),
+        &mut sink,
+    );
     result
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{jumble_input, Jumble};
+    use super::super::tests::{bits, jumble_input, Jumble};
     use super::*;
     use crate::contact::{RollingLaw, TangentialLaw};
-
-    /// Everything an evaluation leaves behind, as bits.
-    fn bits(
-        buffers: &ForceBuffers,
-        pairs: &PairList,
-        walls: &WallPairList,
-        eval: &Evaluation,
-    ) -> Vec<u64> {
-        let histories = pairs.history.iter().chain(walls.history.iter());
-        let vectors = buffers
-            .force
-            .iter()
-            .copied()
-            .chain(buffers.torque.iter().copied())
-            .chain(histories.flat_map(|h| [h.tangential, h.rolling]));
-        let mut out: Vec<u64> = vectors
-            .flat_map(|v| v.to_array().map(f64::to_bits))
-            .collect();
-        out.extend([
-            eval.count.particle_particle as u64,
-            eval.count.particle_wall as u64,
-            eval.worst_pair.index as u64,
-            eval.worst_pair.fraction.to_bits(),
-            eval.worst_wall.index as u64,
-            eval.worst_wall.fraction.to_bits(),
-        ]);
-        out
-    }
 
     #[test]
     fn incoming_pairs_are_exactly_those_crossing_into_each_range_serial_or_parallel() {
