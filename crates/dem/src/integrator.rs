@@ -55,9 +55,19 @@ pub(crate) fn kick_drift(
     pool: Option<&rayon::ThreadPool>,
 ) -> (f64, bool, bool) {
     let n = p.len();
-    let weight = shared_weight(p, gravity);
+    // Every body's weight, when they share one mass (`uniform_free_body` checked it): the
+    // same product as each body's own, m g.
+    let weight = p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity);
     let bodies = Bodies::of(p, reference);
-    let one = |b: Bodies| kick_drift_bodies(b, (half, dt), pending, uniform, (gravity, weight));
+    let one = |b: Bodies| match uniform {
+        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
+            b,
+            (half * inv_mass, half * inv_inertia),
+            (dt, weight),
+            pending,
+        ),
+        None => kick_drift_general(b, (half, dt), gravity, pending),
+    };
     let bounds =
         pool.map(|pool| even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE));
     let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
@@ -92,35 +102,20 @@ pub(crate) fn kick_drift_range(
     uniform: Option<(f64, f64)>,
     gravity: DVec3,
 ) -> (f64, bool, bool) {
-    let weight = shared_weight(p, gravity);
+    // The dispatch of `kick_drift`'s closure, written out again (both passes inlined)
+    // rather than shared, so that the hopper's `kick_drift` compiles as it did before this
+    // function existed.
+    let weight = p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity);
     let (_, rest) = Bodies::of(p, reference).split_at(range.start);
     let (bodies, _) = rest.split_at(range.len());
-    kick_drift_bodies(bodies, (half, dt), pending, uniform, (gravity, weight))
-}
-
-/// Every body's weight m g [N] (`gravity` g [m/s²]) when they share one mass
-/// (`uniform_free_body` checks it): the same product as each body's own.
-fn shared_weight(p: &ParticleSet, gravity: DVec3) -> DVec3 {
-    p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity)
-}
-
-/// The half kick and drift of the bodies `b`, by the flat pass when `uniform` holds 1/m and
-/// 1/I, particle by particle otherwise; `weight` is [`shared_weight`].
-fn kick_drift_bodies(
-    b: Bodies,
-    (half, dt): (f64, f64),
-    pending: bool,
-    uniform: Option<(f64, f64)>,
-    (gravity, weight): (DVec3, DVec3),
-) -> (f64, bool, bool) {
     match uniform {
         Some((inv_mass, inv_inertia)) => kick_drift_uniform(
-            b,
+            bodies,
             (half * inv_mass, half * inv_inertia),
             (dt, weight),
             pending,
         ),
-        None => kick_drift_general(b, (half, dt), gravity, pending),
+        None => kick_drift_general(bodies, (half, dt), gravity, pending),
     }
 }
 
@@ -234,6 +229,7 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
 /// [s/(kg m²)], and the weight m g [N]: per component, v += kv F (pending), v += kv F,
 /// x += Δt v, and the same for ω with kw and the torque, then F = m g and T = 0; each
 /// block of particles then gives its displacements.
+#[inline(always)]
 fn kick_drift_uniform(
     b: Bodies,
     (kv, kw): (f64, f64),
@@ -389,6 +385,7 @@ fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
 /// reduction made each particle wait on the previous one's `max` and additions. The maximum
 /// of a set does not depend on the order it is taken in, and the two finiteness probes are
 /// sums of zeros unless something is not finite, so the results are the same as one pass.
+#[inline(always)]
 fn kick_drift_general(
     b: Bodies,
     (half, dt): (f64, f64),
