@@ -1,8 +1,14 @@
 //! The engine refuses or stops runs it cannot integrate, with errors that name the particle and
 //! the likely cause: excessive overlap, non-finite state, and a time step above the Rayleigh guard.
 
+mod common;
+
+use common::Gas;
 use dem::timescale::rayleigh_time;
-use dem::{DVec3, DemError, Interaction, Material, ParticleInit, Simulation, SimulationConfig};
+use dem::{
+    DVec3, DemError, Interaction, Material, MaterialId, ParticleInit, Simulation,
+    SimulationConfig,
+};
 
 const RADIUS: f64 = 1.5e-3;
 
@@ -123,4 +129,63 @@ fn rayleigh_guard_refuses_a_too_large_step() {
     // Just under the limit the same set-up runs.
     let (mut sim, _) = with_spectators(no_gravity(0.24 * t_r));
     assert!(sim.step().is_ok());
+}
+
+#[test]
+fn a_large_one_thread_run_stops_on_an_overlap_before_moving_the_pair() {
+    // Past 2^15 bodies a one-thread `run` moves each chunk of bodies on inside the
+    // evaluation (forces/chunked.rs), after checking the chunk's overlaps. 40 000 spheres on
+    // a lattice 3.1 mm apart (no contacts), moving at up to 0.5 m/s, and two spheres at rest
+    // added on empty sites of the 35³ lattice, 1.7 R apart: 30 % overlap, the only contact
+    // beyond the 10 % limit. The run must stop with that pair, at the position the overlap
+    // was found at (the sphere still there: a check after the move would have pushed it
+    // apart), exactly as two threads, which check after the whole evaluation, report it.
+    let stopped = |threads: usize| {
+        let mut config = no_gravity(2.5e-6);
+        config.threads = threads;
+        let gas = Gas {
+            count: 40_000,
+            spacing: 3.1e-3,
+            speed: 0.5,
+            interaction: Interaction::fan2023(),
+            config,
+            seed: 3,
+        };
+        let mut sim = gas.build();
+        // Site (32, 22, 31); sites from index 40 000, (32, 22, 30), on are empty.
+        let site = (DVec3::new(32.0, 22.0, 31.0) + DVec3::splat(0.5)) * gas.spacing;
+        let id = MaterialId(0);
+        let a = sim
+            .add_particle(ParticleInit::at_rest(site, RADIUS, id))
+            .expect("valid particle");
+        let b = sim
+            .add_particle(ParticleInit::at_rest(
+                site + DVec3::new(0.0, 0.0, 1.7 * RADIUS),
+                RADIUS,
+                id,
+            ))
+            .expect("valid particle");
+        let err = sim.run(3).expect_err("a 30 % overlap must stop the run");
+        (sim, err, [a, b])
+    };
+    let (sim, err, pair) = stopped(1);
+    let (_, two, _) = stopped(2);
+    match &err {
+        DemError::ExcessiveOverlap {
+            tag,
+            position,
+            fraction,
+            ..
+        } => {
+            assert!(pair.contains(tag), "tag {tag}, not one of {pair:?}");
+            // δ/R = 0.3: the pair is at rest until its first force. 1e-9 is round-off room.
+            assert!((fraction - 0.3).abs() < 1e-9, "overlap fraction {fraction}");
+            let p = sim.particles();
+            let k = p.tags().iter().position(|t| t == tag).expect("still there");
+            // Exact: the body must not have moved since the check.
+            assert_eq!(p.positions()[k], *position);
+        }
+        other => panic!("expected ExcessiveOverlap, got {other:?}"),
+    }
+    assert_eq!(format!("{err:?}"), format!("{two:?}"));
 }
