@@ -6,8 +6,7 @@ mod common;
 use common::Gas;
 use dem::timescale::rayleigh_time;
 use dem::{
-    DVec3, DemError, Interaction, Material, MaterialId, ParticleInit, Simulation,
-    SimulationConfig,
+    DVec3, DemError, Interaction, Material, MaterialId, ParticleInit, Simulation, SimulationConfig,
 };
 
 const RADIUS: f64 = 1.5e-3;
