@@ -14,6 +14,9 @@ use serde::Serialize;
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct PhaseTimes {
     /// The half kicks and the drift, with the largest-displacement and finiteness checks [s].
+    /// Past 2^15 bodies on one thread, a run's steps do the next step's kicks and drift
+    /// inside their force evaluation, chunk by chunk: that time then counts as `forces`,
+    /// and only a run's first kick and drift and its last half kick count here.
     pub integrate: f64,
     /// Neighbour-list rebuilds, re-sorting into cell order included [s].
     pub neighbour: f64,
