@@ -123,6 +123,7 @@ pub struct ContactCount {
 }
 
 /// What one evaluation found.
+#[derive(Default)]
 pub(crate) struct Evaluation {
     pub count: ContactCount,
     pub worst_pair: WorstOverlap,

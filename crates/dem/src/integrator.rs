@@ -55,19 +55,9 @@ pub(crate) fn kick_drift(
     pool: Option<&rayon::ThreadPool>,
 ) -> (f64, bool, bool) {
     let n = p.len();
-    // Every body's weight, when they share one mass (`uniform_free_body` checked it): the
-    // same product as each body's own, m g.
-    let weight = p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity);
+    let weight = shared_weight(p, gravity);
     let bodies = Bodies::of(p, reference);
-    let one = |b: Bodies| match uniform {
-        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
-            b,
-            (half * inv_mass, half * inv_inertia),
-            (dt, weight),
-            pending,
-        ),
-        None => kick_drift_general(b, (half, dt), gravity, pending),
-    };
+    let one = |b: Bodies| kick_drift_bodies(b, (half, dt), pending, uniform, (gravity, weight));
     let bounds =
         pool.map(|pool| even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE));
     let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
@@ -102,20 +92,37 @@ pub(crate) fn kick_drift_range(
     uniform: Option<(f64, f64)>,
     gravity: DVec3,
 ) -> (f64, bool, bool) {
-    // The dispatch of `kick_drift`'s closure, written out again (both passes inlined)
-    // rather than shared, so that the hopper's `kick_drift` compiles as it did before this
-    // function existed.
-    let weight = p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity);
+    let weight = shared_weight(p, gravity);
     let (_, rest) = Bodies::of(p, reference).split_at(range.start);
     let (bodies, _) = rest.split_at(range.len());
+    kick_drift_bodies(bodies, (half, dt), pending, uniform, (gravity, weight))
+}
+
+/// Every body's weight m g [N] (`gravity` g [m/s²]) when they share one mass
+/// (`uniform_free_body` checks it): the same product as each body's own.
+fn shared_weight(p: &ParticleSet, gravity: DVec3) -> DVec3 {
+    p.mass.first().map_or(DVec3::ZERO, |&m| m * gravity)
+}
+
+/// The half kick and drift of the bodies `b`, by the flat pass when `uniform` holds 1/m and
+/// 1/I, particle by particle otherwise; `weight` is [`shared_weight`]. Inlined with both
+/// passes, so that each caller holds its own copy of the loops.
+#[inline(always)]
+fn kick_drift_bodies(
+    b: Bodies,
+    (half, dt): (f64, f64),
+    pending: bool,
+    uniform: Option<(f64, f64)>,
+    (gravity, weight): (DVec3, DVec3),
+) -> (f64, bool, bool) {
     match uniform {
         Some((inv_mass, inv_inertia)) => kick_drift_uniform(
-            bodies,
+            b,
             (half * inv_mass, half * inv_inertia),
             (dt, weight),
             pending,
         ),
-        None => kick_drift_general(bodies, (half, dt), gravity, pending),
+        None => kick_drift_general(b, (half, dt), gravity, pending),
     }
 }
 

@@ -1,5 +1,6 @@
 //! The simulation: one owner of the whole state, advanced by velocity Verlet (physics.md §6.2).
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -602,35 +603,14 @@ impl Simulation {
 
         // Forces at the drifted positions with half-step velocities, summed onto the weights
         // and zero torques that the pass above left in the particles' arrays (a list build
-        // permutes them with the particles); the arrays are lent to the evaluation and come
-        // back right after it, before any check can return.
+        // permutes them with the particles).
         let next = if !final_kick && self.fuses_next_drift() {
             let next = self.evaluate_and_drift((half, dt))?;
             StepClock::mark(&mut clock, Mark::Forced);
             Some(next)
         } else {
+            let eval = self.evaluate_forces(dt, None);
             let s = &mut self.state;
-            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
-            let input = KernelInput {
-                particles: &s.particles,
-                laws: &s.config.laws,
-                pair_coeffs: &self.pair_coeffs,
-                materials: s.materials.len(),
-                walls: &s.walls,
-                wall_coeffs: &self.wall_coeffs,
-                uniform_body: self.uniform_body,
-                dt,
-            };
-            let eval = forces::evaluate(
-                &input,
-                &mut s.pairs,
-                &mut s.wall_pairs,
-                &mut self.buffers,
-                self.pool.as_deref(),
-            );
-            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
             StepClock::mark(&mut clock, Mark::Forced);
             check_overlaps(s, &eval)?;
             s.contacts = eval.count;
@@ -699,41 +679,18 @@ impl Simulation {
     /// worst contact of the first chunk that has one too deep, and the bodies of the
     /// chunks before it have then already moved on.
     fn evaluate_and_drift(&mut self, (half, dt): (f64, f64)) -> Result<Drift, DemError> {
-        let s = &mut self.state;
-        let n = s.particles.len();
-        let mut eval: Option<forces::Evaluation> = None;
+        let n = self.state.particles.len();
+        let mut eval = forces::Evaluation::default();
         let mut drift = Drift {
             max_disp2: 0.0,
             finite: true,
             kicked_finite: true,
         };
         for bodies in forces::chunk_bounds(n) {
-            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
-            let input = KernelInput {
-                particles: &s.particles,
-                laws: &s.config.laws,
-                pair_coeffs: &self.pair_coeffs,
-                materials: s.materials.len(),
-                walls: &s.walls,
-                wall_coeffs: &self.wall_coeffs,
-                uniform_body: self.uniform_body,
-                dt,
-            };
-            let part = forces::evaluate_chunk(
-                &input,
-                &mut s.pairs,
-                &mut s.wall_pairs,
-                &mut self.buffers,
-                bodies.clone(),
-            );
-            std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
-            std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+            let part = self.evaluate_forces(dt, Some(bodies.clone()));
+            let s = &mut self.state;
             check_overlaps(s, &part)?;
-            eval = Some(match eval {
-                Some(e) => e.merge(part),
-                None => part,
-            });
+            eval = eval.merge(part);
             let moved = Drift::from(kick_drift_range(
                 &mut s.particles,
                 &s.reference,
@@ -745,10 +702,36 @@ impl Simulation {
             ));
             drift = drift.merge(moved);
         }
-        if let Some(eval) = eval {
-            s.contacts = eval.count;
-        }
+        self.state.contacts = eval.count;
         Ok(drift)
+    }
+
+    /// The step's forces at the current positions, summed onto the weights and zero torques
+    /// in the particles' arrays, which are lent to the evaluation and come back right after
+    /// it: for every body ([`forces::evaluate`], on the pool if there is one), or only for
+    /// the chunk `bodies` ([`forces::evaluate_chunk`]).
+    fn evaluate_forces(&mut self, dt: f64, bodies: Option<Range<usize>>) -> forces::Evaluation {
+        let s = &mut self.state;
+        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+        let input = KernelInput {
+            particles: &s.particles,
+            laws: &s.config.laws,
+            pair_coeffs: &self.pair_coeffs,
+            materials: s.materials.len(),
+            walls: &s.walls,
+            wall_coeffs: &self.wall_coeffs,
+            uniform_body: self.uniform_body,
+            dt,
+        };
+        let (pairs, walls, buffers) = (&mut s.pairs, &mut s.wall_pairs, &mut self.buffers);
+        let eval = match bodies {
+            None => forces::evaluate(&input, pairs, walls, buffers, self.pool.as_deref()),
+            Some(bodies) => forces::evaluate_chunk(&input, pairs, walls, buffers, bodies),
+        };
+        std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
+        std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);
+        eval
     }
 
     /// Takes `n` steps, each one's second half kick fused with the next one's first.

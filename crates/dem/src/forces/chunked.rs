@@ -69,10 +69,7 @@ pub(crate) fn evaluate_chunk(
         (&mut scratch.touching, &mut scratch.batch),
         &mut acc,
     );
-    let mut count = ContactCount {
-        particle_particle: acc.contacts,
-        particle_wall: 0,
-    };
+    let particle_particle = acc.contacts;
 
     wall_probes(input.walls, &mut buffers.wall_probes);
     prepare_wall_batch(input, &mut scratch.batch);
@@ -82,7 +79,7 @@ pub(crate) fn evaluate_chunk(
         (tangential, live),
         bodies,
     );
-    let (force, torque) = (&mut buffers.force, &mut buffers.torque);
+    let mut particle_wall = 0;
     let worst_wall = wall_pieces(
         input,
         &buffers.wall_probes,
@@ -92,14 +89,17 @@ pub(crate) fn evaluate_chunk(
             &mut buffers.wall_touch,
             &mut scratch.batch,
         ),
+        // A wall contact has only the particle's share: F and M_i.
         &mut |i: usize, cf: &ContactForce| {
-            force[i] += cf.force;
-            torque[i] += cf.torque_i;
-            count.particle_wall += 1;
+            acc.add_i(i, cf);
+            particle_wall += 1;
         },
     );
     Evaluation {
-        count,
+        count: ContactCount {
+            particle_particle,
+            particle_wall,
+        },
         worst_pair,
         worst_wall,
     }
