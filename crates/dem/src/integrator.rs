@@ -72,11 +72,19 @@ pub(crate) fn kick_drift(
     }
     let results: Vec<(f64, bool, bool)> =
         pool.install(|| parts.into_par_iter().with_max_len(1).map(one).collect());
-    results
-        .into_iter()
-        .fold((0.0, true, true), |(d, x, v), (d2, x2, v2)| {
-            (if d2 > d { d2 } else { d }, x & x2, v & v2)
-        })
+    results.into_iter().fold(NOTHING_MOVED, merge_drift)
+}
+
+/// What [`kick_drift`] reports for no bodies: the neutral element of [`merge_drift`].
+pub(crate) const NOTHING_MOVED: (f64, bool, bool) = (0.0, true, true);
+
+/// The findings of two kick-and-drift passes over disjoint sets of bodies, as one pass over
+/// both would report them: the larger squared displacement, and both finiteness flags.
+pub(crate) fn merge_drift(
+    (d, x, v): (f64, bool, bool),
+    (d2, x2, v2): (f64, bool, bool),
+) -> (f64, bool, bool) {
+    (if d2 > d { d2 } else { d }, x & x2, v & v2)
 }
 
 /// [`kick_drift`] of the particles in `range` only, on the calling thread: each of them

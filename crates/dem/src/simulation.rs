@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
-use crate::integrator::{kick, kick_drift, kick_drift_range, uniform_free_body};
+use crate::integrator::{
+    kick, kick_drift, kick_drift_range, merge_drift, uniform_free_body, NOTHING_MOVED,
+};
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
@@ -681,17 +683,13 @@ impl Simulation {
     fn evaluate_and_drift(&mut self, (half, dt): (f64, f64)) -> Result<Drift, DemError> {
         let n = self.state.particles.len();
         let mut eval = forces::Evaluation::default();
-        let mut drift = Drift {
-            max_disp2: 0.0,
-            finite: true,
-            kicked_finite: true,
-        };
+        let mut drift = NOTHING_MOVED;
         for bodies in forces::chunk_bounds(n) {
             let part = self.evaluate_forces(dt, Some(bodies.clone()));
             let s = &mut self.state;
             check_overlaps(s, &part)?;
             eval = eval.merge(part);
-            let moved = Drift::from(kick_drift_range(
+            let moved = kick_drift_range(
                 &mut s.particles,
                 &s.reference,
                 bodies,
@@ -699,11 +697,11 @@ impl Simulation {
                 true,
                 self.uniform_free,
                 s.config.gravity,
-            ));
-            drift = drift.merge(moved);
+            );
+            drift = merge_drift(drift, moved);
         }
         self.state.contacts = eval.count;
-        Ok(drift)
+        Ok(Drift::from(drift))
     }
 
     /// The step's forces at the current positions, summed onto the weights and zero torques
@@ -881,21 +879,6 @@ impl From<(f64, bool, bool)> for Drift {
             max_disp2,
             finite,
             kicked_finite,
-        }
-    }
-}
-
-impl Drift {
-    /// Both passes' findings, as one pass over both sets of bodies would give them.
-    fn merge(self, other: Self) -> Self {
-        Self {
-            max_disp2: if other.max_disp2 > self.max_disp2 {
-                other.max_disp2
-            } else {
-                self.max_disp2
-            },
-            finite: self.finite & other.finite,
-            kicked_finite: self.kicked_finite & other.kicked_finite,
         }
     }
 }
