@@ -24,7 +24,7 @@ fn contact(k: usize) -> (DVec3, DVec3, DVec3, DVec3, DVec3) {
     // One contact in four slides, as about a fifth of the sphere pairs do in the paper's
     // discharge: at this overlap the Coulomb cap is reached at |ξ| = μ_s E* δ_n/(6 G*) ≈ 5.8 μm,
     // so 10 μm slides and 1 μm sticks.
-    let stretch = if k % 4 == 0 { 1e-5 } else { 1e-6 };
+    let stretch = if k.is_multiple_of(4) { 1e-5 } else { 1e-6 };
     let xi = DVec3::new(-normal.y, normal.x, 0.0) * stretch;
     (d, dv, wi, wj, xi)
 }
