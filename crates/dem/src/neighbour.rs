@@ -1,8 +1,10 @@
 //! Neighbour search: a cell list feeding a Verlet list with a skin (physics.md §6.2).
 //!
-//! Candidate pairs are all pairs closer than R_i + R_j + skin. The list is rebuilt only when
-//! some particle has moved more than half the skin since the last build, so no contact can
-//! be missed in between. Contact history lives in arrays parallel to the pair list and is
+//! Candidate pairs are all pairs closer than R_i + R_j + skin, and wall candidates all bodies
+//! closer than R_i + skin to a wall. The lists are rebuilt only when the bodies' motion since
+//! the last build could have closed one of those gaps (`Simulation::lists_may_miss`: the
+//! bodies' relative displacements against the skin for pairs, their own against it for
+//! walls), so no contact can be missed in between. Contact history lives in arrays parallel to the pair list and is
 //! carried over every rebuild, by index when particles kept their indices and by tag otherwise.
 
 use glam::DVec3;
