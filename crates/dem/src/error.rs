@@ -67,6 +67,18 @@ pub enum DemError {
     /// A wall handle that does not exist.
     #[error("no wall with id {0}")]
     UnknownWall(u32),
+    /// A step was asked of a simulation that an earlier step left half done: that step
+    /// failed after it had begun to move bodies (a non-finite state or an excessive overlap),
+    /// so positions, velocities and forces no longer belong to one instant.
+    #[error(
+        "the simulation stopped at t = {time:.6} s, in the middle of a step, on this error:          {cause}; restore it from a checkpoint (or build it again) before running on"
+    )]
+    AfterFailure {
+        /// Simulated time of the last whole step [s].
+        time: f64,
+        /// The error that stopped it.
+        cause: Box<DemError>,
+    },
     /// Rayon could not start its thread pool.
     #[error("could not start {0} worker threads")]
     ThreadPool(usize),

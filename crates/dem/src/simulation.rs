@@ -105,6 +105,10 @@ pub struct Simulation {
     /// The lists before the last build, kept for their allocations: the next build writes
     /// into them, instead of growing fresh vectors to some 10^4 candidates at every build.
     spare_lists: (PairList, WallPairList),
+    /// The error that stopped a step after it had begun to move bodies: every later step is
+    /// refused with [`DemError::AfterFailure`], since the state is no longer one instant's.
+    /// Not part of the state: a simulation restored from a checkpoint starts without it.
+    failure: Option<Box<DemError>>,
 }
 
 /// Energy budget of the system [J].
@@ -205,6 +209,7 @@ impl Simulation {
             prepared: false,
             phase_times: None,
             spare_lists: Default::default(),
+            failure: None,
         })
     }
 
@@ -563,9 +568,33 @@ impl Simulation {
         final_kick: bool,
         drifted: Option<Drift>,
     ) -> Result<Option<Drift>, DemError> {
+        if let Some(cause) = &self.failure {
+            return Err(DemError::AfterFailure {
+                time: self.state.time,
+                cause: cause.clone(),
+            });
+        }
+        // A set-up refused here (time step, materials) has changed nothing: the caller may
+        // mend it and step again.
         if !self.prepared {
             self.prepare()?;
         }
+        let stepped = self.advance_prepared(kick_pending, final_kick, drifted);
+        if let Err(e) = &stepped {
+            self.failure = Some(Box::new(e.clone()));
+        }
+        stepped
+    }
+
+    /// [`Simulation::advance`] once the simulation is prepared. An error from here on comes
+    /// after the first kick and drift, or after some chunks of bodies have moved on
+    /// ([`Simulation::evaluate_and_drift`]): the step is left half done.
+    fn advance_prepared(
+        &mut self,
+        kick_pending: bool,
+        final_kick: bool,
+        drifted: Option<Drift>,
+    ) -> Result<Option<Drift>, DemError> {
         let mut clock = StepClock::start(self.phase_times.is_some());
         let dt = self.state.config.time_step;
         let half = 0.5 * dt;
@@ -702,7 +731,8 @@ impl Simulation {
     /// so to that on any number of threads. Each chunk's overlaps are checked before its
     /// bodies move, so an overlap error reports the positions it was found at; it names the
     /// worst contact of the first chunk that has one too deep, and the bodies of the
-    /// chunks before it have then already moved on.
+    /// chunks before it have then already moved on, which is why a failed step refuses
+    /// every later one ([`DemError::AfterFailure`]).
     fn evaluate_and_drift(&mut self, (half, dt): (f64, f64)) -> Result<Drift, DemError> {
         let n = self.state.particles.len();
         let mut eval = forces::Evaluation::default();

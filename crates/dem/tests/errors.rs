@@ -70,6 +70,52 @@ fn nan_or_huge_overlap_stops_the_run_with_a_named_particle() {
 }
 
 #[test]
+fn a_step_that_failed_half_done_refuses_every_later_one() {
+    // The step that finds the 30 % overlap has already kicked and drifted every body, so
+    // the state is no longer one instant's: stepping on would integrate from it as if it
+    // were. Every later step must be refused, naming the first error, and leave the bodies
+    // where the failed step left them.
+    let (mut sim, id) = with_spectators(no_gravity(2.5e-6));
+    sim.add_particle(ParticleInit::at_rest(DVec3::ZERO, RADIUS, id))
+        .expect("valid particle");
+    sim.add_particle(ParticleInit::at_rest(
+        DVec3::new(1.7 * RADIUS, 0.0, 0.0),
+        RADIUS,
+        id,
+    ))
+    .expect("valid particle");
+    let first = sim.step().expect_err("a 30 % overlap must stop the run");
+    assert!(
+        matches!(first, DemError::ExcessiveOverlap { .. }),
+        "{first:?}"
+    );
+    let positions = sim.particles().positions().to_vec();
+    for again in [sim.step(), sim.run(10)] {
+        match again.expect_err("a half-done step must refuse the next ones") {
+            DemError::AfterFailure { time, cause } => {
+                assert_eq!(*cause, first, "the refusal must carry the first error");
+                assert_eq!(time, 0.0, "no step was completed");
+            }
+            other => panic!("expected AfterFailure, got {other:?}"),
+        }
+    }
+    assert_eq!(sim.steps(), 0, "refused steps must not count");
+    assert!(
+        sim.particles().positions() == positions.as_slice(),
+        "refused steps must not move the bodies"
+    );
+    let message = DemError::AfterFailure {
+        time: 0.0,
+        cause: Box::new(first.clone()),
+    }
+    .to_string();
+    assert!(
+        message.contains("checkpoint") && message.contains(&first.to_string()),
+        "the message must say what to do and why: {message}"
+    );
+}
+
+#[test]
 fn far_too_large_time_step_stops_a_collision_with_a_named_particle() {
     // Δt = 5 t_R with the guard raised to let it through: two spheres meeting at 3 m/s move
     // 0.4 mm (a quarter radius) per step, so the first overlap step already exceeds the 10 % limit
