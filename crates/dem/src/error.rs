@@ -71,7 +71,8 @@ pub enum DemError {
     /// failed after it had begun to move bodies (a non-finite state or an excessive overlap),
     /// so positions, velocities and forces no longer belong to one instant.
     #[error(
-        "the simulation stopped at t = {time:.6} s, in the middle of a step, on this error:          {cause}; restore it from a checkpoint (or build it again) before running on"
+        "the simulation stopped at t = {time:.6} s, in the middle of a step, on this error: \
+         {cause}; restore it from a checkpoint (or build it again) before running on"
     )]
     AfterFailure {
         /// Simulated time of the last whole step [s].

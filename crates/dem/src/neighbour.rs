@@ -4,8 +4,9 @@
 //! closer than R_i + skin to a wall. The lists are rebuilt only when the bodies' motion since
 //! the last build could have closed one of those gaps (`Simulation::lists_may_miss`: the
 //! bodies' relative displacements against the skin for pairs, their own against it for
-//! walls), so no contact can be missed in between. Contact history lives in arrays parallel to the pair list and is
-//! carried over every rebuild, by index when particles kept their indices and by tag otherwise.
+//! walls), so no contact can be missed in between. Contact history lives in arrays parallel
+//! to the pair list and is carried over every rebuild, by index when particles kept their
+//! indices and by tag otherwise.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{bits_by_tag, Gas};
-use dem::{Interaction, SimulationConfig};
+use dem::SimulationConfig;
 
 /// 1000 Table-1 spheres on a cubic lattice 3.1 mm apart with random velocities up to 0.5 m/s,
 /// falling into a closed box under gravity, with friction, rolling friction and e = 0.2.
@@ -15,14 +15,7 @@ use dem::{Interaction, SimulationConfig};
 pub fn pile(threads: usize) -> Gas {
     let mut config = SimulationConfig::new(2.5e-6);
     config.threads = threads;
-    Gas {
-        count: 1000,
-        spacing: 3.1e-3,
-        speed: 0.5,
-        interaction: Interaction::fan2023(),
-        config,
-        seed: 5,
-    }
+    common::pile(config)
 }
 
 #[test]

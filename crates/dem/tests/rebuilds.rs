@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{bits_by_tag, Gas, RADIUS};
+use common::{bits_by_tag, RADIUS};
 use dem::{
     DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallMaterial,
 };
@@ -18,15 +18,7 @@ fn pile(skin: f64) -> Simulation {
     let mut config = SimulationConfig::new(2.5e-6);
     config.skin = skin;
     config.resort_every = 0;
-    Gas {
-        count: 1000,
-        spacing: 3.1e-3,
-        speed: 0.5,
-        interaction: Interaction::fan2023(),
-        config,
-        seed: 5,
-    }
-    .build()
+    common::pile(config).build()
 }
 
 /// Lists rebuilt by the skin's bounds must hold every contact that lists rebuilt at every
@@ -37,19 +29,8 @@ fn pile(skin: f64) -> Simulation {
 /// change the trajectory; the comparison is exact.
 #[test]
 fn late_builds_miss_no_contact_of_builds_at_every_step() {
-    let mut lazy = pile(SKIN);
-    let mut eager = pile(1e-15);
-    let mut contacts = 0;
-    for _ in 0..20 {
-        lazy.run(100).expect("lazy run");
-        eager.run(100).expect("eager run");
-        contacts = contacts.max(lazy.contacts().particle_particle);
-        assert!(
-            bits_by_tag(&lazy) == bits_by_tag(&eager),
-            "runs diverged by t = {} s",
-            lazy.time()
-        );
-    }
+    let (mut lazy, mut eager) = (pile(SKIN), pile(1e-15));
+    let (contacts, _) = compare(&mut lazy, &mut eager, (20, 100));
     // The comparison means something only if bodies collided and the lazy lists were kept
     // across many steps: at most one build per 10 steps (the speeds reach 0.5 m/s plus the
     // fall, 1.25 µm a step, so 2 max |Δx| reaches the 0.3 mm skin after at least 120 steps).
@@ -94,17 +75,22 @@ fn empty(skin: f64) -> (Simulation, dem::MaterialId) {
     (sim, material)
 }
 
-/// Runs `lazy` and `eager` side by side for `steps` steps and asserts that they stay
-/// bit-identical; returns the largest pair and wall contact counts seen.
-fn compare(mut lazy: Simulation, mut eager: Simulation, steps: u64) -> (usize, usize) {
+/// Runs `lazy` and `eager` side by side, `rounds` runs of `steps` steps each, and asserts
+/// after each that they are bit-identical; returns the largest pair and wall contact
+/// counts seen.
+fn compare(
+    lazy: &mut Simulation,
+    eager: &mut Simulation,
+    (rounds, steps): (u64, u64),
+) -> (usize, usize) {
     let (mut pairs, mut walls) = (0, 0);
-    for _ in 0..steps / 10 {
-        lazy.run(10).expect("lazy run");
-        eager.run(10).expect("eager run");
+    for _ in 0..rounds {
+        lazy.run(steps).expect("lazy run");
+        eager.run(steps).expect("eager run");
         pairs = pairs.max(lazy.contacts().particle_particle);
         walls = walls.max(lazy.contacts().particle_wall);
         assert!(
-            bits_by_tag(&lazy) == bits_by_tag(&eager),
+            bits_by_tag(lazy) == bits_by_tag(eager),
             "runs diverged by t = {} s",
             lazy.time()
         );
@@ -123,7 +109,7 @@ fn layers_meeting_head_on_are_listed_before_they_touch() {
         layer(&mut sim, material, 2.0 * RADIUS + GAP, -SPEED);
         sim
     };
-    let (pairs, _) = compare(build(SKIN), build(1e-15), 400);
+    let (pairs, _) = compare(&mut build(SKIN), &mut build(1e-15), (40, 10));
     assert!(
         pairs >= 64,
         "{pairs} pair contacts: the layers must collide"
@@ -148,7 +134,7 @@ fn a_layer_moving_onto_a_wall_is_listed_before_it_lands() {
         layer(&mut sim, material, RADIUS + GAP, -SPEED);
         sim
     };
-    let (_, walls) = compare(build(SKIN), build(1e-15), 600);
+    let (_, walls) = compare(&mut build(SKIN), &mut build(1e-15), (60, 10));
     assert!(walls >= 64, "{walls} wall contacts: the layer must land");
 }
 

@@ -97,6 +97,20 @@ impl Gas {
     }
 }
 
+/// 1000 Table-1 spheres on a cubic lattice 3.1 mm apart with random velocities up to
+/// 0.5 m/s (seed 5), in a closed box, with friction, rolling friction and e = 0.2: the pile
+/// that the determinism and list-build tests run under `config`.
+pub fn pile(config: SimulationConfig) -> Gas {
+    Gas {
+        count: 1000,
+        spacing: 3.1e-3,
+        speed: 0.5,
+        interaction: Interaction::fan2023(),
+        config,
+        seed: 5,
+    }
+}
+
 /// Positions, velocities and spins of every particle, sorted by tag, as raw bits.
 pub fn bits_by_tag(sim: &Simulation) -> Vec<(u64, [u64; 9])> {
     let p = sim.particles();
