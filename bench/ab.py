@@ -15,11 +15,21 @@ Each build keeps its own hopper cache (out/bench-cache/ab-a.bin and ab-b.bin), s
 checkpoint formats may differ between builds. Only `hopperflow bench` is run. When the two
 builds' runs hold different contacts per particle (more than 1 % apart) a warning says so:
 builds whose results differ in any bit follow different trajectories in the hopper window.
+The ratio per contact (each build's ns per particle-step over its contacts per particle)
+is then printed as well: the nearest to like for like that two trajectories allow.
+
+    python3 bench/ab.py OLD NEW --start out/bench-cache/hopper.bin   # one settled hopper for both
+
+`--start CACHE` copies one settled hopper into both builds' caches before the first round,
+so that both windows start from the same state (the builds must read the same checkpoint
+format); without it, each build fills and settles its own hopper, and builds whose bits
+differ then start from different packings as well.
 """
 
 import argparse
 import json
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -51,6 +61,11 @@ def main():
     parser.add_argument("--case", default="hopper", choices=["bed", "hopper", "scaling"])
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--cache-dir", default="out/bench-cache", help="where the two hopper caches live")
+    parser.add_argument(
+        "--start",
+        metavar="CACHE",
+        help="a settled hopper (a `bench --case hopper` cache) copied into both builds' caches first",
+    )
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     argv = sys.argv[1:]
     # Everything after `--` goes to `hopperflow bench` unchanged.
@@ -69,6 +84,14 @@ def main():
         "b": os.path.join(args.cache_dir, "ab-b.bin"),
     }
     binaries = {"a": args.a, "b": args.b}
+    if args.start is not None:
+        if args.case != "hopper":
+            parser.error("--start applies to --case hopper only")
+        if not os.path.isfile(args.start):
+            parser.error(f"--start {args.start}: no such file")
+        for cache in caches.values():
+            if os.path.abspath(cache) != os.path.abspath(args.start):
+                shutil.copyfile(args.start, cache)
 
     load_before = os.getloadavg()[0]
     rounds = []
@@ -117,6 +140,19 @@ def main():
         contacts["a"] > 0.0
         and abs(contacts["a"] - contacts["b"]) > 0.01 * contacts["a"]
     )
+    # ns per contact, round by round: the cost per particle-step follows the contacts, so
+    # this ratio compares speed on different work.
+    per_contact = (
+        median_and_range(
+            [
+                (x["a_ns"] / x["a_contacts_per_particle"])
+                / (x["b_ns"] / x["b_contacts_per_particle"])
+                for x in rounds
+            ]
+        )
+        if all(x["a_contacts_per_particle"] and x["b_contacts_per_particle"] for x in rounds)
+        else None
+    )
     summary = {
         "case": args.case,
         "threads": args.threads,
@@ -131,6 +167,10 @@ def main():
         "a_contacts_per_particle": contacts["a"],
         "b_contacts_per_particle": contacts["b"],
         "work_differs": work_differs,
+        "ratio_per_contact_median": per_contact[0] if per_contact else None,
+        "ratio_per_contact_min": per_contact[1] if per_contact else None,
+        "ratio_per_contact_max": per_contact[2] if per_contact else None,
+        "start": args.start,
         "loadavg_before": load_before,
         "loadavg_after": load_after,
         "rounds": rounds,
@@ -153,6 +193,12 @@ def main():
             f" {contacts['b']:.3f} (B) contacts per particle: their trajectories differ, so the"
             " ratio is not like for like. `--case bed` or `--case scaling` keeps the contacts."
         )
+        if per_contact:
+            print(
+                f"Per contact, A/B median {per_contact[0]:.3f}"
+                f" (rounds {per_contact[1]:.3f}–{per_contact[2]:.3f}): the ratio of ns per"
+                " particle-step over contacts per particle."
+            )
     print(f"load average (1 min) before/after: {load_before:.2f} / {load_after:.2f}")
     return 0
 
