@@ -263,14 +263,15 @@ pub(crate) fn evaluate(
     count.particle_particle = acc.contacts;
 
     // Walls after pairs: each particle receives its wall forces in increasing wall order.
-    let (force, torque) = (&mut buffers.force, &mut buffers.torque);
-    let sink = |i: usize, cf: &ContactForce| {
+    // The sink holds the slices themselves, not references to the vectors, so that the
+    // wall loop (not inlined) need not reload their addresses at every contact.
+    let (force, torque) = (&mut buffers.force[..], &mut buffers.torque[..]);
+    let sink = move |i: usize, cf: &ContactForce| {
         force[i] += cf.force;
         torque[i] += cf.torque_i;
-        count.particle_wall += 1;
     };
     let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
-    let worst_wall = if *input.laws == ContactLaws::default() {
+    let (worst_wall, wall_contacts) = if *input.laws == ContactLaws::default() {
         let (tangential, _, live) = wall_pairs.history.parts_mut();
         batched_wall_loop(
             input,
@@ -287,6 +288,7 @@ pub(crate) fn evaluate(
     } else {
         wall_loop(input, wall_ids, wall_pairs.history.split_mut(), sink)
     };
+    count.particle_wall = wall_contacts;
     Evaluation {
         count,
         worst_pair,
@@ -657,7 +659,7 @@ fn batched_wall_loop(
     (history, live): (&mut [DVec3], &mut [u8]),
     (hits, touch, probes, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Vec<WallProbe>, &mut Batch),
     mut sink: impl FnMut(usize, &ContactForce),
-) -> WorstOverlap {
+) -> (WorstOverlap, usize) {
     wall_probes(input.walls, probes);
     // Only grown, never cleared: the filters overwrite what they use, and refilling the whole
     // buffer every step would cost as much as the filter itself.
@@ -667,6 +669,7 @@ fn batched_wall_loop(
     }
     prepare_wall_batch(input, batch);
     let mut worst = WorstOverlap::default();
+    let mut contacts = 0;
     for (w, run) in wall_runs(pw) {
         let len = run.len();
         let wall = WallRun {
@@ -674,7 +677,7 @@ fn batched_wall_loop(
             index: w as usize,
             base: run.start,
         };
-        wall_run(
+        contacts += wall_run(
             input,
             &wall,
             &pi[run.clone()],
@@ -684,7 +687,7 @@ fn batched_wall_loop(
             &mut sink,
         );
     }
-    worst
+    (worst, contacts)
 }
 
 /// The runs of equal wall in a wall-major list of candidates' walls: each wall with the
@@ -764,8 +767,9 @@ fn wall_pieces<'a>(
     pieces: impl IntoIterator<Item = WallPiece<'a>>,
     (hits, touch, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Batch),
     sink: &mut impl FnMut(usize, &ContactForce),
-) -> WorstOverlap {
+) -> (WorstOverlap, usize) {
     let mut worst = WorstOverlap::default();
+    let mut contacts = 0;
     for piece in pieces {
         let len = piece.particles.len();
         if hits.len() < len {
@@ -777,7 +781,7 @@ fn wall_pieces<'a>(
             index: piece.wall,
             base: piece.base,
         };
-        wall_run(
+        contacts += wall_run(
             input,
             &run,
             piece.particles,
@@ -787,10 +791,10 @@ fn wall_pieces<'a>(
             sink,
         );
     }
-    worst
+    (worst, contacts)
 }
 
-/// Filters and resolves the candidates `pi` of one wall.
+/// Filters and resolves the candidates `pi` of one wall; returns how many touch.
 #[inline(always)]
 fn wall_run(
     input: &KernelInput,
@@ -800,11 +804,10 @@ fn wall_run(
     (hits, touch, batch): (&mut [u32], &mut [u8], &mut Batch),
     worst: &mut WorstOverlap,
     sink: &mut impl FnMut(usize, &ContactForce),
-) {
+) -> usize {
     let p = input.particles;
     let n = p.len();
-    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
-    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+    let (pos, radius) = (&p.position[..n], &p.radius[..n]);
     // Pass 1: which candidates touch. A separated contact (or one with a removed wall)
     // forgets its history (§3.1): it loses its live flag.
     let count = match wall.probe {
@@ -833,7 +836,7 @@ fn wall_run(
         }
         WallProbe::Absent => {
             live.fill(0);
-            return;
+            return 0;
         }
     };
     let hits = &hits[..count];
@@ -854,44 +857,39 @@ fn wall_run(
         }
         _ => None,
     };
+    let shared = WallShared {
+        velocity: wall_velocity,
+        coefficients: uniform.is_none().then_some(w),
+    };
     for group in hits.chunks(BATCH) {
-        for (m, &k) in group.iter().enumerate() {
-            let m = m & (BATCH - 1);
-            let k = k as usize;
-            let i = pi[k] as usize;
-            let (x, r) = (pos[i], radius[i]);
-            match plane {
-                // The same expression as the filter's, so the same overlap.
-                Some((normal, offset)) => batch.overlap[m] = r - plane_distance(x, normal, offset),
-                None => {
+        // The plane's case apart, so that its loop carries no test of the wall's kind per
+        // contact: the filter's expression, so the same overlap.
+        match plane {
+            Some((normal, offset)) => gather_walls(
+                input,
+                &shared,
+                (pi, group),
+                (history, live),
+                batch,
+                |b, m, x, r| {
+                    b.overlap[m] = r - plane_distance(x, normal, offset);
+                },
+            ),
+            None => gather_walls(
+                input,
+                &shared,
+                (pi, group),
+                (history, live),
+                batch,
+                |b, m, x, r| {
                     let (normal, overlap) =
                         wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
                     for (a, v) in normal.to_array().into_iter().enumerate() {
-                        batch.d[a][m] = v;
+                        b.d[a][m] = v;
                     }
-                    batch.overlap[m] = overlap;
-                }
-            }
-            let dv = vel[i] - wall_velocity;
-            let (wi, xi) = (omega[i], live_history(live[k], history[k]));
-            for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
-                .into_iter()
-                .enumerate()
-            {
-                batch.dv[a][m] = v;
-                batch.omega[0][a][m] = u;
-                batch.xi[a][m] = z;
-            }
-            if input.uniform_body.is_none() {
-                batch.radius[0][m] = r;
-                batch.mass[0][m] = mass[i];
-            }
-            if uniform.is_none() {
-                let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
-                for (a, v) in coefficient_row(c).into_iter().enumerate() {
-                    batch.coeff[a][m] = v;
-                }
-            }
+                    b.overlap[m] = overlap;
+                },
+            ),
         }
         batch.len = group.len();
         batch.resolve_walls(input.dt);
@@ -901,6 +899,61 @@ fn wall_run(
             let k = k as usize;
             history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
             sink(pi[k] as usize, &batch_force(batch, m));
+        }
+    }
+    count
+}
+
+/// What every contact of one wall run shares, for [`gather_walls`].
+struct WallShared {
+    /// The wall's velocity [m/s].
+    velocity: DVec3,
+    /// The wall's index, where the coefficients differ by particle material (none when the
+    /// batch already holds the one material's).
+    coefficients: Option<usize>,
+}
+
+/// Copies the touching wall candidates `group` (indices into `pi`) into slots
+/// `0..group.len()` of `batch`; `geometry(batch, slot, x, r)` writes a contact's normal and
+/// overlap from the particle's position `x` [m] and radius `r` [m].
+#[inline(always)]
+fn gather_walls(
+    input: &KernelInput,
+    shared: &WallShared,
+    (pi, group): (&[u32], &[u32]),
+    (history, live): (&[DVec3], &[u8]),
+    batch: &mut Batch,
+    geometry: impl Fn(&mut Batch, usize, DVec3, f64),
+) {
+    let p = input.particles;
+    let n = p.len();
+    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
+    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+    for (m, &k) in group.iter().enumerate() {
+        let m = m & (BATCH - 1);
+        let k = k as usize;
+        let i = pi[k] as usize;
+        let (x, r) = (pos[i], radius[i]);
+        geometry(batch, m, x, r);
+        let dv = vel[i] - shared.velocity;
+        let (wi, xi) = (omega[i], live_history(live[k], history[k]));
+        for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
+            .into_iter()
+            .enumerate()
+        {
+            batch.dv[a][m] = v;
+            batch.omega[0][a][m] = u;
+            batch.xi[a][m] = z;
+        }
+        if input.uniform_body.is_none() {
+            batch.radius[0][m] = r;
+            batch.mass[0][m] = mass[i];
+        }
+        if let Some(w) = shared.coefficients {
+            let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
+            for (a, v) in coefficient_row(c).into_iter().enumerate() {
+                batch.coeff[a][m] = v;
+            }
         }
     }
 }
@@ -966,16 +1019,18 @@ fn pair_loop_with(
     worst
 }
 
-/// Runs the kernel over the particle–wall candidates, calling `sink(i, force)` per contact.
+/// Runs the kernel over the particle–wall candidates, calling `sink(i, force)` per contact;
+/// returns the largest overlap and the number of contacts.
 #[inline(always)]
 fn wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
     (tangential, rolling): (&mut [DVec3], &mut [DVec3]),
     mut sink: impl FnMut(usize, &ContactForce),
-) -> WorstOverlap {
+) -> (WorstOverlap, usize) {
     let p = input.particles;
     let mut worst = WorstOverlap::default();
+    let mut contacts = 0;
     let history = tangential.iter_mut().zip(rolling.iter_mut());
     for (k, ((&i, &w), (t, r))) in pi.iter().zip(pw).zip(history).enumerate() {
         let (i, w) = (i as usize, w as usize);
@@ -1019,8 +1074,9 @@ fn wall_loop(
         let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
         (*t, *r) = (h.tangential, h.rolling);
         sink(i, &cf);
+        contacts += 1;
     }
-    worst
+    (worst, contacts)
 }
 
 #[cfg(test)]

@@ -79,8 +79,7 @@ pub(crate) fn evaluate_chunk(
         (tangential, live),
         bodies,
     );
-    let mut particle_wall = 0;
-    let worst_wall = wall_pieces(
+    let (worst_wall, particle_wall) = wall_pieces(
         input,
         &buffers.wall_probes,
         pieces,
@@ -90,10 +89,7 @@ pub(crate) fn evaluate_chunk(
             &mut scratch.batch,
         ),
         // A wall contact has only the particle's share: F and M_i.
-        &mut |i: usize, cf: &ContactForce| {
-            acc.add_i(i, cf);
-            particle_wall += 1;
-        },
+        &mut |i: usize, cf: &ContactForce| acc.add_i(i, cf),
     );
     Evaluation {
         count: ContactCount {

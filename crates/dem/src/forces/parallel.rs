@@ -150,11 +150,13 @@ pub(super) fn evaluate(
     if !batched_walls {
         // Other laws: the walls in one pass after all pairs, in the one-thread order.
         let (force, torque) = (&mut buffers.force, &mut buffers.torque);
-        worst_wall = wall_loop(input, wall_ids, wall_pairs.history.split_mut(), |i, cf| {
-            force[i] += cf.force;
-            torque[i] += cf.torque_i;
-            count.particle_wall += 1;
-        });
+        let walls;
+        (worst_wall, walls) =
+            wall_loop(input, wall_ids, wall_pairs.history.split_mut(), |i, cf| {
+                force[i] += cf.force;
+                torque[i] += cf.torque_i;
+            });
+        count.particle_wall += walls;
     }
     Evaluation {
         count,
@@ -374,9 +376,8 @@ fn range_pass(
     let mut sink = |i: usize, cf: &ContactForce| {
         force[i - lo] += cf.force;
         torque[i - lo] += cf.torque_i;
-        result.wall_contacts += 1;
     };
-    result.worst_wall = wall_pieces(
+    (result.worst_wall, result.wall_contacts) = wall_pieces(
         input,
         probes,
         walls,
