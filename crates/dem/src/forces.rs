@@ -864,32 +864,25 @@ fn wall_run(
     for group in hits.chunks(BATCH) {
         // The plane's case apart, so that its loop carries no test of the wall's kind per
         // contact: the filter's expression, so the same overlap.
+        let source = WallSource {
+            input,
+            shared: &shared,
+            pi,
+            history,
+            live,
+        };
         match plane {
-            Some((normal, offset)) => gather_walls(
-                input,
-                &shared,
-                (pi, group),
-                (history, live),
-                batch,
-                |b, m, x, r| {
-                    b.overlap[m] = r - plane_distance(x, normal, offset);
-                },
-            ),
-            None => gather_walls(
-                input,
-                &shared,
-                (pi, group),
-                (history, live),
-                batch,
-                |b, m, x, r| {
-                    let (normal, overlap) =
-                        wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
-                    for (a, v) in normal.to_array().into_iter().enumerate() {
-                        b.d[a][m] = v;
-                    }
-                    b.overlap[m] = overlap;
-                },
-            ),
+            Some((normal, offset)) => source.gather(group, batch, |b, m, x, r| {
+                b.overlap[m] = r - plane_distance(x, normal, offset);
+            }),
+            None => source.gather(group, batch, |b, m, x, r| {
+                let (normal, overlap) =
+                    wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
+                for (a, v) in normal.to_array().into_iter().enumerate() {
+                    b.d[a][m] = v;
+                }
+                b.overlap[m] = overlap;
+            }),
         }
         batch.len = group.len();
         batch.resolve_walls(input.dt);
@@ -904,7 +897,7 @@ fn wall_run(
     count
 }
 
-/// What every contact of one wall run shares, for [`gather_walls`].
+/// What every contact of one wall run shares, for [`WallSource::gather`].
 struct WallShared {
     /// The wall's velocity [m/s].
     velocity: DVec3,
@@ -913,46 +906,63 @@ struct WallShared {
     coefficients: Option<usize>,
 }
 
-/// Copies the touching wall candidates `group` (indices into `pi`) into slots
-/// `0..group.len()` of `batch`; `geometry(batch, slot, x, r)` writes a contact's normal and
-/// overlap from the particle's position `x` [m] and radius `r` [m].
-#[inline(always)]
-fn gather_walls(
-    input: &KernelInput,
-    shared: &WallShared,
-    (pi, group): (&[u32], &[u32]),
-    (history, live): (&[DVec3], &[u8]),
-    batch: &mut Batch,
-    geometry: impl Fn(&mut Batch, usize, DVec3, f64),
-) {
-    let p = input.particles;
-    let n = p.len();
-    let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
-    let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
-    for (m, &k) in group.iter().enumerate() {
-        let m = m & (BATCH - 1);
-        let k = k as usize;
-        let i = pi[k] as usize;
-        let (x, r) = (pos[i], radius[i]);
-        geometry(batch, m, x, r);
-        let dv = vel[i] - shared.velocity;
-        let (wi, xi) = (omega[i], live_history(live[k], history[k]));
-        for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
-            .into_iter()
-            .enumerate()
-        {
-            batch.dv[a][m] = v;
-            batch.omega[0][a][m] = u;
-            batch.xi[a][m] = z;
-        }
-        if input.uniform_body.is_none() {
-            batch.radius[0][m] = r;
-            batch.mass[0][m] = mass[i];
-        }
-        if let Some(w) = shared.coefficients {
-            let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
-            for (a, v) in coefficient_row(c).into_iter().enumerate() {
-                batch.coeff[a][m] = v;
+/// Where one wall run's gather reads: the bodies, the run's candidates `pi` and their ξ
+/// and live flags.
+struct WallSource<'a> {
+    input: &'a KernelInput<'a>,
+    shared: &'a WallShared,
+    pi: &'a [u32],
+    history: &'a [DVec3],
+    live: &'a [u8],
+}
+
+impl WallSource<'_> {
+    /// Copies the touching candidates `group` (indices into `pi`) into slots
+    /// `0..group.len()` of `batch`; `geometry(batch, slot, x, r)` writes a contact's normal
+    /// and overlap from the particle's position `x` [m] and radius `r` [m].
+    #[inline(always)]
+    fn gather(
+        &self,
+        group: &[u32],
+        batch: &mut Batch,
+        geometry: impl Fn(&mut Batch, usize, DVec3, f64),
+    ) {
+        let Self {
+            input,
+            shared,
+            pi,
+            history,
+            live,
+        } = *self;
+        let p = input.particles;
+        let n = p.len();
+        let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
+        let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+        for (m, &k) in group.iter().enumerate() {
+            let m = m & (BATCH - 1);
+            let k = k as usize;
+            let i = pi[k] as usize;
+            let (x, r) = (pos[i], radius[i]);
+            geometry(batch, m, x, r);
+            let dv = vel[i] - shared.velocity;
+            let (wi, xi) = (omega[i], live_history(live[k], history[k]));
+            for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
+                .into_iter()
+                .enumerate()
+            {
+                batch.dv[a][m] = v;
+                batch.omega[0][a][m] = u;
+                batch.xi[a][m] = z;
+            }
+            if input.uniform_body.is_none() {
+                batch.radius[0][m] = r;
+                batch.mass[0][m] = mass[i];
+            }
+            if let Some(w) = shared.coefficients {
+                let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
+                for (a, v) in coefficient_row(c).into_iter().enumerate() {
+                    batch.coeff[a][m] = v;
+                }
             }
         }
     }
