@@ -63,8 +63,8 @@ impl WorstOverlap {
         let fractions = &batch.overlap_fraction[..batch.len.min(BATCH)];
         // The largest fraction's bits, sign cleared, as an integer maximum, which vectorises
         // (a float fold is a chain of dependent compares). For numbers ≥ 0 the integers
-        // order as the numbers; a NaN's bits exceed every number's, so a NaN always leads to
-        // the walk below, which decides as before.
+        // order as the numbers; a negative number or a NaN (whose bits exceed every
+        // number's) can only cause a walk, and the walk below decides as before.
         let largest = fractions
             .iter()
             .fold(0u64, |a, &b| a.max(b.to_bits() & !(1 << 63)));
@@ -860,20 +860,18 @@ fn wall_run(
         }
         _ => None,
     };
-    let shared = WallShared {
-        velocity: wall_velocity,
-        coefficients: uniform.is_none().then_some(w),
-    };
+    let coefficients = uniform.is_none().then_some(w);
     for group in hits.chunks(BATCH) {
-        // The plane's case apart, so that its loop carries no test of the wall's kind per
-        // contact: the filter's expression, so the same overlap.
         let source = WallSource {
             input,
-            shared: &shared,
+            velocity: wall_velocity,
+            coefficients,
             pi,
             history,
             live,
         };
+        // The plane's case apart, so that its loop carries no test of the wall's kind per
+        // contact: the filter's expression, so the same overlap.
         match plane {
             Some((normal, offset)) => source.gather(group, batch, |b, m, x, r| {
                 b.overlap[m] = r - plane_distance(x, normal, offset);
@@ -900,20 +898,15 @@ fn wall_run(
     count
 }
 
-/// What every contact of one wall run shares, for [`WallSource::gather`].
-struct WallShared {
+/// Where one wall run's gather reads: the bodies, the wall's velocity and coefficients, the
+/// run's candidates `pi` and their ξ and live flags.
+struct WallSource<'a> {
+    input: &'a KernelInput<'a>,
     /// The wall's velocity [m/s].
     velocity: DVec3,
     /// The wall's index, where the coefficients differ by particle material (none when the
     /// batch already holds the one material's).
     coefficients: Option<usize>,
-}
-
-/// Where one wall run's gather reads: the bodies, the run's candidates `pi` and their ξ
-/// and live flags.
-struct WallSource<'a> {
-    input: &'a KernelInput<'a>,
-    shared: &'a WallShared,
     pi: &'a [u32],
     history: &'a [DVec3],
     live: &'a [u8],
@@ -932,7 +925,8 @@ impl WallSource<'_> {
     ) {
         let Self {
             input,
-            shared,
+            velocity,
+            coefficients,
             pi,
             history,
             live,
@@ -947,7 +941,7 @@ impl WallSource<'_> {
             let i = pi[k] as usize;
             let (x, r) = (pos[i], radius[i]);
             geometry(batch, m, x, r);
-            let dv = vel[i] - shared.velocity;
+            let dv = vel[i] - velocity;
             let (wi, xi) = (omega[i], live_history(live[k], history[k]));
             for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
                 .into_iter()
@@ -961,7 +955,7 @@ impl WallSource<'_> {
                 batch.radius[0][m] = r;
                 batch.mass[0][m] = mass[i];
             }
-            if let Some(w) = shared.coefficients {
+            if let Some(w) = coefficients {
                 let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
                 for (a, v) in coefficient_row(c).into_iter().enumerate() {
                     batch.coeff[a][m] = v;
@@ -1194,10 +1188,17 @@ pub(super) mod tests {
             for (m, &f) in batch.overlap_fraction[..batch.len].iter().enumerate() {
                 single.see(f, base + m);
             }
-            assert_eq!(batched.fraction.to_bits(), single.fraction.to_bits(), "batch {b}");
+            assert_eq!(
+                batched.fraction.to_bits(),
+                single.fraction.to_bits(),
+                "batch {b}"
+            );
             assert_eq!(batched.index, single.index, "batch {b}");
         }
-        assert!(single.fraction > 0.05, "the worst grew past the first batches'");
+        assert!(
+            single.fraction > 0.05,
+            "the worst grew past the first batches'"
+        );
     }
 
     #[test]
