@@ -157,11 +157,15 @@ impl<'a> Accumulator<'a> {
         }
     }
 
+    /// j's share first: i ≠ j, so the order within a contact changes no sum, and a body
+    /// that is j of this contact is often i of the next, whose load of its sums then
+    /// waits less on this store (about 1 % of a step on the AMD host: the pair loop's
+    /// share of a profile 31.4 % against 30.5 %, twenty-ninth session).
     #[inline(always)]
     fn add(&mut self, i: usize, j: usize, cf: &ContactForce) {
         self.contacts += 1;
-        self.add_i(i, cf);
         self.add_j(j, cf);
+        self.add_i(i, cf);
     }
 
     /// Body i's share: F on i, and M_i.
@@ -468,23 +472,30 @@ fn filter_touching(
         // as the general branch computes for every pair.
         Some(r) => {
             let cut2 = (r + r) * (r + r);
-            filter_touching_with(p, ids, live, touching, |_, _| cut2)
+            filter_touching_with(p, ids, live, touching, (Some(cut2), |_, _| cut2))
         }
-        None => filter_touching_with(p, ids, live, touching, |i, j| {
-            let sum = radius[i] + radius[j];
-            sum * sum
-        }),
+        None => filter_touching_with(
+            p,
+            ids,
+            live,
+            touching,
+            (None, |i, j| {
+                let sum = radius[i] + radius[j];
+                sum * sum
+            }),
+        ),
     }
 }
 
-/// [`filter_touching`] with `cut2(i, j)` the squared contact distance (R_i + R_j)² [m²].
+/// [`filter_touching`] with `cut2(i, j)` the squared contact distance (R_i + R_j)² [m²],
+/// and that distance alone where every pair shares it (equal spheres).
 #[inline(always)]
 fn filter_touching_with(
     p: &ParticleSet,
     (pi, pj): (&[u32], &[u32]),
     live: &mut [u8],
     touching: &mut Vec<u32>,
-    cut2: impl Fn(usize, usize) -> f64,
+    (shared, cut2): (Option<f64>, impl Fn(usize, usize) -> f64),
 ) -> usize {
     let pos = &p.position[..p.len()];
     // Only grown, never cleared: see `batched_wall_loop`.
@@ -498,7 +509,10 @@ fn filter_touching_with(
     if pos.len() > PREFETCH_BODIES {
         pair_flags::<true>(pos, (pi, pj), flags, &cut2);
     } else {
-        pair_flags::<false>(pos, (pi, pj), flags, &cut2);
+        // Equal spheres by fours where the build allows, the rest one at a time.
+        let done = shared.map_or(0, |c| gather::pair_flags(pos, (pi, pj), flags, c));
+        let rest = (&pi[done..], &pj[done..]);
+        pair_flags::<false>(pos, rest, &mut flags[done..], &cut2);
     }
     note_live(flags, live);
     compact::in_place(flags)
