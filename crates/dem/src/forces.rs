@@ -887,10 +887,32 @@ fn wall_run(
         // The plane's case apart, so that its loop carries no test of the wall's kind per
         // contact: the filter's expression, so the same overlap.
         match plane {
-            Some((normal, offset)) => source.gather(group, batch, |b, m, x, r| {
-                b.overlap[m] = r - plane_distance(x, normal, offset);
-            }),
-            None => source.gather(group, batch, |b, m, x, r| {
+            Some((normal, offset)) => {
+                // Equal spheres of one material by fours where the build allows: the batch
+                // already holds their radius, mass and coefficients.
+                let fours = match input.uniform_body {
+                    Some((radius, _)) if coefficients.is_none() => {
+                        let p = input.particles;
+                        let state = gather::PlaneState {
+                            position: &p.position,
+                            velocity: &p.velocity,
+                            omega: &p.omega,
+                            pi,
+                            history,
+                            live,
+                            wall_velocity,
+                            plane: (normal, offset),
+                            radius,
+                        };
+                        gather::plane_motion(batch, group, &state)
+                    }
+                    _ => 0,
+                };
+                source.gather(group, fours, batch, |b, m, x, r| {
+                    b.overlap[m] = r - plane_distance(x, normal, offset);
+                })
+            }
+            None => source.gather(group, 0, batch, |b, m, x, r| {
                 let (normal, overlap) =
                     wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
                 for (a, v) in normal.to_array().into_iter().enumerate() {
@@ -928,12 +950,14 @@ struct WallSource<'a> {
 
 impl WallSource<'_> {
     /// Copies the touching candidates `group` (indices into `pi`) into slots
-    /// `0..group.len()` of `batch`; `geometry(batch, slot, x, r)` writes a contact's normal
-    /// and overlap from the particle's position `x` [m] and radius `r` [m].
+    /// `0..group.len()` of `batch`, from slot `first` on (the ones before are filled);
+    /// `geometry(batch, slot, x, r)` writes a contact's normal and overlap from the
+    /// particle's position `x` [m] and radius `r` [m].
     #[inline(always)]
     fn gather(
         &self,
         group: &[u32],
+        first: usize,
         batch: &mut Batch,
         geometry: impl Fn(&mut Batch, usize, DVec3, f64),
     ) {
@@ -949,7 +973,7 @@ impl WallSource<'_> {
         let n = p.len();
         let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
         let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
-        for (m, &k) in group.iter().enumerate() {
+        for (m, &k) in group.iter().enumerate().skip(first) {
             let m = m & (BATCH - 1);
             let k = k as usize;
             let i = pi[k] as usize;
