@@ -179,12 +179,10 @@ impl Batch {
             let (ri, rj) = (self.radius[0][k], self.radius[1][k]);
             let (mi, mj) = (self.mass[0][k], self.mass[1][k]);
             if WALL {
-                // The wall loop found the closest point: n and δ come in directly.
+                // The wall loop found the closest point: n and δ come in directly (the
+                // later passes read n from `d`, not from a copy).
                 let overlap = self.overlap[k];
                 self.overlap_fraction[k] = overlap / ri;
-                for c in 0..3 {
-                    st.normal[c][k] = self.d[c][k];
-                }
                 st.overlap[k] = overlap;
                 (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, 0.0);
             } else {
@@ -221,7 +219,7 @@ impl Batch {
             };
             let [e_star, rolling_friction, damping] =
                 [self.coeff[0][k], self.coeff[3][k], self.coeff[4][k]];
-            let nrm = [st.normal[0][k], st.normal[1][k], st.normal[2][k]];
+            let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let overlap = st.overlap[k];
             let (arm_i, arm_j) = (st.arm[0][k], st.arm[1][k]);
 
@@ -268,7 +266,7 @@ impl Batch {
         // Pass 3, history into the tangent plane keeping its length (`rotate_into_plane`;
         // a zero or normal history becomes zero, as there), plus the step's slip v_t Δt.
         for k in 0..n {
-            let nrm = [st.normal[0][k], st.normal[1][k], st.normal[2][k]];
+            let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let xi = [self.xi[0][k], self.xi[1][k], self.xi[2][k]];
             let len2 = dot(xi, xi);
             let xn = dot(xi, nrm);
@@ -288,7 +286,7 @@ impl Batch {
         // dashpot γ_t = γ_n √(4G*/E*) only while sticking; then the torques.
         for k in 0..n {
             let [g_star, friction, ratio] = [self.coeff[1][k], self.coeff[2][k], self.coeff[5][k]];
-            let nrm = [st.normal[0][k], st.normal[1][k], st.normal[2][k]];
+            let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let v_t = [st.v_t[0][k], st.v_t[1][k], st.v_t[2][k]];
             let s_t = 8.0 * g_star * st.a[k];
             let gamma_t = st.gamma_n[k] * ratio;
@@ -329,10 +327,21 @@ impl Batch {
     }
 }
 
+/// The unit normal of contact `k`: a wall's comes in `d`, a pair's is formed in pass 1.
+#[inline(always)]
+fn normal_of<const WALL: bool>(
+    d: &[[f64; BATCH]; 3],
+    formed: &[[f64; BATCH]; 3],
+    k: usize,
+) -> [f64; 3] {
+    let n = if WALL { d } else { formed };
+    [n[0][k], n[1][k], n[2][k]]
+}
+
 /// What the passes of [`Batch::resolve`] hand on to the next, per contact.
 #[derive(Clone, Debug)]
 struct Stages {
-    /// Unit normal n, from j to i (walls: from the wall) [-].
+    /// Unit normal n of a pair, from j to i [-] (a wall's stays in `Batch::d`).
     normal: [[f64; BATCH]; 3],
     /// Overlap δ_n [m].
     overlap: [f64; BATCH],
