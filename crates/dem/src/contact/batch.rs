@@ -18,7 +18,7 @@ pub const BATCH: usize = 32;
 /// Contacts per vector of the widest build the kernel is written for (eight f64 in 512
 /// bits; a multiple of the narrower builds' four and two). BATCH is a multiple of it.
 const VECTOR: usize = 8;
-const _: () = assert!(BATCH % VECTOR == 0);
+const _: () = assert!(BATCH.is_multiple_of(VECTOR));
 
 /// One batch of touching pairs: inputs gathered by the caller, outputs filled by [`Batch::resolve`].
 /// All vectors are components x, y, z. Pair "i–j" follows `ContactGeometry`: n points from j to i.
