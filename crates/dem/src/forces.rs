@@ -892,19 +892,7 @@ fn wall_run(
                 // already holds their radius, mass and coefficients.
                 let fours = match input.uniform_body {
                     Some((radius, _)) if coefficients.is_none() => {
-                        let p = input.particles;
-                        let state = gather::PlaneState {
-                            position: &p.position,
-                            velocity: &p.velocity,
-                            omega: &p.omega,
-                            pi,
-                            history,
-                            live,
-                            wall_velocity,
-                            plane: (normal, offset),
-                            radius,
-                        };
-                        gather::plane_motion(batch, group, &state)
+                        gather::plane_motion(batch, group, &source, (normal, offset), radius)
                     }
                     _ => 0,
                 };

@@ -22,7 +22,7 @@
 
 use glam::DVec3;
 
-use super::live_history;
+use super::{live_history, WallSource};
 use crate::contact::batch::{Batch, BATCH};
 use crate::history::WAS_LIVE;
 
@@ -112,51 +112,35 @@ fn fours(batch: &mut Batch, group: &[u32], state: &PairState) -> usize {
     group.len() / 4 * 4
 }
 
-/// What the plane gather reads: the bodies, and one plane's candidates with their
-/// histories.
-pub(super) struct PlaneState<'a> {
-    /// Positions [m].
-    pub position: &'a [DVec3],
-    /// Velocities [m/s].
-    pub velocity: &'a [DVec3],
-    /// Angular velocities [rad/s].
-    pub omega: &'a [DVec3],
-    /// The body of each candidate [-].
-    pub pi: &'a [u32],
-    /// Tangential history ξ of each candidate [m].
-    pub history: &'a [DVec3],
-    /// Live flags of each candidate (`crate::history`) [-].
-    pub live: &'a [u8],
-    /// The wall's velocity [m/s].
-    pub wall_velocity: DVec3,
-    /// The plane's unit normal n [-] and offset [m]: x·n − offset is a point's signed
-    /// distance from it.
-    pub plane: (DVec3, f64),
-    /// The spheres' common radius [m].
-    pub radius: f64,
-}
-
 /// Fills slots `0..4q` of `batch` with the whole fours of `group` (touching candidates of
-/// one plane, indices into `pi`; equal spheres): the overlap R − (x·n − offset), Δv = v −
-/// v_wall, ω_i and ξ (zero where it was not live), with the bits of the scalar gather
+/// the wall run `source`, a plane with unit normal n and offset [m] `plane`, indices into
+/// its `pi`; equal spheres of radius `radius` [m]): the overlap R − (x·n − offset), Δv =
+/// v − v_wall, ω_i and ξ (zero where it was not live), with the bits of the scalar gather
 /// (`WallSource::gather`, whose `plane_distance` is glam's dot product,
 /// ((x n_x + y n_y) + z n_z) − offset). Returns how many contacts that is.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 #[inline(always)]
-pub(super) fn plane_motion(batch: &mut Batch, group: &[u32], state: &PlaneState) -> usize {
+pub(super) fn plane_motion(
+    batch: &mut Batch,
+    group: &[u32],
+    source: &WallSource,
+    plane: (DVec3, f64),
+    radius: f64,
+) -> usize {
     let group = &group[..group.len().min(BATCH)];
-    let n = state.position.len();
+    let p = source.input.particles;
+    let n = p.len();
     let bodies = rows::Bodies {
-        position: bytemuck::cast_slice(state.position),
-        velocity: bytemuck::cast_slice(&state.velocity[..n]),
-        omega: bytemuck::cast_slice(&state.omega[..n]),
-        history: bytemuck::cast_slice(state.history),
+        position: bytemuck::cast_slice(&p.position[..n]),
+        velocity: bytemuck::cast_slice(&p.velocity[..n]),
+        omega: bytemuck::cast_slice(&p.omega[..n]),
+        history: bytemuck::cast_slice(source.history),
     };
-    let plane = rows::Plane::new(state);
+    let plane = rows::Plane::new(source.velocity, plane, radius);
     for (q, four) in group.chunks_exact(4).enumerate() {
         let contact = |k: u32| {
             let k = k as usize;
-            (state.pi[k] as usize, k, state.live[k] & WAS_LIVE != 0)
+            (source.pi[k] as usize, k, source.live[k] & WAS_LIVE != 0)
         };
         let four = [
             contact(four[0]),
@@ -172,7 +156,13 @@ pub(super) fn plane_motion(batch: &mut Batch, group: &[u32], state: &PlaneState)
 /// Without AVX no wall contact is gathered by fours.
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
 #[inline(always)]
-pub(super) fn plane_motion(_: &mut Batch, _: &[u32], _: &PlaneState) -> usize {
+pub(super) fn plane_motion(
+    _: &mut Batch,
+    _: &[u32],
+    _: &WallSource,
+    _: (DVec3, f64),
+    _: f64,
+) -> usize {
     0
 }
 
@@ -207,6 +197,7 @@ pub(super) fn pair_flags(_: &[DVec3], _: (&[u32], &[u32]), _: &mut [u32], _: f64
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 mod rows {
     use crate::contact::batch::Batch;
+    use glam::DVec3;
     use safe_arch::{
         add_m256d, bitand_m256d, cast_to_m256d_from_m256i, cmp_op, cmp_op_mask_m256d,
         load_unaligned_m256d, m256d, move_mask_m256d, mul_m256d, permute2z_m256d,
@@ -308,14 +299,14 @@ mod rows {
     }
 
     impl Plane {
-        pub(super) fn new(s: &super::PlaneState) -> Self {
-            let (n, offset) = s.plane;
-            let v = s.wall_velocity;
+        /// From the wall's velocity [m/s], its unit normal and offset [m], and the spheres'
+        /// radius [m].
+        pub(super) fn new(v: DVec3, (n, offset): (DVec3, f64), radius: f64) -> Self {
             Self {
                 velocity: set_reversed_m256d(v.x, v.y, v.z, 0.0),
                 normal: [n.x, n.y, n.z].map(set_splat_m256d),
                 offset: set_splat_m256d(offset),
-                radius: set_splat_m256d(s.radius),
+                radius: set_splat_m256d(radius),
             }
         }
     }
@@ -513,16 +504,18 @@ mod tests {
 
     #[test]
     fn the_plane_gather_fills_the_batch_bit_for_bit_as_the_scalar_one() {
-        // Exact equality of every bit, as for the pair gather: the bodies include the last
-        // one and the candidates the last one, and groups of every length 0..=BATCH
-        // exercise both the fours and the slots they leave to the scalar gather.
+        // Exact equality of every bit, against the scalar gather itself
+        // (`WallSource::gather` with the wall run's plane geometry): the candidates include
+        // the last body (whose row cannot be read as four lanes) and the last candidate (the
+        // same for ξ), and groups of every length 0..=BATCH exercise both the fours and the
+        // slots they leave to the scalar gather.
+        use super::super::tests::{jumble_input, Jumble};
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(17);
-        let n = 40;
-        let (position, velocity, omega) = (
-            vectors(&mut rng, n),
-            vectors(&mut rng, n),
-            vectors(&mut rng, n),
-        );
+        // Equal spheres of one material, as the fours require.
+        let jumble = Jumble::new(1, false);
+        let laws = crate::contact::ContactLaws::default();
+        let input = jumble_input(&jumble, &laws);
+        let n = jumble.set.len();
         let candidates = 60;
         let mut pi: Vec<u32> = (0..candidates)
             .map(|_| rng.gen_range(0..n as u32))
@@ -530,32 +523,18 @@ mod tests {
         pi[candidates - 1] = n as u32 - 1;
         let history = vectors(&mut rng, candidates);
         let live: Vec<u8> = (0..candidates).map(|_| rng.gen_range(0..4)).collect();
-        let normal = DVec3::new(0.3, -0.5, 0.8).normalize();
-        let state = PlaneState {
-            position: &position,
-            velocity: &velocity,
-            omega: &omega,
+        let source = WallSource {
+            input: &input,
+            velocity: DVec3::new(0.25, -1e-3, 0.0),
+            coefficients: None,
             pi: &pi,
             history: &history,
             live: &live,
-            wall_velocity: DVec3::new(0.25, -1e-3, 0.0),
-            plane: (normal, -0.02),
-            radius: 1.5e-3,
         };
-        // The scalar gather's plane case (`WallSource::gather` with its plane geometry).
-        let scalar = |batch: &mut Batch, m: usize, k: u32| {
-            let k = k as usize;
-            let i = pi[k] as usize;
-            let (normal, offset) = state.plane;
-            batch.overlap[m] =
-                state.radius - super::super::plane_distance(position[i], normal, offset);
-            let dv = velocity[i] - state.wall_velocity;
-            let xi = super::super::live_history(live[k], history[k]);
-            for a in 0..3 {
-                batch.dv[a][m] = dv[a];
-                batch.omega[0][a][m] = omega[i][a];
-                batch.xi[a][m] = xi[a];
-            }
+        let (normal, offset) = (DVec3::new(0.3, -0.5, 0.8).normalize(), -0.02);
+        let radius = jumble.set.radius[0];
+        let geometry = |b: &mut Batch, m: usize, x: DVec3, r: f64| {
+            b.overlap[m] = r - super::super::plane_distance(x, normal, offset);
         };
         for len in 0..=BATCH {
             let mut group: Vec<u32> = (0..len)
@@ -565,13 +544,9 @@ mod tests {
                 group[len - 1] = candidates as u32 - 1;
             }
             let (mut want, mut got) = (Batch::default(), Batch::default());
-            for (m, &k) in group.iter().enumerate() {
-                scalar(&mut want, m, k);
-            }
-            let done = plane_motion(&mut got, &group, &state);
-            for (m, &k) in group.iter().enumerate().skip(done) {
-                scalar(&mut got, m, k);
-            }
+            source.gather(&group, 0, &mut want, geometry);
+            let done = plane_motion(&mut got, &group, &source, (normal, offset), radius);
+            source.gather(&group, done, &mut got, geometry);
             let bits = |b: &Batch| {
                 let rows = b.dv.iter().chain(&b.omega[0]).chain(&b.xi);
                 rows.chain(std::iter::once(&b.overlap))
