@@ -1396,7 +1396,7 @@ pub(super) mod tests {
                 skin,
                 &PairList::default(),
                 &WallPairList::default(),
-                None,
+                crate::neighbour::Carry::Same,
                 &mut pairs,
                 &mut wall_pairs,
             );

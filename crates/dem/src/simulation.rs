@@ -14,7 +14,7 @@ use crate::integrator::{
     NOTHING_MOVED,
 };
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
-use crate::neighbour::{build_lists, CellGrid, PairList, TaggedHistory, WallPairList};
+use crate::neighbour::{build_lists, Carry, CellGrid, PairList, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::timescale::rayleigh_time;
 use crate::timing::{Mark, PhaseTimes, StepClock};
@@ -336,14 +336,13 @@ impl Simulation {
                 mass: p.mass[k],
             })
             .collect();
-        // Carry the survivors' contact memory by tag across the change of indices.
-        let tagged = TaggedHistory::collect(
-            &self.state.particles,
-            &self.state.pairs,
-            &self.state.wall_pairs,
-        );
+        // The survivors' contact memory follows them across the change of indices: new
+        // body k was body `origin[k]`.
+        let origin: Vec<u32> = (0..keep.len() as u32)
+            .filter(|&k| keep[k as usize])
+            .collect();
         self.state.particles.retain_mask(&keep);
-        self.rebuild(Some(&tagged));
+        self.rebuild(Some(&origin));
         removed
     }
 
@@ -500,8 +499,10 @@ impl Simulation {
         Ok(())
     }
 
-    /// Rebuilds the neighbour lists, carrying contact history over.
-    fn rebuild(&mut self, tagged: Option<&TaggedHistory>) {
+    /// Rebuilds the neighbour lists, carrying contact history over; `moved` says where the
+    /// bodies came from when their indices changed since the last build (new body k was
+    /// body `moved[k]`).
+    fn rebuild(&mut self, moved: Option<&[u32]>) {
         let s = &mut self.state;
         let r_max = s.particles.radius.iter().copied().fold(0.0, f64::max);
         if s.skin == 0.0 {
@@ -510,16 +511,21 @@ impl Simulation {
         let cell = 2.0 * r_max + s.skin;
         let resort =
             s.config.resort_every > 0 && s.rebuilds.is_multiple_of(s.config.resort_every as u64);
-        // A re-sort changes indices, so history must then travel by tag.
-        let owned = (resort && tagged.is_none())
-            .then(|| TaggedHistory::collect(&s.particles, &s.pairs, &s.wall_pairs));
-        let carry = tagged.or(owned.as_ref());
-        if resort {
+        // A re-sort changes indices again: new body k was body `order[k]` before it.
+        let origin = resort.then(|| {
             self.grid
                 .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
-            let order = self.grid.cell_order().to_vec();
-            s.particles.permute(&order);
-        }
+            let order = self.grid.cell_order();
+            s.particles.permute(order);
+            match moved {
+                Some(moved) => order.iter().map(|&k| moved[k as usize]).collect(),
+                None => order.to_vec(),
+            }
+        });
+        let carry = match (origin.as_deref(), moved) {
+            (Some(origin), _) | (None, Some(origin)) => Carry::Moved(origin),
+            (None, None) => Carry::Same,
+        };
         self.grid
             .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
         // `build_lists` clears what it writes into; only the capacity of the spares is reused.
