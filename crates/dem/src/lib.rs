@@ -3,8 +3,8 @@
 //!
 //! The engine knows nothing of hoppers, files or fits. Its contract is in physics.md §1–6:
 //! contact laws (`contact`), materials and mixing (`material`), walls (`wall`), storage
-//! (`particles`), neighbour search (`neighbour`), velocity Verlet (`integrator`) and the
-//! simulation that owns the state (`simulation`).
+//! (`particles`), neighbour search (`neighbour`), velocity Verlet (`integrator`), the
+//! simulation that owns the state (`simulation`) and the view of it between steps (`watch`).
 
 // Input checks are written `!(x > 0.0)` on purpose: unlike `x <= 0.0`, they also refuse NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
@@ -22,6 +22,7 @@ mod simulation;
 pub mod timescale;
 mod timing;
 pub mod wall;
+mod watch;
 
 pub use contact::{ContactLaws, RollingLaw, TangentialLaw};
 pub use error::DemError;
@@ -34,3 +35,4 @@ pub use particles::{
 pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, SimulationState};
 pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallShape};
+pub use watch::Watched;

@@ -111,7 +111,8 @@ fn large_one_thread_runs_that_move_bodies_inside_the_evaluation_keep_every_bit()
     // Past 2^15 bodies, a one-thread `run` does each step's kicks and drift inside the
     // previous step's evaluation, chunk by chunk of 16 384 bodies (forces/chunked.rs). The
     // pile's 40 000 spheres (three chunks) must end exactly where single steps (which never
-    // fuse) and two threads (which do not either) take them, across list rebuilds.
+    // fuse), two threads (which do not either) and a watched run (which does not fuse across
+    // a look) take them, across list rebuilds.
     let big = |threads| Gas {
         count: 40_000,
         ..pile(threads)
@@ -119,7 +120,12 @@ fn large_one_thread_runs_that_move_bodies_inside_the_evaluation_keep_every_bit()
     let mut fused = big(1).build();
     let mut single = big(1).build();
     let mut two = big(2).build();
+    // Looks every 40 steps end three of the fused stretches early (`run_watched`).
+    let mut watched = big(1).build();
     fused.run(150).expect("fused run");
+    watched
+        .run_watched(150, 40, |_| Ok::<(), dem::DemError>(()))
+        .expect("watched run");
     for _ in 0..150 {
         single.step().expect("single steps");
     }
@@ -128,6 +134,7 @@ fn large_one_thread_runs_that_move_bodies_inside_the_evaluation_keep_every_bit()
     let bits = bits_by_tag(&fused);
     assert!(bits == bits_by_tag(&single), "fused against single steps");
     assert!(bits == bits_by_tag(&two), "fused against two threads");
+    assert!(bits == bits_by_tag(&watched), "fused against a watched run");
     assert_eq!(fused.contacts(), single.contacts());
     // The comparison must cover collisions and a rebuild after the first list.
     assert!(

@@ -3,7 +3,7 @@
 
 use analysis::series::RateSeries;
 use analysis::AnalysisError;
-use dem::{DVec3, MaterialId, Simulation, SimulationState};
+use dem::{DVec3, MaterialId, Simulation, SimulationState, Watched};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
@@ -292,7 +292,7 @@ impl CaseRun {
             0.0,
             outlet.particle_diameter,
         )?;
-        let frame = Frame::of(&self.sim, |_| true);
+        let frame = Frame::of(&self.sim.watched(), |_| true);
         Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.material.density))?)
     }
 
@@ -302,24 +302,24 @@ impl CaseRun {
         let density = self.case.particles.material.density;
         let band = CROSSING_BAND_DIAMETERS * d;
         let mut last_crossing = last_crossing;
-        let mut done = 0;
-        while done < chunk {
-            let n = every.min(chunk - done);
-            self.sim.run(n)?;
-            done += n;
-            let t = self.sim.time();
-            let frame = Frame::of(&self.sim, |x| x.z.abs() < band);
-            if self.state.crossing.observe(&frame.view(t, density))? > 0 {
+        let (case, state, sim) = (&self.case, &mut self.state, &mut self.sim);
+        // The outlet is looked at every `every` steps; the engine leaves each look's second
+        // half kick to the next step's pass, and the view gives full-step velocities.
+        sim.run_watched(chunk, every, |seen: &Watched<'_>| -> Result<(), RunError> {
+            let t = seen.time();
+            let frame = Frame::of(seen, |x| x.z.abs() < band);
+            if state.crossing.observe(&frame.view(t, density))? > 0 {
                 last_crossing = t;
             }
-            if t >= self.state.next_frame {
-                self.state.next_frame += self.case.measure.frame_interval;
-                let strip = Frame::of(&self.sim, |x| x.z.abs() < d);
-                self.state.strip.observe(&strip.view(t, density))?;
-                let all = Frame::of(&self.sim, |_| true);
-                self.state.field.observe(&all.view(t, density))?;
+            if t >= state.next_frame {
+                state.next_frame += case.measure.frame_interval;
+                let strip = Frame::of(seen, |x| x.z.abs() < d);
+                state.strip.observe(&strip.view(t, density))?;
+                let all = Frame::of(seen, |_| true);
+                state.field.observe(&all.view(t, density))?;
             }
-        }
+            Ok(())
+        })?;
         // Delete particles well below the outlet (physics.md §5: about 5 d).
         let depth = self.case.protocol.deletion_depth;
         let removed = self
@@ -414,8 +414,7 @@ pub struct Frame {
 
 impl Frame {
     /// The particles whose position satisfies `keep`.
-    pub fn of(sim: &Simulation, keep: impl Fn(DVec3) -> bool) -> Self {
-        let p = sim.particles();
+    pub fn of(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool) -> Self {
         let mut f = Frame {
             ids: Vec::new(),
             positions: Vec::new(),
@@ -427,7 +426,7 @@ impl Frame {
             if keep(x) {
                 f.ids.push(p.tags()[k]);
                 f.positions.push(x.to_array());
-                f.velocities.push(p.velocities()[k].to_array());
+                f.velocities.push(p.velocity(k).to_array());
                 f.radii.push(p.radii()[k]);
             }
         }

@@ -1,0 +1,91 @@
+//! A read-only view of the bodies between steps, with velocities at the full step even
+//! where the step's second half kick is still pending ([`crate::Simulation::run_watched`]).
+
+use glam::DVec3;
+
+use crate::particles::{ParticleSet, ParticleTag, FLAG_FROZEN};
+
+/// The bodies at one step, as a caller that measures them sees them: tags, positions,
+/// radii, masses, and velocities at the full step.
+///
+/// Between the steps of a run the velocities stored are half a kick behind: each step's
+/// second half kick v += (Δt/2m) F waits for the next step's pass. [`Watched::velocity`]
+/// adds it, with the same product and sum as the kick itself (`integrator::kick`), so it
+/// returns the bits the kick would store.
+#[derive(Debug, Clone, Copy)]
+pub struct Watched<'a> {
+    particles: &'a ParticleSet,
+    time: f64,
+    /// The pending kick: Δt/2 [s], and the reciprocal mass [1/kg] and inertia [1/(kg m²)]
+    /// that all bodies share when they do (`integrator::uniform_free_body`).
+    pending: Option<(f64, Option<(f64, f64)>)>,
+}
+
+impl<'a> Watched<'a> {
+    pub(crate) fn new(
+        particles: &'a ParticleSet,
+        time: f64,
+        pending: Option<(f64, Option<(f64, f64)>)>,
+    ) -> Self {
+        Self {
+            particles,
+            time,
+            pending,
+        }
+    }
+
+    /// Simulated time of the step [s].
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Number of bodies.
+    pub fn len(&self) -> usize {
+        self.particles.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.particles.is_empty()
+    }
+
+    /// Stable tags.
+    pub fn tags(&self) -> &'a [ParticleTag] {
+        self.particles.tags()
+    }
+
+    /// Centre positions [m].
+    pub fn positions(&self) -> &'a [DVec3] {
+        self.particles.positions()
+    }
+
+    /// Radii [m].
+    pub fn radii(&self) -> &'a [f64] {
+        self.particles.radii()
+    }
+
+    /// Masses [kg].
+    pub fn masses(&self) -> &'a [f64] {
+        self.particles.masses()
+    }
+
+    /// Centre velocity of body `k` at the full step [m/s].
+    #[inline]
+    pub fn velocity(&self, k: usize) -> DVec3 {
+        let p = self.particles;
+        let v = p.velocity[k];
+        match self.pending {
+            None => v,
+            // `kick`'s arithmetic: v + kv F with kv = Δt/2 · 1/m formed once for all bodies,
+            // or per body, and frozen bodies left alone.
+            Some((half, Some((inv_mass, _)))) => v + (half * inv_mass) * p.force[k],
+            Some((half, None)) => {
+                if p.flags[k] & FLAG_FROZEN != 0 {
+                    v
+                } else {
+                    v + (half * p.inv_mass[k]) * p.force[k]
+                }
+            }
+        }
+    }
+}
