@@ -129,7 +129,9 @@ fn kick_drift_bodies(
             (half * inv_mass, half * inv_inertia),
             (dt, weight),
             pending,
-        ),
+            true,
+        )
+        .into(),
         None => kick_drift_general(b, (half, dt), gravity, pending),
     }
 }
@@ -234,29 +236,74 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
             let (kv, kw) = (half * inv_mass, half * inv_inertia);
             let (v, w, x) = (&mut p.velocity, &mut p.omega, &mut p.position);
             let forces = (&mut p.force[..], &mut p.torque[..]);
-            flat_pass::<true, false>((v, w, x), forces, (kv, kw, 0.0), DVec3::ZERO) == 0.0
+            flat_pass::<true, false>((v, w, x), forces, (kv, kw, 0.0), DVec3::ZERO).probe == 0.0
         }
         None => kick_general(p, half),
+    }
+}
+
+/// [`kick_drift`] on the calling thread for free bodies that share 1/m and 1/I
+/// (`uniform`, as [`uniform_free_body`] finds them), measuring the displacements since the
+/// last list build only when `measure` ([`Moved`]). The simulation asks for them only when
+/// its bound on them ([`crate::reach::ReachBound`]) cannot rule a list build out.
+pub(crate) fn kick_drift_measured(
+    p: &mut ParticleSet,
+    reference: &[DVec3],
+    (half, dt): (f64, f64),
+    pending: bool,
+    (inv_mass, inv_inertia): (f64, f64),
+    gravity: DVec3,
+    measure: bool,
+) -> Moved {
+    let weight = shared_weight(p, gravity);
+    let b = Bodies::of(p, reference);
+    let (kv, kw) = (half * inv_mass, half * inv_inertia);
+    kick_drift_uniform(b, (kv, kw), (dt, weight), pending, measure)
+}
+
+/// What a uniform kick-and-drift pass found.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Moved {
+    /// Largest squared displacement since the last list build [m²], where it was measured.
+    pub max_disp2: Option<f64>,
+    /// Every position is finite.
+    pub finite: bool,
+    /// The pending kick left every velocity and spin finite.
+    pub kicked_finite: bool,
+    /// The step's reach: the largest |Δt v_c| of any component of any body's drift [m].
+    pub reach: f64,
+}
+
+impl From<Moved> for (f64, bool, bool) {
+    /// The findings as the other passes report them (the displacement measured).
+    fn from(m: Moved) -> Self {
+        (
+            m.max_disp2.unwrap_or(f64::INFINITY),
+            m.finite,
+            m.kicked_finite,
+        )
     }
 }
 
 /// [`kick_drift`] for free particles sharing `kv` = Δt/2m [s/kg] and `kw` = Δt/2I
 /// [s/(kg m²)], and the weight m g [N]: per component, v += kv F (pending), v += kv F,
 /// x += Δt v, and the same for ω with kw and the torque, then F = m g and T = 0; each
-/// block of particles then gives its displacements.
+/// block of particles then gives its displacements, when `measure`.
 #[inline(always)]
 fn kick_drift_uniform(
     b: Bodies,
     (kv, kw): (f64, f64),
     (dt, weight): (f64, DVec3),
     pending: bool,
-) -> (f64, bool, bool) {
+    measure: bool,
+) -> Moved {
     // In blocks, so that the displacements read positions just written, from the
     // first-level cache rather than from memory once the arrays outgrow the caches. A
     // block's numbers are a multiple of 3 × WIDTH, so every block starts a weight pattern
     // (`flat_pass`) and holds whole particles. The maximum and the probes do not depend on
     // how the particles are grouped.
     let (mut max_disp2, mut position_probe, mut velocity_probe) = (0.0f64, 0.0, 0.0);
+    let mut reach = 0.0f64;
     let blocks = b
         .velocity
         .chunks_mut(BLOCK)
@@ -265,16 +312,56 @@ fn kick_drift_uniform(
         .zip(b.force.chunks_mut(BLOCK).zip(b.torque.chunks_mut(BLOCK)))
         .zip(b.reference.chunks(BLOCK));
     for ((((v, w), x), (f, t)), r) in blocks {
-        velocity_probe += if pending {
+        let pass = if pending {
             flat_pass::<true, true>((v, w, &mut *x), (f, t), (kv, kw, dt), weight)
         } else {
             flat_pass::<false, true>((v, w, &mut *x), (f, t), (kv, kw, dt), weight)
         };
-        let (d2, probe) = largest_displacement(x, r);
-        max_disp2 = if d2 > max_disp2 { d2 } else { max_disp2 };
-        position_probe += probe;
+        velocity_probe += pass.probe;
+        // NaN-keeping, as within the pass.
+        reach = if pass.reach > reach || pass.reach.is_nan() {
+            pass.reach
+        } else {
+            reach
+        };
+        if measure {
+            let (d2, probe) = largest_displacement(x, r);
+            max_disp2 = if d2 > max_disp2 { d2 } else { max_disp2 };
+            position_probe += probe;
+        }
     }
-    (max_disp2, position_probe == 0.0, velocity_probe == 0.0)
+    Moved {
+        max_disp2: measure.then_some(max_disp2),
+        // Measured, the displacements' probe. Otherwise the reach: the caller measures
+        // nothing only while every position lies within `FINITE_REACH` of the origin, so a
+        // drift shorter than that keeps them finite.
+        finite: if measure {
+            position_probe == 0.0
+        } else {
+            reach < FINITE_REACH
+        },
+        kicked_finite: velocity_probe == 0.0,
+        reach,
+    }
+}
+
+/// Largest |Δx| since the last list build [m²] of `position` against `reference`, and a
+/// probe that is zero unless some displacement is not finite: the measure that a
+/// [`kick_drift_measured`] pass without `measure` left out, in a pass of its own.
+pub(crate) fn measure_displacements(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
+    largest_displacement(position, reference)
+}
+
+/// A reach below which a drift cannot make a position non-finite, for positions within
+/// the same distance of the origin [m]: their sum stays far below the largest number.
+pub(crate) const FINITE_REACH: f64 = 1e100;
+
+/// What one [`flat_pass`] found.
+struct Pass {
+    /// Σ (v + ω)·0 after `KICK`'s kick: zero unless some velocity or spin is not finite.
+    probe: f64,
+    /// With `KICK_DRIFT`, the largest |Δt v_c| of the drift [m] (NaN if some is).
+    reach: f64,
 }
 
 /// Numbers per vector of the flat loops (eight f64 fill a 512-bit register).
@@ -288,13 +375,14 @@ const BLOCK: usize = 8 * WIDTH;
 /// in `k`: with `KICK`, `kick`'s v += kv F, ω += kw T and its check on v + ω; with
 /// `KICK_DRIFT`, this step's v += kv F, ω += kw T and x += Δt v, and then F = `weight` and
 /// T = 0 for the next evaluation. Returns the check's sum, zero unless some velocity or
-/// spin is not finite (0 without `KICK`).
+/// spin is not finite (0 without `KICK`), and with `KICK_DRIFT` the drift's reach and the
+/// positions' probe ([`Pass`]).
 fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
     (v, w, x): (&mut [DVec3], &mut [DVec3], &mut [DVec3]),
     (f, t): (&mut [DVec3], &mut [DVec3]),
     (kv, kw, dt): (f64, f64, f64),
     weight: DVec3,
-) -> f64 {
+) -> Pass {
     let v: &mut [f64] = bytemuck::cast_slice_mut(v);
     let w: &mut [f64] = bytemuck::cast_slice_mut(w);
     let x: &mut [f64] = bytemuck::cast_slice_mut(x);
@@ -345,8 +433,30 @@ fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
             (*f, *t) = (weight[q % 3], 0.0);
         }
     }
-    probe.iter().sum()
+    Pass {
+        probe: probe.iter().sum(),
+        reach: if KICK_DRIFT { reach_of(v, dt) } else { 0.0 },
+    }
 }
+
+/// The largest |Δt v| of the numbers `v` [m]: a drift's reach, read back from the block
+/// the pass has just written (in the first-level cache). Rounding is monotonic, so the
+/// largest of the drift's products Δt v is Δt times the largest |v|, to the bit. A NaN
+/// comes out as NaN.
+///
+/// The largest |v| as the maximum of the numbers' bits, as unsigned integers, sign
+/// cleared: their order is that of the numbers, and every NaN lies above infinity, so it
+/// is kept where a floating-point `>` would drop it. A plain integer reduction, which the
+/// compiler vectorises; with the product inside the loop it vectorised across chunks, with
+/// gathers.
+fn reach_of(v: &[f64], dt: f64) -> f64 {
+    let bits: &[u64] = bytemuck::cast_slice(v);
+    let largest = bits.iter().fold(0u64, |m, &b| m.max(b & !SIGN));
+    dt * f64::from_bits(largest)
+}
+
+/// The sign bit of an f64.
+const SIGN: u64 = 1 << 63;
 
 /// [`flat_pass`] on one number of v, ω and x.
 #[inline(always)]

@@ -18,6 +18,7 @@ pub mod material;
 pub mod neighbour;
 pub mod particles;
 mod ranges;
+mod reach;
 mod simulation;
 pub mod timescale;
 mod timing;

@@ -10,12 +10,13 @@ use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
 use crate::integrator::{
-    displacement_box_diagonal, kick, kick_drift, kick_drift_range, merge_drift, uniform_free_body,
-    NOTHING_MOVED,
+    displacement_box_diagonal, kick, kick_drift, kick_drift_measured, kick_drift_range,
+    measure_displacements, merge_drift, uniform_free_body, NOTHING_MOVED,
 };
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, Carry, CellGrid, PairList, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
+use crate::reach::ReachBound;
 use crate::timescale::rayleigh_time;
 use crate::timing::{Mark, PhaseTimes, StepClock};
 use crate::wall::{Wall, WallId};
@@ -86,6 +87,17 @@ pub struct SimulationState {
     contacts: ContactCount,
 }
 
+impl SimulationState {
+    /// How far the walls have moved since the last list build [m], where there are walls:
+    /// the wall branch of the list-build test (`Simulation::lists_may_miss`).
+    fn walls_moved(&self) -> Option<f64> {
+        self.walls
+            .iter()
+            .any(Option::is_some)
+            .then_some(self.wall_drift)
+    }
+}
+
 /// A DEM simulation of spheres and walls.
 pub struct Simulation {
     state: SimulationState,
@@ -106,6 +118,10 @@ pub struct Simulation {
     /// The lists before the last build, kept for their allocations: the next build writes
     /// into them, instead of growing fresh vectors to some 10^4 candidates at every build.
     spare_lists: (PairList, WallPairList),
+    /// Bounds on the displacements since the last build, which spare the exact measures
+    /// where they rule a build out ([`ReachBound`]); not part of the state: a restored
+    /// simulation measures until its first build.
+    reach_bound: ReachBound,
     /// The error that stopped a step after it had begun to move bodies: every later step is
     /// refused with [`DemError::AfterFailure`], since the state is no longer one instant's.
     /// Not part of the state: a simulation restored from a checkpoint starts without it.
@@ -210,6 +226,7 @@ impl Simulation {
             prepared: false,
             phase_times: None,
             spare_lists: Default::default(),
+            reach_bound: ReachBound::default(),
             failure: None,
         })
     }
@@ -549,6 +566,12 @@ impl Simulation {
         self.uniform_free = uniform_free_body(&s.particles);
         s.reference.clear();
         s.reference.extend_from_slice(&s.particles.position);
+        // Until the next build no body moves farther than the skin from where it is now.
+        let extent = s
+            .reference
+            .iter()
+            .fold(0.0, |m: f64, x| m.max(x.abs().max_element()));
+        self.reach_bound = ReachBound::at_build(extent + s.skin);
         s.wall_drift = 0.0;
         s.rebuilds += 1;
         s.needs_rebuild = false;
@@ -610,7 +633,10 @@ impl Simulation {
         // First half kick and drift, tracking the largest displacement since the last build.
         let reference_valid = self.state.reference.len() == p.len();
         let drift = match drifted {
-            Some(drift) => drift,
+            Some(drift) => {
+                self.reach_bound.forget();
+                drift
+            }
             None => {
                 if !reference_valid {
                     // The list is rebuilt below anyway; a reference is needed only to
@@ -618,20 +644,47 @@ impl Simulation {
                     self.state.reference.clear();
                     self.state.reference.extend_from_slice(&p.position);
                 }
-                Drift::from(kick_drift(
-                    p,
-                    &self.state.reference,
-                    (half, dt),
-                    kick_pending,
-                    self.uniform_free,
-                    self.state.config.gravity,
-                    self.pool.as_deref(),
-                ))
+                match self.uniform_free.filter(|_| self.pool.is_none()) {
+                    // One thread, bodies alike: the displacements are measured only where
+                    // the bounds cannot rule a list build out.
+                    Some(uniform) => {
+                        let s = &mut self.state;
+                        let ahead = self.reach_bound.next_reach();
+                        let measure = !self.reach_bound.rules_out(s.skin, s.walls_moved(), ahead);
+                        let moved = kick_drift_measured(
+                            &mut s.particles,
+                            &s.reference,
+                            (half, dt),
+                            kick_pending,
+                            uniform,
+                            s.config.gravity,
+                            measure,
+                        );
+                        self.reach_bound.step(moved.reach);
+                        Drift {
+                            max_disp2: moved.max_disp2,
+                            finite: moved.finite,
+                            kicked_finite: moved.kicked_finite,
+                        }
+                    }
+                    None => {
+                        self.reach_bound.forget();
+                        Drift::from(kick_drift(
+                            p,
+                            &self.state.reference,
+                            (half, dt),
+                            kick_pending,
+                            self.uniform_free,
+                            self.state.config.gravity,
+                            self.pool.as_deref(),
+                        ))
+                    }
+                }
             }
         };
         self.check_drift(drift)?;
         StepClock::mark(&mut clock, Mark::Drifted);
-        if self.state.needs_rebuild || !reference_valid || self.lists_may_miss(drift) {
+        if self.state.needs_rebuild || !reference_valid || self.lists_may_miss(drift.max_disp2) {
             self.rebuild(None);
         }
         StepClock::mark(&mut clock, Mark::Listed);
@@ -684,14 +737,32 @@ impl Simulation {
     ///   sets the usual test off at 0.6 of what the box allows (twenty-sixth session,
     ///   docs/performance.md). The box costs a pass over the bodies, so it is measured only
     ///   once the usual test has fired; the list is rebuilt when both exceed s.
-    fn lists_may_miss(&self, drift: Drift) -> bool {
+    ///
+    /// `max_disp2` is the largest squared displacement [m²], where the step's pass measured
+    /// it. Where it did not, the bounds of [`ReachBound`] rule a build out, or else it is
+    /// measured here. Either way the answer is the test's. Every measure taken without a
+    /// build goes to the bounds.
+    fn lists_may_miss(&mut self, max_disp2: Option<f64>) -> bool {
         let s = &self.state;
-        let largest = drift.max_disp2.sqrt();
-        if s.walls.iter().any(Option::is_some) && largest + s.wall_drift > s.skin {
+        let max_disp2 = match max_disp2 {
+            Some(d2) => d2,
+            None if self.reach_bound.rules_out(s.skin, s.walls_moved(), 0.0) => return false,
+            // The pass's guess of its reach fell short of it.
+            None => measure_displacements(&s.particles.position, &s.reference).0,
+        };
+        let largest = max_disp2.sqrt();
+        if s.walls_moved()
+            .is_some_and(|drift| largest + drift > s.skin)
+        {
             return true;
         }
-        2.0 * largest > s.skin
-            && displacement_box_diagonal(&s.particles.position, &s.reference) > s.skin
+        let diagonal = (2.0 * largest > s.skin)
+            .then(|| displacement_box_diagonal(&s.particles.position, &s.reference));
+        if diagonal.is_some_and(|b| b > s.skin) {
+            return true;
+        }
+        self.reach_bound.measured(largest, diagonal);
+        false
     }
 
     /// Reports what a kick-and-drift pass found: a velocity made non-finite by the previous
@@ -1018,8 +1089,8 @@ const FUSE_BODIES: usize = 1 << 15;
 /// What a kick-and-drift pass found ([`kick_drift`]).
 #[derive(Debug, Clone, Copy)]
 struct Drift {
-    /// Largest squared displacement since the last list build [m²].
-    max_disp2: f64,
+    /// Largest squared displacement since the last list build [m²], where it was measured.
+    max_disp2: Option<f64>,
     /// Every displacement was finite.
     finite: bool,
     /// The deferred kick left every velocity and spin finite.
@@ -1029,7 +1100,7 @@ struct Drift {
 impl From<(f64, bool, bool)> for Drift {
     fn from((max_disp2, finite, kicked_finite): (f64, bool, bool)) -> Self {
         Self {
-            max_disp2,
+            max_disp2: Some(max_disp2),
             finite,
             kicked_finite,
         }

@@ -173,3 +173,78 @@ fn a_packing_in_rigid_translation_keeps_its_lists() {
         "no sphere touches another"
     );
 }
+
+/// The bounds that spare the displacement measures on one thread (`reach.rs`) must leave
+/// every list build where the measures at every step put it. Two threads measure at every
+/// step, so the builds of the two runs must fall at the same steps, and the runs must agree
+/// to the bit. The pile is jolted (one sphere thrown at 3 m/s, so that a step's reach
+/// outruns the pass's guess of it) and a wall moves by 2 µm a step for a while (the wall
+/// branch of the test).
+#[test]
+fn bounded_measures_build_the_lists_at_the_steps_of_measures_at_every_step() {
+    let build = |threads| {
+        let mut config = SimulationConfig::new(2.5e-6);
+        config.skin = SKIN;
+        config.threads = threads;
+        common::pile(config).build()
+    };
+    let (mut bounded, mut measured) = (build(1), build(2));
+    let wall = dem::WallId(0);
+    for step in 0..1500 {
+        if step == 400 {
+            for sim in [&mut bounded, &mut measured] {
+                sim.set_particle_motion(17, DVec3::new(0.0, 0.0, 3.0), DVec3::ZERO);
+            }
+        }
+        if (800..1000).contains(&step) {
+            for sim in [&mut bounded, &mut measured] {
+                sim.translate_wall(wall, DVec3::new(2e-6, 0.0, 0.0))
+                    .expect("the wall moves");
+            }
+        }
+        bounded.run(1).expect("one thread");
+        measured.run(1).expect("two threads");
+        assert_eq!(
+            bounded.rebuilds(),
+            measured.rebuilds(),
+            "builds differ after step {step}"
+        );
+    }
+    // Exact equality, as in determinism.rs.
+    assert!(bits_by_tag(&bounded) == bits_by_tag(&measured));
+    // Enough builds for the comparison to mean something: the pile's spread of speeds
+    // alone builds about every 100 steps.
+    assert!(bounded.rebuilds() > 10, "{} builds", bounded.rebuilds());
+}
+
+/// A sphere thrown from rest, at 200 m/s (0.5 mm a step, more than the 0.3 mm skin), must
+/// set a list build off in the very step it moves, although the pass, guessing its reach
+/// from the steps before (nothing moved), left the measures out: the bounds then fail and
+/// the displacements are measured after all. Two threads, which measure at every step,
+/// give the reference.
+#[test]
+fn a_sudden_throw_is_measured_in_the_step_it_happens() {
+    let build = |threads| {
+        let (mut sim, material) = empty(SKIN);
+        sim.set_threads(threads)
+            .expect("a pool of this size starts");
+        for x in [0.0, 0.01] {
+            let init = ParticleInit::at_rest(DVec3::new(x, 0.0, 0.0), RADIUS, material);
+            sim.add_particle(init).expect("valid particle");
+        }
+        sim.run(50).expect("at rest");
+        sim.set_particle_motion(1, DVec3::new(200.0, 0.0, 0.0), DVec3::ZERO);
+        sim
+    };
+    let (mut bounded, mut measured) = (build(1), build(2));
+    let before = bounded.rebuilds();
+    assert_eq!(before, measured.rebuilds());
+    bounded.run(1).expect("one thread");
+    measured.run(1).expect("two threads");
+    assert_eq!(measured.rebuilds(), before + 1, "the throw needs a build");
+    assert_eq!(
+        bounded.rebuilds(),
+        measured.rebuilds(),
+        "the build was missed"
+    );
+}
