@@ -332,9 +332,10 @@ fn kick_drift_uniform(
     }
     Moved {
         max_disp2: measure.then_some(max_disp2),
-        // Measured, the displacements' probe. Otherwise the reach: the caller measures
-        // nothing only while every position lies within `FINITE_REACH` of the origin, so a
-        // drift shorter than that keeps them finite.
+        // Measured, the displacements' probe. Otherwise the reach: a finite position moved
+        // by less than `FINITE_REACH` stays finite unless it lay within that of the largest
+        // number, some 10³⁰⁸ m out, and the caller measures nothing for bodies that were
+        // farther out than `FINITE_REACH` at the last list build.
         finite: if measure {
             position_probe == 0.0
         } else {
@@ -352,8 +353,8 @@ pub(crate) fn measure_displacements(position: &[DVec3], reference: &[DVec3]) -> 
     largest_displacement(position, reference)
 }
 
-/// A reach below which a drift cannot make a position non-finite, for positions within
-/// the same distance of the origin [m]: their sum stays far below the largest number.
+/// A reach [m] below which a drift cannot make a finite position non-finite, short of
+/// positions some 10³⁰⁸ m out.
 pub(crate) const FINITE_REACH: f64 = 1e100;
 
 /// What one [`flat_pass`] found.

@@ -37,28 +37,34 @@ pub(crate) struct ReachBound {
     diagonal: Option<f64>,
     /// R: the reaches since then, each with its rounding slack [m].
     reach: f64,
-    /// Rounding slack of one step's coordinate change [m]: a drift x + Δt v rounds to
-    /// within half a unit in the last place of the result, at most `scale` ε.
-    slack: f64,
+    /// The largest |coordinate| of any body at the last build [m]. A drift x + Δt v rounds
+    /// to within half a unit in the last place of the result, so each step's change of a
+    /// coordinate exceeds its reach by at most (this + the displacement since the build) ε.
+    extent: f64,
     /// The last step's reach [m], from which the next one is guessed.
     last_reach: f64,
 }
 
 impl ReachBound {
-    /// The bounds just after a list build: nothing has moved. `scale` [m] bounds every
-    /// coordinate of every body until the next build (their extent at the build plus the
-    /// skin, which no body moves past before a build). Bodies farther out than
-    /// [`FINITE_REACH`] get no bounds: their drifts are measured at every step, whose
-    /// probe of the positions' finiteness the bounds would otherwise stand in for.
-    pub(crate) fn at_build(scale: f64) -> Self {
+    /// The bounds just after a list build: nothing has moved. `extent` [m] is the largest
+    /// |coordinate| of any body. Bodies farther out than [`FINITE_REACH`] get no bounds:
+    /// their drifts are measured at every step, whose probe of the positions' finiteness
+    /// the bounds would otherwise stand in for.
+    pub(crate) fn at_build(extent: f64) -> Self {
         Self {
-            valid: scale < FINITE_REACH,
+            valid: extent < FINITE_REACH,
             largest: 0.0,
             diagonal: Some(0.0),
             reach: 0.0,
-            slack: scale * f64::EPSILON,
+            extent,
             last_reach: 0.0,
         }
+    }
+
+    /// The bound on every body's displacement since the build [m], with a further reach
+    /// `ahead` [m].
+    fn displacement(&self, ahead: f64) -> f64 {
+        self.largest + 3f64.sqrt() * (self.reach + ahead)
     }
 
     /// Forgets the bounds: a step went by without reporting its reach.
@@ -69,8 +75,11 @@ impl ReachBound {
     /// Takes one step's reach [m].
     pub(crate) fn step(&mut self, reach: f64) {
         // A NaN reach (a non-finite velocity, which the pass reports) must not be lost.
-        self.reach += if reach >= 0.0 { reach } else { f64::INFINITY };
-        self.reach += self.slack;
+        let reach = if reach >= 0.0 { reach } else { f64::INFINITY };
+        // The rounding of the drift, from the farthest any coordinate can now lie (twice
+        // the half unit in the last place).
+        let slack = (self.extent + self.displacement(reach)) * f64::EPSILON;
+        self.reach += reach + slack;
         self.last_reach = reach;
     }
 
@@ -92,7 +101,7 @@ impl ReachBound {
         }
         let moved = 3f64.sqrt() * (self.reach + ahead);
         let limit = skin * (1.0 - MARGIN);
-        let largest = (self.largest + moved) * (1.0 + MARGIN);
+        let largest = self.displacement(ahead) * (1.0 + MARGIN);
         let walls = wall_drift.is_none_or(|drift| largest + drift < limit);
         let pairs = 2.0 * largest < limit
             || self
@@ -101,10 +110,9 @@ impl ReachBound {
         walls && pairs
     }
 
-    /// A guess of the next step's reach [m], generous: the last one and half again, with
-    /// its slack.
+    /// A guess of the next step's reach [m], generous: the last one and half again.
     pub(crate) fn next_reach(&self) -> f64 {
-        1.5 * self.last_reach + self.slack
+        1.5 * self.last_reach
     }
 }
 

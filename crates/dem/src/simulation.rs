@@ -566,12 +566,11 @@ impl Simulation {
         self.uniform_free = uniform_free_body(&s.particles);
         s.reference.clear();
         s.reference.extend_from_slice(&s.particles.position);
-        // Until the next build no body moves farther than the skin from where it is now.
         let extent = s
             .reference
             .iter()
             .fold(0.0, |m: f64, x| m.max(x.abs().max_element()));
-        self.reach_bound = ReachBound::at_build(extent + s.skin);
+        self.reach_bound = ReachBound::at_build(extent);
         s.wall_drift = 0.0;
         s.rebuilds += 1;
         s.needs_rebuild = false;
