@@ -1397,8 +1397,8 @@ pub(super) mod tests {
                 &PairList::default(),
                 &WallPairList::default(),
                 crate::neighbour::Carry::Same,
-                &mut pairs,
-                &mut wall_pairs,
+                (&mut pairs, &mut wall_pairs),
+                &mut crate::neighbour::ListScratch::default(),
             );
             let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(9);
             let (t, r) = pairs.history.split_mut();

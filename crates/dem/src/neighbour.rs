@@ -196,6 +196,23 @@ pub(crate) enum Carry<'a> {
     Moved(&'a [u32]),
 }
 
+/// The working arrays of a list build, kept by the caller from build to build, so that
+/// the builds allocate nothing once these have grown. Allocated afresh at every build,
+/// arrays of their sizes went back to the allocator, and some of them to the system, to be
+/// faulted in again at the next build. (Whether that cost time on the hopper could not be
+/// told from the host's noise; thirtieth session.)
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ListScratch {
+    /// Positions [m] and radii [m] in the grid's order.
+    cells: Vec<(DVec3, f64)>,
+    /// Pairs found, as (min, max) index keys.
+    found: Vec<u64>,
+    /// Counts and starts by body or by row.
+    first: Vec<u32>,
+    /// Next free slot by body, or a table by body.
+    fill: Vec<u32>,
+}
+
 /// Fills `history` for the new candidates `ids`, a list sorted by its two columns (pairs
 /// (i, j), or wall candidates (wall, particle)) from the previous list `old` (its columns
 /// and histories, sorted the same way): in one merge when indices are unchanged, through
@@ -204,14 +221,14 @@ fn carry_histories(
     history: &mut HistoryArrays,
     ids: (&[u32], &[u32]),
     old: ((&[u32], &[u32]), &HistoryArrays),
-    carry: Carry<'_>,
-    moved: impl Fn(&mut HistoryArrays, &[u32]),
+    (carry, scratch): (Carry<'_>, &mut Vec<u32>),
+    moved: impl FnOnce(&mut HistoryArrays, &[u32], &mut Vec<u32>),
 ) {
     match carry {
-        Carry::Moved(origin) => moved(history, origin),
+        Carry::Moved(origin) => moved(history, origin, scratch),
         Carry::Same => {
-            let source = matching(ids, old.0);
-            history.carry_from(old.1, &source);
+            matching(ids, old.0, scratch);
+            history.carry_from(old.1, scratch);
         }
     }
 }
@@ -245,12 +262,13 @@ fn carry_moved_pairs(
     ids: (&[u32], &[u32]),
     (old_i, old_j): (&[u32], &[u32]),
     old: &HistoryArrays,
-    origin: &[u32],
+    (origin, row): (&[u32], &mut Vec<u32>),
 ) {
     // Old bodies that appear in the old list: i < j, so the largest j bounds them.
     let bodies = old_j.iter().max().map_or(0, |&j| j as usize + 1);
     // Old entries with i = x are `row[x]..row[x + 1]`.
-    let mut row = vec![0u32; bodies + 1];
+    row.clear();
+    row.resize(bodies + 1, 0);
     for &x in old_i {
         row[x as usize + 1] += 1;
     }
@@ -282,10 +300,11 @@ fn carry_moved_walls(
     (walls, bodies): (&[u32], &[u32]),
     (old_walls, old_bodies): (&[u32], &[u32]),
     old: &HistoryArrays,
-    origin: &[u32],
+    (origin, slot): (&[u32], &mut Vec<u32>),
 ) {
     let size = old_bodies.iter().max().map_or(0, |&x| x as usize + 1);
-    let mut slot = vec![NO_SOURCE; size];
+    slot.clear();
+    slot.resize(size, NO_SOURCE);
     let mut current: Option<(u32, std::ops::Range<usize>)> = None;
     history.clear();
     for (&w, &a) in walls.iter().zip(bodies) {
@@ -316,10 +335,11 @@ fn carry_moved_walls(
 /// or both on a match, and writes the new entry's source, which a later round overwrites
 /// while the old cursor is still behind. The lists change in a scattered few entries
 /// between builds, so a branch on each comparison was mispredicted at every change.
-fn matching((a, b): (&[u32], &[u32]), (oa, ob): (&[u32], &[u32])) -> Vec<u32> {
+fn matching((a, b): (&[u32], &[u32]), (oa, ob): (&[u32], &[u32]), source: &mut Vec<u32>) {
     let key = |x: u32, y: u32| (u64::from(x) << 32) | u64::from(y);
     let (new_len, old_len) = (a.len().min(b.len()), oa.len().min(ob.len()));
-    let mut source = vec![NO_SOURCE; new_len];
+    source.clear();
+    source.resize(new_len, NO_SOURCE);
     let (mut k, mut c) = (0, 0);
     while k < new_len && c < old_len {
         let (here, there) = (key(a[k], b[k]), key(oa[c], ob[c]));
@@ -327,7 +347,6 @@ fn matching((a, b): (&[u32], &[u32]), (oa, ob): (&[u32], &[u32])) -> Vec<u32> {
         k += usize::from(here <= there);
         c += usize::from(there <= here);
     }
-    source
 }
 
 /// History of j relative to i is minus that of i relative to j (ξ and the rolling torque on i).
@@ -357,6 +376,7 @@ fn pair_candidates(
     (pos, rad): (&[DVec3], &[f64]),
     skin: f64,
     (i_out, j_out): (&mut Vec<u32>, &mut Vec<u32>),
+    scratch: &mut ListScratch,
 ) {
     let n = pos.len();
     let sorted = &grid.sorted[..n];
@@ -366,9 +386,16 @@ fn pair_candidates(
         let b = sorted[k] as usize;
         (pos[b], rad[b])
     };
-    let cells: Vec<(DVec3, f64)> = (0..n).map(body).collect();
+    let ListScratch {
+        cells,
+        found,
+        first,
+        fill,
+    } = scratch;
+    cells.clear();
+    cells.extend((0..n).map(body));
+    let cells = &cells[..];
     let [nx, ny, nz] = grid.dims;
-    let mut found: Vec<u64> = Vec::new();
     let mut count = 0;
     // The bodies of slots `a` (one body) against the slots of `run`, appending those in
     // reach as (min, max) index keys, without a branch on the outcome.
@@ -420,9 +447,9 @@ fn pair_candidates(
                     found.resize(2 * (count + own.len() * reach), 0);
                 }
                 for a in own {
-                    count = test(a, a + 1..next_end, &mut found, count);
+                    count = test(a, a + 1..next_end, found, count);
                     for r in later {
-                        count = test(a, r.clone(), &mut found, count);
+                        count = test(a, r.clone(), found, count);
                     }
                 }
             }
@@ -431,7 +458,8 @@ fn pair_candidates(
     let found = &found[..count];
 
     // By i, counting; then j ascending within each i.
-    let mut first = vec![0u32; n + 1];
+    first.clear();
+    first.resize(n + 1, 0);
     for &key in found {
         first[(key >> 32) as usize + 1] += 1;
     }
@@ -441,7 +469,8 @@ fn pair_candidates(
     i_out.clear();
     j_out.clear();
     j_out.resize(count, 0);
-    let mut fill = first.clone();
+    fill.clear();
+    fill.extend_from_slice(first);
     for &key in found {
         let slot = &mut fill[(key >> 32) as usize];
         j_out[*slot as usize] = key as u32;
@@ -467,8 +496,8 @@ pub(crate) fn build_lists(
     old_pairs: &PairList,
     old_walls: &WallPairList,
     carry: Carry<'_>,
-    pairs: &mut PairList,
-    wall_pairs: &mut WallPairList,
+    (pairs, wall_pairs): (&mut PairList, &mut WallPairList),
+    scratch: &mut ListScratch,
 ) {
     let pos = &particles.position;
     let rad = &particles.radius;
@@ -479,16 +508,17 @@ pub(crate) fn build_lists(
         (&pos[..n], &rad[..n]),
         skin,
         (&mut pairs.i, &mut pairs.j),
+        scratch,
     );
     let ids = (&pairs.i[..], &pairs.j[..]);
     carry_histories(
         &mut pairs.history,
         ids,
         ((&old_pairs.i, &old_pairs.j), &old_pairs.history),
-        carry,
-        |h: &mut HistoryArrays, origin: &[u32]| {
+        (carry, &mut scratch.first),
+        |h: &mut HistoryArrays, origin: &[u32], row: &mut Vec<u32>| {
             let old = (&old_pairs.i[..], &old_pairs.j[..]);
-            carry_moved_pairs(h, ids, old, &old_pairs.history, origin)
+            carry_moved_pairs(h, ids, old, &old_pairs.history, (origin, row))
         },
     );
 
@@ -534,10 +564,10 @@ pub(crate) fn build_lists(
         &mut wall_pairs.history,
         ids,
         ((&old_walls.wall, &old_walls.particle), &old_walls.history),
-        carry,
-        |h: &mut HistoryArrays, origin: &[u32]| {
+        (carry, &mut scratch.first),
+        |h: &mut HistoryArrays, origin: &[u32], slot: &mut Vec<u32>| {
             let old = (&old_walls.wall[..], &old_walls.particle[..]);
-            carry_moved_walls(h, ids, old, &old_walls.history, origin)
+            carry_moved_walls(h, ids, old, &old_walls.history, (origin, slot))
         },
     );
 }
@@ -572,8 +602,8 @@ mod tests {
             &PairList::default(),
             &WallPairList::default(),
             Carry::Same,
-            &mut pairs,
-            &mut walls,
+            (&mut pairs, &mut walls),
+            &mut ListScratch::default(),
         );
         let mut brute = Vec::new();
         for i in 0..set.len() {
@@ -619,8 +649,8 @@ mod tests {
                 old,
                 &WallPairList::default(),
                 Carry::Same,
-                &mut p,
-                &mut w,
+                (&mut p, &mut w),
+                &mut ListScratch::default(),
             );
             p
         };
@@ -689,8 +719,8 @@ mod tests {
                 &PairList::default(),
                 old,
                 Carry::Same,
-                &mut p,
-                &mut w,
+                (&mut p, &mut w),
+                &mut ListScratch::default(),
             );
             w
         };
@@ -749,8 +779,18 @@ mod tests {
         let build = |set: &ParticleSet, old: (&PairList, &WallPairList), carry: Carry<'_>| {
             let grid = CellGrid::build(&set.position, 0.02 + skin);
             let (mut p, mut w) = (PairList::default(), WallPairList::default());
+            let mut scratch = ListScratch::default();
+            let lists = (&mut p, &mut w);
             build_lists(
-                &grid, set, &walls, skin, old.0, old.1, carry, &mut p, &mut w,
+                &grid,
+                set,
+                &walls,
+                skin,
+                old.0,
+                old.1,
+                carry,
+                lists,
+                &mut scratch,
             );
             (p, w)
         };

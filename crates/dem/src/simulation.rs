@@ -14,7 +14,7 @@ use crate::integrator::{
     measure_displacements, merge_drift, uniform_free_body, NOTHING_MOVED,
 };
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
-use crate::neighbour::{build_lists, Carry, CellGrid, PairList, WallPairList};
+use crate::neighbour::{build_lists, Carry, CellGrid, ListScratch, PairList, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::reach::ReachBound;
 use crate::timescale::rayleigh_time;
@@ -122,6 +122,8 @@ pub struct Simulation {
     /// where they rule a build out ([`ReachBound`]); not part of the state: a restored
     /// simulation measures until its first build.
     reach_bound: ReachBound,
+    /// The list builds' working arrays, kept for their memory ([`ListScratch`]).
+    list_scratch: ListScratch,
     /// The error that stopped a step after it had begun to move bodies: every later step is
     /// refused with [`DemError::AfterFailure`], since the state is no longer one instant's.
     /// Not part of the state: a simulation restored from a checkpoint starts without it.
@@ -227,6 +229,7 @@ impl Simulation {
             phase_times: None,
             spare_lists: Default::default(),
             reach_bound: ReachBound::default(),
+            list_scratch: ListScratch::default(),
             failure: None,
         })
     }
@@ -558,8 +561,8 @@ impl Simulation {
             &old_pairs,
             &old_walls,
             carry,
-            &mut s.pairs,
-            &mut s.wall_pairs,
+            (&mut s.pairs, &mut s.wall_pairs),
+            &mut self.list_scratch,
         );
         self.spare_lists = (old_pairs, old_walls);
         self.uniform_body = uniform_body(&s.particles);
