@@ -129,7 +129,7 @@ fn kick_drift_bodies(
             (half * inv_mass, half * inv_inertia),
             (dt, weight),
             pending,
-            true,
+            (true, false),
         )
         .into(),
         None => kick_drift_general(b, (half, dt), gravity, pending),
@@ -236,7 +236,7 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
             let (kv, kw) = (half * inv_mass, half * inv_inertia);
             let (v, w, x) = (&mut p.velocity, &mut p.omega, &mut p.position);
             let forces = (&mut p.force[..], &mut p.torque[..]);
-            flat_pass::<true, false>((v, w, x), forces, (kv, kw, 0.0), DVec3::ZERO).probe == 0.0
+            flat_pass::<true, false>((v, w, x), forces, (kv, kw, 0.0), DVec3::ZERO) == 0.0
         }
         None => kick_general(p, half),
     }
@@ -258,7 +258,7 @@ pub(crate) fn kick_drift_measured(
     let weight = shared_weight(p, gravity);
     let b = Bodies::of(p, reference);
     let (kv, kw) = (half * inv_mass, half * inv_inertia);
-    kick_drift_uniform(b, (kv, kw), (dt, weight), pending, measure)
+    kick_drift_uniform(b, (kv, kw), (dt, weight), pending, (measure, true))
 }
 
 /// What a uniform kick-and-drift pass found.
@@ -270,7 +270,8 @@ pub(crate) struct Moved {
     pub finite: bool,
     /// The pending kick left every velocity and spin finite.
     pub kicked_finite: bool,
-    /// The step's reach: the largest |Δt v_c| of any component of any body's drift [m].
+    /// The step's reach: the largest |Δt v_c| of any component of any body's drift [m]
+    /// (0 where it was not asked for).
     pub reach: f64,
 }
 
@@ -288,14 +289,15 @@ impl From<Moved> for (f64, bool, bool) {
 /// [`kick_drift`] for free particles sharing `kv` = Δt/2m [s/kg] and `kw` = Δt/2I
 /// [s/(kg m²)], and the weight m g [N]: per component, v += kv F (pending), v += kv F,
 /// x += Δt v, and the same for ω with kw and the torque, then F = m g and T = 0; each
-/// block of particles then gives its displacements, when `measure`.
+/// block of particles then gives its displacements, when `measure`, and its reach, when
+/// `track` (only the one-thread pass whose caller keeps bounds uses it).
 #[inline(always)]
 fn kick_drift_uniform(
     b: Bodies,
     (kv, kw): (f64, f64),
     (dt, weight): (f64, DVec3),
     pending: bool,
-    measure: bool,
+    (measure, track): (bool, bool),
 ) -> Moved {
     // In blocks, so that the displacements read positions just written, from the
     // first-level cache rather than from memory once the arrays outgrow the caches. A
@@ -312,18 +314,16 @@ fn kick_drift_uniform(
         .zip(b.force.chunks_mut(BLOCK).zip(b.torque.chunks_mut(BLOCK)))
         .zip(b.reference.chunks(BLOCK));
     for ((((v, w), x), (f, t)), r) in blocks {
-        let pass = if pending {
-            flat_pass::<true, true>((v, w, &mut *x), (f, t), (kv, kw, dt), weight)
+        velocity_probe += if pending {
+            flat_pass::<true, true>((&mut *v, w, &mut *x), (f, t), (kv, kw, dt), weight)
         } else {
-            flat_pass::<false, true>((v, w, &mut *x), (f, t), (kv, kw, dt), weight)
+            flat_pass::<false, true>((&mut *v, w, &mut *x), (f, t), (kv, kw, dt), weight)
         };
-        velocity_probe += pass.probe;
-        // NaN-keeping, as within the pass.
-        reach = if pass.reach > reach || pass.reach.is_nan() {
-            pass.reach
-        } else {
-            reach
-        };
+        if track {
+            // From the block just written, in the first-level cache; NaN-keeping.
+            let r = reach_of(bytemuck::cast_slice(v), dt);
+            reach = if r > reach || r.is_nan() { r } else { reach };
+        }
         if measure {
             let (d2, probe) = largest_displacement(x, r);
             max_disp2 = if d2 > max_disp2 { d2 } else { max_disp2 };
@@ -346,24 +346,9 @@ fn kick_drift_uniform(
     }
 }
 
-/// Largest |Δx| since the last list build [m²] of `position` against `reference`, and a
-/// probe that is zero unless some displacement is not finite: the measure that a
-/// [`kick_drift_measured`] pass without `measure` left out, in a pass of its own.
-pub(crate) fn measure_displacements(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
-    largest_displacement(position, reference)
-}
-
 /// A reach [m] below which a drift cannot make a finite position non-finite, short of
 /// positions some 10³⁰⁸ m out.
 pub(crate) const FINITE_REACH: f64 = 1e100;
-
-/// What one [`flat_pass`] found.
-struct Pass {
-    /// Σ (v + ω)·0 after `KICK`'s kick: zero unless some velocity or spin is not finite.
-    probe: f64,
-    /// With `KICK_DRIFT`, the largest |Δt v_c| of the drift [m] (NaN if some is).
-    reach: f64,
-}
 
 /// Numbers per vector of the flat loops (eight f64 fill a 512-bit register).
 const WIDTH: usize = 8;
@@ -376,14 +361,13 @@ const BLOCK: usize = 8 * WIDTH;
 /// in `k`: with `KICK`, `kick`'s v += kv F, ω += kw T and its check on v + ω; with
 /// `KICK_DRIFT`, this step's v += kv F, ω += kw T and x += Δt v, and then F = `weight` and
 /// T = 0 for the next evaluation. Returns the check's sum, zero unless some velocity or
-/// spin is not finite (0 without `KICK`), and with `KICK_DRIFT` the drift's reach and the
-/// positions' probe ([`Pass`]).
+/// spin is not finite (0 without `KICK`).
 fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
     (v, w, x): (&mut [DVec3], &mut [DVec3], &mut [DVec3]),
     (f, t): (&mut [DVec3], &mut [DVec3]),
     (kv, kw, dt): (f64, f64, f64),
     weight: DVec3,
-) -> Pass {
+) -> f64 {
     let v: &mut [f64] = bytemuck::cast_slice_mut(v);
     let w: &mut [f64] = bytemuck::cast_slice_mut(w);
     let x: &mut [f64] = bytemuck::cast_slice_mut(x);
@@ -434,14 +418,11 @@ fn flat_pass<const KICK: bool, const KICK_DRIFT: bool>(
             (*f, *t) = (weight[q % 3], 0.0);
         }
     }
-    Pass {
-        probe: probe.iter().sum(),
-        reach: if KICK_DRIFT { reach_of(v, dt) } else { 0.0 },
-    }
+    probe.iter().sum()
 }
 
 /// The largest |Δt v| of the numbers `v` [m]: a drift's reach, read back from the block
-/// the pass has just written (in the first-level cache). Rounding is monotonic, so the
+/// the flat pass has just written. Rounding is monotonic, so the
 /// largest of the drift's products Δt v is Δt times the largest |v|, to the bit. A NaN
 /// comes out as NaN.
 ///
@@ -480,8 +461,9 @@ fn one<const KICK: bool, const KICK_DRIFT: bool>(
 }
 
 /// Largest |x − x_ref|² [m²] and a probe that is zero unless some displacement is not
-/// finite, in [`LANES`] independent accumulators, as [`kick_drift_general`] takes them.
-fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
+/// finite, in [`LANES`] independent accumulators, as [`kick_drift_general`] takes them;
+/// also the measure a [`kick_drift_measured`] pass without `measure` left out.
+pub(crate) fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
     let mut acc = [Reduction::default(); LANES];
     let chunks = position
         .chunks_exact(LANES)

@@ -213,26 +213,6 @@ pub(crate) struct ListScratch {
     fill: Vec<u32>,
 }
 
-/// Fills `history` for the new candidates `ids`, a list sorted by its two columns (pairs
-/// (i, j), or wall candidates (wall, particle)) from the previous list `old` (its columns
-/// and histories, sorted the same way): in one merge when indices are unchanged, through
-/// `moved(history, origin)` otherwise.
-fn carry_histories(
-    history: &mut HistoryArrays,
-    ids: (&[u32], &[u32]),
-    old: ((&[u32], &[u32]), &HistoryArrays),
-    (carry, scratch): (Carry<'_>, &mut Vec<u32>),
-    moved: impl FnOnce(&mut HistoryArrays, &[u32], &mut Vec<u32>),
-) {
-    match carry {
-        Carry::Moved(origin) => moved(history, origin, scratch),
-        Carry::Same => {
-            matching(ids, old.0, scratch);
-            history.carry_from(old.1, scratch);
-        }
-    }
-}
-
 /// A carried history as the bodies' identities define it: none when it reads as empty
 /// (zero, whatever the signs of its zeros), and negated when the pair's order of bodies
 /// turned round (ξ and the rolling torque of j relative to i are minus those of i
@@ -502,7 +482,8 @@ pub(crate) fn build_lists(
     let pos = &particles.position;
     let rad = &particles.radius;
     let n = pos.len();
-    // The histories are written whole by `carry_histories`, after the candidates.
+    // The histories are written whole after the candidates: where the bodies kept their
+    // indices by one merge with the old list, otherwise through the map to the old bodies.
     pair_candidates(
         grid,
         (&pos[..n], &rad[..n]),
@@ -510,17 +491,24 @@ pub(crate) fn build_lists(
         (&mut pairs.i, &mut pairs.j),
         scratch,
     );
-    let ids = (&pairs.i[..], &pairs.j[..]);
-    carry_histories(
-        &mut pairs.history,
-        ids,
-        ((&old_pairs.i, &old_pairs.j), &old_pairs.history),
-        (carry, &mut scratch.first),
-        |h: &mut HistoryArrays, origin: &[u32], row: &mut Vec<u32>| {
-            let old = (&old_pairs.i[..], &old_pairs.j[..]);
-            carry_moved_pairs(h, ids, old, &old_pairs.history, (origin, row))
-        },
+    let (ids, old_ids) = (
+        (&pairs.i[..], &pairs.j[..]),
+        (&old_pairs.i[..], &old_pairs.j[..]),
     );
+    let old = &old_pairs.history;
+    match carry {
+        Carry::Same => {
+            matching(ids, old_ids, &mut scratch.first);
+            pairs.history.carry_from(old, &scratch.first);
+        }
+        Carry::Moved(origin) => carry_moved_pairs(
+            &mut pairs.history,
+            ids,
+            old_ids,
+            old,
+            (origin, &mut scratch.first),
+        ),
+    }
 
     wall_pairs.particle.clear();
     wall_pairs.wall.clear();
@@ -560,16 +548,21 @@ pub(crate) fn build_lists(
         wall_pairs.wall.extend(std::iter::repeat_n(w as u32, added));
     }
     let ids = (&wall_pairs.wall[..], &wall_pairs.particle[..]);
-    carry_histories(
-        &mut wall_pairs.history,
-        ids,
-        ((&old_walls.wall, &old_walls.particle), &old_walls.history),
-        (carry, &mut scratch.first),
-        |h: &mut HistoryArrays, origin: &[u32], slot: &mut Vec<u32>| {
-            let old = (&old_walls.wall[..], &old_walls.particle[..]);
-            carry_moved_walls(h, ids, old, &old_walls.history, (origin, slot))
-        },
-    );
+    let old_ids = (&old_walls.wall[..], &old_walls.particle[..]);
+    let old = &old_walls.history;
+    match carry {
+        Carry::Same => {
+            matching(ids, old_ids, &mut scratch.first);
+            wall_pairs.history.carry_from(old, &scratch.first);
+        }
+        Carry::Moved(origin) => carry_moved_walls(
+            &mut wall_pairs.history,
+            ids,
+            old_ids,
+            old,
+            (origin, &mut scratch.first),
+        ),
+    }
 }
 
 #[cfg(test)]

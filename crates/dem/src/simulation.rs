@@ -11,7 +11,7 @@ use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
 use crate::integrator::{
     displacement_box_diagonal, kick, kick_drift, kick_drift_measured, kick_drift_range,
-    measure_displacements, merge_drift, uniform_free_body, NOTHING_MOVED,
+    largest_displacement, merge_drift, uniform_free_body, NOTHING_MOVED,
 };
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};
 use crate::neighbour::{build_lists, Carry, CellGrid, ListScratch, PairList, WallPairList};
@@ -706,11 +706,8 @@ impl Simulation {
             s.contacts = eval.count;
 
             // Second half kick, unless the next step does it.
-            let p = &mut s.particles;
-            if end == StepEnd::Kick && !kick(p, half, self.uniform_free) {
-                if let Some(e) = non_finite_velocity(p, s.time) {
-                    return Err(e);
-                }
+            if end == StepEnd::Kick {
+                second_kick(&mut s.particles, half, self.uniform_free, s.time)?;
             }
             None
         };
@@ -750,7 +747,7 @@ impl Simulation {
             Some(d2) => d2,
             None if self.reach_bound.rules_out(s.skin, s.walls_moved(), 0.0) => return false,
             // The pass's guess of its reach fell short of it.
-            None => measure_displacements(&s.particles.position, &s.reference).0,
+            None => largest_displacement(&s.particles.position, &s.reference).0,
         };
         let largest = max_disp2.sqrt();
         if s.walls_moved()
@@ -871,15 +868,8 @@ impl Simulation {
     /// before the failing step was applied, as with `step`; a non-finite velocity is
     /// reported half a step later than `step` reports it, by the next step's pass.
     pub fn run(&mut self, n: u64) -> Result<(), DemError> {
-        match self.pool.clone() {
-            // The steps are driven from one of the pool's own threads, so that each step's
-            // parallel evaluation starts inside the pool. Called from outside, every step
-            // would hand its work to a sleeping worker and sleep until it came back: two
-            // thread wake-ups per step, which cost more than the evaluation of a
-            // few-thousand-particle system gains from a second thread.
-            Some(pool) => pool.install(|| self.run_steps(n)),
-            None => self.run_steps(n),
-        }
+        // `run_watched` with one stretch of n steps and a look that does nothing.
+        self.run_watched(n, n, |_| Ok::<(), DemError>(()))
     }
 
     /// The simulation's thread pool, if it has one, for callers that alternate short
@@ -890,20 +880,6 @@ impl Simulation {
     /// thread does the work.
     pub fn pool_handle(&self) -> Option<Arc<rayon::ThreadPool>> {
         self.pool.clone()
-    }
-
-    /// The loop of [`Simulation::run`], on the calling thread.
-    fn run_steps(&mut self, n: u64) -> Result<(), DemError> {
-        let mut drifted = None;
-        for k in 0..n {
-            let end = if k + 1 == n {
-                StepEnd::Kick
-            } else {
-                StepEnd::Fused
-            };
-            drifted = self.advance(k > 0, end, drifted)?;
-        }
-        Ok(())
     }
 
     /// Takes `n` steps and calls `watch` after every `every` of them and after the last,
@@ -925,7 +901,11 @@ impl Simulation {
         watch: impl FnMut(&Watched<'_>) -> Result<(), E> + Send,
     ) -> Result<(), E> {
         match self.pool.clone() {
-            // As in `run`: the steps are driven from one of the pool's own threads.
+            // The steps are driven from one of the pool's own threads, so that each step's
+            // parallel evaluation starts inside the pool. Called from outside, every step
+            // would hand its work to a sleeping worker and sleep until it came back: two
+            // thread wake-ups per step, which cost more than the evaluation of a
+            // few-thousand-particle system gains from a second thread.
             Some(pool) => pool.install(|| self.run_watched_here(n, every, watch)),
             None => self.run_watched_here(n, every, watch),
         }
@@ -985,13 +965,11 @@ impl Simulation {
     fn finish_kick(&mut self) -> Result<(), DemError> {
         let half = 0.5 * self.state.config.time_step;
         let s = &mut self.state;
-        if !kick(&mut s.particles, half, self.uniform_free) {
-            if let Some(e) = non_finite_velocity(&s.particles, s.time) {
-                self.failure = Some(Box::new(e.clone()));
-                return Err(e);
-            }
+        let kicked = second_kick(&mut s.particles, half, self.uniform_free, s.time);
+        if let Err(e) = &kicked {
+            self.failure = Some(Box::new(e.clone()));
         }
-        Ok(())
+        kicked
     }
 
     /// The energy budget at the current positions and (full-step) velocities.
@@ -1043,6 +1021,20 @@ impl Simulation {
             }
         }
         e
+    }
+}
+
+/// A step's second half kick ([`kick`], Δt/2 = `half` [s]), and the error for a velocity
+/// it left non-finite at time `time` [s].
+fn second_kick(
+    p: &mut ParticleSet,
+    half: f64,
+    uniform: Option<(f64, f64)>,
+    time: f64,
+) -> Result<(), DemError> {
+    match kick(p, half, uniform) {
+        true => Ok(()),
+        false => non_finite_velocity(p, time).map_or(Ok(()), Err),
     }
 }
 

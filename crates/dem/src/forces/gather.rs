@@ -493,6 +493,11 @@ mod tests {
         (0..n).map(|_| DVec3::new(c(), c(), c())).collect()
     }
 
+    /// `len` random indices below `below`.
+    fn indices(rng: &mut Xoshiro256PlusPlus, len: usize, below: usize) -> Vec<u32> {
+        (0..len).map(|_| rng.gen_range(0..below as u32)).collect()
+    }
+
     /// The batch as the scalar gather fills it, slot by slot.
     fn scalar(group: &[u32], s: &PairState) -> Batch {
         let mut batch = Batch::default();
@@ -517,9 +522,7 @@ mod tests {
         let input = jumble_input(&jumble, &laws);
         let n = jumble.set.len();
         let candidates = 60;
-        let mut pi: Vec<u32> = (0..candidates)
-            .map(|_| rng.gen_range(0..n as u32))
-            .collect();
+        let mut pi: Vec<u32> = indices(&mut rng, candidates, n);
         pi[candidates - 1] = n as u32 - 1;
         let history = vectors(&mut rng, candidates);
         let live: Vec<u8> = (0..candidates).map(|_| rng.gen_range(0..4)).collect();
@@ -537,9 +540,7 @@ mod tests {
             b.overlap[m] = r - super::super::plane_distance(x, normal, offset);
         };
         for len in 0..=BATCH {
-            let mut group: Vec<u32> = (0..len)
-                .map(|_| rng.gen_range(0..candidates as u32))
-                .collect();
+            let mut group: Vec<u32> = indices(&mut rng, len, candidates);
             if len > 0 {
                 group[len - 1] = candidates as u32 - 1;
             }
@@ -568,12 +569,8 @@ mod tests {
         let mut position = vectors(&mut rng, n);
         position[3].y = f64::NAN;
         let candidates = 103;
-        let mut pi: Vec<u32> = (0..candidates)
-            .map(|_| rng.gen_range(0..n as u32))
-            .collect();
-        let mut pj: Vec<u32> = (0..candidates)
-            .map(|_| rng.gen_range(0..n as u32))
-            .collect();
+        let mut pi: Vec<u32> = indices(&mut rng, candidates, n);
+        let mut pj: Vec<u32> = indices(&mut rng, candidates, n);
         (pi[0], pj[1], pj[candidates - 1], pi[7]) = (n as u32 - 1, n as u32 - 1, 3, 3);
         let mut dist2: Vec<f64> = pi
             .iter()
@@ -615,12 +612,8 @@ mod tests {
             vectors(&mut rng, n),
         );
         let candidates = 60;
-        let pi: Vec<u32> = (0..candidates)
-            .map(|_| rng.gen_range(0..n as u32))
-            .collect();
-        let mut pj: Vec<u32> = (0..candidates)
-            .map(|_| rng.gen_range(0..n as u32))
-            .collect();
+        let pi: Vec<u32> = indices(&mut rng, candidates, n);
+        let mut pj: Vec<u32> = indices(&mut rng, candidates, n);
         pj[candidates - 1] = n as u32 - 1;
         let history = vectors(&mut rng, candidates);
         let live: Vec<u8> = (0..candidates).map(|_| rng.gen_range(0..4)).collect();
@@ -634,9 +627,7 @@ mod tests {
             live: &live,
         };
         for len in 0..=BATCH {
-            let mut group: Vec<u32> = (0..len)
-                .map(|_| rng.gen_range(0..candidates as u32))
-                .collect();
+            let mut group: Vec<u32> = indices(&mut rng, len, candidates);
             if len > 0 {
                 group[len - 1] = candidates as u32 - 1;
             }
