@@ -7,7 +7,10 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use study::config::{default_case, load_case, Case, CASE_TEMPLATE};
 use study::output::write_atomic;
-use study::run::{run_case, Progress, RunOptions, RunOutcome};
+use study::run::{
+    read_checkpoint_header, run_case, Progress, RunError, RunOptions, RunOutcome, CHECKPOINT_FILE,
+    SUMMARY_FILE,
+};
 
 /// Exit code for bad input (a malformed case file or override).
 pub const EXIT_BAD_INPUT: i32 = 2;
@@ -22,9 +25,15 @@ pub struct RunArgs {
     /// Output directory.
     #[arg(long, default_value = "out/run")]
     out: PathBuf,
-    /// Continue a killed run from its checkpoint in the output directory.
-    #[arg(long)]
+    /// Continue a killed run from its checkpoint in the output directory. Refused (exit 2,
+    /// nothing changed) when the checkpoint or summary there came from other inputs, naming
+    /// each key that changed, or when the checkpoint is damaged.
+    #[arg(long, conflicts_with = "restart")]
     resume: bool,
+    /// Discard whatever run the output directory holds (finished, checkpointed, or of other
+    /// inputs) and start the case over.
+    #[arg(long)]
+    restart: bool,
     /// Worker threads (results are identical for any value). The forces and the kick and
     /// drift run in parallel; list builds and the run's measurements stay on one thread. For
     /// 10^5 spheres and more two threads are nearly twice as fast as one; for the paper's
@@ -98,15 +107,46 @@ pub fn init(args: InitArgs) -> i32 {
     }
 }
 
+/// Refuses (exit 2) an output directory that already holds a run, finished or
+/// checkpointed, when neither --resume nor --restart says what to do with it.
+fn refuse_occupied(out: &std::path::Path) -> Option<i32> {
+    if out.join(SUMMARY_FILE).exists() {
+        eprintln!(
+            "error: {} already holds a finished run; --resume reads it back, --restart runs the case again, or choose another --out",
+            out.display()
+        );
+        return Some(EXIT_BAD_INPUT);
+    }
+    let checkpoint = out.join(CHECKPOINT_FILE);
+    if checkpoint.exists() {
+        let what = match read_checkpoint_header(&checkpoint) {
+            Ok(h) => format!(
+                "an unfinished run (checkpoint in the {} at t = {:.4} s, config hash {})",
+                h.phase,
+                h.time,
+                &h.config_hash[..h.config_hash.len().min(12)]
+            ),
+            Err(e) => format!("a checkpoint that {e}"),
+        };
+        eprintln!(
+            "error: {} holds {what}; --resume continues it, --restart discards it, or choose another --out",
+            out.display()
+        );
+        return Some(EXIT_BAD_INPUT);
+    }
+    None
+}
+
 pub fn run(args: RunArgs) -> i32 {
     // Validate everything before touching the output directory: bad input leaves nothing.
     let case = match load(args.case.as_ref(), &args.sets) {
         Ok(c) => c,
         Err(code) => return code,
     };
-    if !args.resume && args.out.join("summary.json").exists() {
-        eprintln!("error: {} already holds a finished run; use --resume to reuse it or choose another --out", args.out.display());
-        return EXIT_BAD_INPUT;
+    if !args.resume && !args.restart {
+        if let Some(code) = refuse_occupied(&args.out) {
+            return code;
+        }
     }
     let bar = if args.quiet {
         ProgressBar::hidden()
@@ -132,7 +172,8 @@ pub fn run(args: RunArgs) -> i32 {
     });
     let options = RunOptions {
         threads: args.threads,
-        resume: args.resume,
+        // A plain run reaches here only with an empty folder; --restart starts over.
+        resume: !args.restart,
         progress: Some(progress),
         pictures: true,
         chunk_limit: None,
@@ -185,6 +226,18 @@ pub fn run(args: RunArgs) -> i32 {
             0
         }
         Ok(RunOutcome::Interrupted) => 0,
+        Err(
+            e @ (RunError::OtherInputs { .. }
+            | RunError::BadCheckpoint { .. }
+            | RunError::BadSummary { .. }),
+        ) => {
+            eprintln!("error: {e}");
+            eprintln!(
+                "hint: --restart discards what {} holds and starts the case over; or choose another --out",
+                args.out.display()
+            );
+            EXIT_BAD_INPUT
+        }
         Err(e) => {
             eprintln!("error: {e}");
             1

@@ -141,6 +141,12 @@ pub fn run(args: StudyArgs) -> i32 {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("study-{}", plan.name)));
+    // A folder of another sweep, or a case folder of other inputs, is refused before
+    // anything in it changes.
+    if let Err(e) = study::sweep::check_study_dir(&plan, &out) {
+        eprintln!("error: {e}");
+        return 2;
+    }
     if let Err(e) = std::fs::create_dir_all(&out) {
         eprintln!("error: cannot create {}: {e}", out.display());
         return 1;

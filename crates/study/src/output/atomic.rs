@@ -181,6 +181,66 @@ impl Write for AtomicFile {
     }
 }
 
+/// Whether `name` is a temporary name that [`StagedPath::reserve`] makes:
+/// `.{target}.{pid}-{serial}.tmp`, optionally followed by `.{extension}`. Returns the pid.
+pub fn is_temporary_name(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix('.')?;
+    let at = rest.rfind(".tmp")?;
+    let (before, after) = rest.split_at(at);
+    let after = &after[".tmp".len()..];
+    if !(after.is_empty() || (after.starts_with('.') && !after[1..].contains('.'))) {
+        return None;
+    }
+    let (target, ids) = before.rsplit_once('.')?;
+    let (pid, serial) = ids.split_once('-')?;
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    if target.is_empty() || !digits(pid) || !digits(serial) {
+        return None;
+    }
+    pid.parse().ok()
+}
+
+/// Whether the process `pid` still runs (on Linux, by its `/proc` entry; elsewhere every
+/// other process counts as gone).
+fn process_alive(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return true;
+    }
+    if cfg!(target_os = "linux") {
+        Path::new("/proc").join(pid.to_string()).exists()
+    } else {
+        false
+    }
+}
+
+/// Removes the temporary files in `dir` that a killed write left behind: those named as
+/// [`is_temporary_name`] says, whose writing process no longer runs. Readers never look at
+/// them, so they are only clutter; a missing `dir` has none. Returns how many were removed.
+pub fn remove_stale_temporaries(dir: &Path) -> Result<usize, OutputError> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(0),
+        Err(e) => return Err(OutputError::io(dir, e)),
+    };
+    let mut removed = 0;
+    for entry in entries {
+        let entry = entry.map_err(|e| OutputError::io(dir, e))?;
+        let name = entry.file_name();
+        let Some(pid) = name.to_str().and_then(is_temporary_name) else {
+            continue;
+        };
+        if process_alive(pid) || !entry.file_type().is_ok_and(|t| t.is_file()) {
+            continue;
+        }
+        match std::fs::remove_file(entry.path()) {
+            Ok(()) => removed += 1,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => return Err(OutputError::io(&entry.path(), e)),
+        }
+    }
+    Ok(removed)
+}
+
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), OutputError> {
     let path = path.as_ref();

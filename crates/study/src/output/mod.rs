@@ -34,7 +34,9 @@ mod pvd;
 mod table;
 mod vtu;
 
-pub use atomic::{write_atomic, write_json_atomic, AtomicFile};
+pub use atomic::{
+    is_temporary_name, remove_stale_temporaries, write_atomic, write_json_atomic, AtomicFile,
+};
 pub use colormap::viridis;
 pub use error::OutputError;
 pub use figures::{

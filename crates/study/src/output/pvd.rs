@@ -10,7 +10,7 @@ use super::table::format_number;
 use super::{write_atomic, OutputError};
 
 /// One dataset of the series.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PvdEntry {
     /// Simulation time of the dataset [s].
     pub time: f64,
@@ -37,6 +37,15 @@ impl PvdCollection {
         Self {
             path: path.into(),
             entries: Vec::new(),
+        }
+    }
+
+    /// A collection that already holds `entries` (a resumed run's earlier datasets); nothing
+    /// is written yet.
+    pub fn with_entries(path: impl Into<PathBuf>, entries: Vec<PvdEntry>) -> Self {
+        Self {
+            path: path.into(),
+            entries,
         }
     }
 

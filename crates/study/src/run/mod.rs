@@ -1,5 +1,6 @@
 //! Running one hopper case end to end: protocol, checkpoints, measurements and outputs.
 
+mod checkpoint;
 mod outputs;
 mod protocol;
 
@@ -8,9 +9,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::config::Case;
-use crate::output::{write_atomic, write_json_atomic, OutputError};
+use crate::output::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
 use crate::summary::CaseSummary;
 
+pub use checkpoint::{
+    case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
+    KeyChange, MAGIC as CHECKPOINT_MAGIC,
+};
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
 
 /// Name of the checkpoint file inside a run directory.
@@ -33,13 +38,46 @@ pub enum RunError {
     /// Writing an output failed.
     #[error("output: {0}")]
     Output(#[from] OutputError),
-    /// A checkpoint could not be read or written.
+    /// A checkpoint could not be written.
     #[error("checkpoint {path}: {reason}")]
     Checkpoint {
         /// The checkpoint file.
         path: PathBuf,
         /// What went wrong.
         reason: String,
+    },
+    /// A checkpoint to resume from cannot be used: truncated, corrupt, foreign or from
+    /// another version. Nothing was written.
+    #[error("{path} {error}; nothing was changed")]
+    BadCheckpoint {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// What is wrong with it.
+        error: CheckpointError,
+    },
+    /// A summary to resume from cannot be read. Nothing was written.
+    #[error("{path} is not a readable hopperflow summary ({reason}); nothing was changed")]
+    BadSummary {
+        /// The summary file.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The output directory holds a run of other inputs: resuming it would label its
+    /// results with inputs that did not produce them. Nothing was written.
+    #[error("{} holds a run of other inputs (per its {file}: config hash {found}, this case's is {expected}){}; nothing was changed", .dir.display(), describe_changes(.changes))]
+    OtherInputs {
+        /// The output directory.
+        dir: PathBuf,
+        /// The file that records the other inputs: `summary.json`, `checkpoint.bin` or
+        /// `case.toml`.
+        file: &'static str,
+        /// The config hash found there.
+        found: String,
+        /// This case's config hash.
+        expected: String,
+        /// The keys that differ, earlier value first.
+        changes: Vec<KeyChange>,
     },
     /// The hopper could not take all particles.
     #[error("could only insert {inserted} of {total} particles: no free space in the insertion band for 1 s")]
@@ -122,60 +160,211 @@ fn phase_name(p: Phase) -> &'static str {
     }
 }
 
-fn read_checkpoint(path: &Path) -> Result<RunState, RunError> {
-    let bytes = std::fs::read(path).map_err(|e| RunError::Checkpoint {
-        path: path.into(),
-        reason: e.to_string(),
-    })?;
-    postcard::from_bytes(&bytes).map_err(|e| RunError::Checkpoint {
-        path: path.into(),
-        reason: format!("unreadable ({e}); delete it to start the case afresh"),
-    })
+/// "; changed keys: a: x -> y, …" for a non-empty list.
+fn describe_changes(changes: &[KeyChange]) -> String {
+    if changes.is_empty() {
+        return String::new();
+    }
+    let list: Vec<String> = changes.iter().map(ToString::to_string).collect();
+    format!("; changed keys: {}", list.join(", "))
 }
 
-fn write_checkpoint(path: &Path, run: &mut CaseRun) -> Result<(), RunError> {
-    let bytes = postcard::to_allocvec(run.checkpoint()).map_err(|e| RunError::Checkpoint {
-        path: path.into(),
-        reason: e.to_string(),
-    })?;
-    Ok(write_atomic(path, &bytes)?)
+/// Name of the resolved case inside a run directory.
+pub const CASE_FILE: &str = "case.toml";
+/// The first line of `case.toml` starts with this, then the version and the hash.
+const CASE_HEADER: &str = "# Resolved by hopperflow ";
+
+/// What an output directory already holds of a run of this case.
+enum Prior {
+    /// Nothing to continue.
+    Nothing,
+    /// The finished run's summary.
+    Finished(Box<CaseSummary>),
+    /// A checkpointed run to continue.
+    Checkpoint(Box<checkpoint::Checkpoint>),
+}
+
+/// The resolved case text of a `case.toml`, without its header line.
+fn case_text_of(file_text: &str) -> &str {
+    match file_text.strip_prefix(CASE_HEADER) {
+        Some(rest) => rest.split_once('\n').map_or("", |(_, body)| body),
+        None => file_text,
+    }
+}
+
+/// What `out_dir` holds that a resume of the case with `case_text` (hash `hash`) may continue,
+/// or why it must not: a summary, checkpoint or case file of other inputs, or a damaged
+/// summary or checkpoint. Reads only.
+fn prior_run(out_dir: &Path, case_text: &str, hash: &str) -> Result<Prior, RunError> {
+    let other = |file: &'static str, found: String, old_text: &str| RunError::OtherInputs {
+        dir: out_dir.into(),
+        file,
+        found,
+        expected: hash.to_string(),
+        changes: case_changes(old_text, case_text),
+    };
+    let recorded_case = std::fs::read_to_string(out_dir.join(CASE_FILE)).ok();
+    let recorded_text = recorded_case.as_deref().map(case_text_of);
+
+    let summary_path = out_dir.join(SUMMARY_FILE);
+    if summary_path.exists() {
+        let text = std::fs::read_to_string(&summary_path).map_err(|e| RunError::BadSummary {
+            path: summary_path.clone(),
+            reason: e.to_string(),
+        })?;
+        let summary: CaseSummary =
+            serde_json::from_str(&text).map_err(|e| RunError::BadSummary {
+                path: summary_path.clone(),
+                reason: e.to_string(),
+            })?;
+        if summary.config_hash != hash {
+            return Err(other(
+                SUMMARY_FILE,
+                summary.config_hash,
+                recorded_text.unwrap_or(""),
+            ));
+        }
+        return Ok(Prior::Finished(Box::new(summary)));
+    }
+    let checkpoint_path = out_dir.join(CHECKPOINT_FILE);
+    if checkpoint_path.exists() {
+        let saved = checkpoint::read_checkpoint(&checkpoint_path).map_err(|error| {
+            RunError::BadCheckpoint {
+                path: checkpoint_path.clone(),
+                error,
+            }
+        })?;
+        let header = &saved.header;
+        if header.config_hash != hash || header.case_text != case_text {
+            return Err(other(
+                CHECKPOINT_FILE,
+                header.config_hash.clone(),
+                &header.case_text,
+            ));
+        }
+        return Ok(Prior::Checkpoint(Box::new(saved)));
+    }
+    // A run killed before its first checkpoint left only its case file: nothing to continue,
+    // but a folder of other inputs all the same.
+    if let Some(text) = recorded_text {
+        let found = config_hash(text);
+        if found != hash {
+            return Err(other(CASE_FILE, found, text));
+        }
+    }
+    Ok(Prior::Nothing)
+}
+
+/// Checks, reading only, that `dir` holds nothing that a resumed run of `case` must refuse:
+/// a summary, checkpoint or case file of other inputs, or a damaged summary or checkpoint
+/// (the errors [`run_case`] would return with `resume`). A missing `dir` is fine.
+pub fn check_run_dir(case: &Case, dir: &Path) -> Result<(), RunError> {
+    if !dir.is_dir() {
+        return Ok(());
+    }
+    let text = case.to_toml_string();
+    prior_run(dir, &text, &config_hash(&text)).map(|_| ())
+}
+
+/// Removes what a previous run left in `out_dir`, the files that mark its state first
+/// (summary, then checkpoint), so that a restart killed part-way leaves no folder that
+/// claims a finished or resumable run of other inputs.
+fn clear_previous_run(out_dir: &Path) -> Result<(), RunError> {
+    let remove = |path: PathBuf| match std::fs::remove_file(&path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(source) => Err(RunError::Directory { path, source }),
+    };
+    for name in [SUMMARY_FILE, CHECKPOINT_FILE, CASE_FILE, "timing.json"]
+        .iter()
+        .chain(outputs::RESULT_FILES)
+    {
+        remove(out_dir.join(name))?;
+    }
+    let snapshots = out_dir.join(outputs::SNAPSHOT_DIR);
+    match std::fs::remove_dir_all(&snapshots) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(source) => Err(RunError::Directory {
+            path: snapshots,
+            source,
+        }),
+    }
+}
+
+/// What a checkpoint written now records of the run.
+fn checkpoint_header(case: &Case, case_text: &str, hash: &str, run: &CaseRun) -> CheckpointHeader {
+    CheckpointHeader {
+        program_version: env!("CARGO_PKG_VERSION").to_string(),
+        config_hash: hash.to_string(),
+        seed: case.seed,
+        case_text: case_text.to_string(),
+        phase: phase_name(run.phase()).to_string(),
+        time: run.simulation().time(),
+    }
+}
+
+fn write_checkpoint(
+    path: &Path,
+    header: &CheckpointHeader,
+    run: &mut CaseRun,
+    pictures: &outputs::Pictures,
+) -> Result<(), RunError> {
+    Ok(checkpoint::write_checkpoint(
+        path,
+        header,
+        run.checkpoint(),
+        &pictures.schedule(),
+    )?)
 }
 
 /// Runs `case` into `out_dir`, writing the resolved case, measurements, plots and
-/// `summary.json` (last). With `resume`, a finished case returns its saved summary and a
-/// checkpointed one continues from the checkpoint, bit-identically.
+/// `summary.json` (last).
+///
+/// With `resume`, a finished case returns its saved summary and a checkpointed one
+/// continues from the checkpoint, bit-identically; a folder whose summary, checkpoint or
+/// case file records other inputs is refused ([`RunError::OtherInputs`]), as is a damaged
+/// checkpoint or summary, and then nothing in it is changed. Without `resume` the case
+/// starts over, and what a previous run left in the folder is removed first.
+///
+/// Temporary files that a killed write left behind are removed either way.
 pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<RunOutcome, RunError> {
+    let case_text = case.to_toml_string();
+    let hash = config_hash(&case_text);
+    let prior = if options.resume && out_dir.is_dir() {
+        prior_run(out_dir, &case_text, &hash)?
+    } else {
+        Prior::Nothing
+    };
+    if let Prior::Finished(summary) = prior {
+        return Ok(RunOutcome::Finished(summary));
+    }
     std::fs::create_dir_all(out_dir).map_err(|source| RunError::Directory {
         path: out_dir.into(),
         source,
     })?;
-    let case_text = case.to_toml_string();
-    let hash = outputs::config_hash(&case_text);
-    let summary_path = out_dir.join(SUMMARY_FILE);
-    let checkpoint_path = out_dir.join(CHECKPOINT_FILE);
-    if options.resume && summary_path.exists() {
-        if let Ok(text) = std::fs::read_to_string(&summary_path) {
-            if let Ok(s) = serde_json::from_str::<CaseSummary>(&text) {
-                if s.config_hash == hash {
-                    return Ok(RunOutcome::Finished(Box::new(s)));
-                }
-            }
-        }
+    remove_stale_temporaries(out_dir)?;
+    remove_stale_temporaries(&out_dir.join(outputs::SNAPSHOT_DIR))?;
+    if !options.resume {
+        clear_previous_run(out_dir)?;
     }
     // The resolved case, headed by the program version; the seed is one of its keys.
     let header = format!(
-        "# Resolved by hopperflow {}; config hash {hash}\n",
+        "{CASE_HEADER}{}; config hash {hash}\n",
         env!("CARGO_PKG_VERSION")
     );
     write_atomic(
-        out_dir.join("case.toml"),
+        out_dir.join(CASE_FILE),
         format!("{header}{case_text}").as_bytes(),
     )?;
 
-    let mut run = match (options.resume, checkpoint_path.exists()) {
-        (true, true) => {
-            let state = read_checkpoint(&checkpoint_path)?;
-            CaseRun::resume(case, state, options.threads)?
+    let draw = options.pictures && case.output.plots;
+    let mut pictures = outputs::Pictures::new(out_dir, case, draw)?;
+    let mut run = match prior {
+        Prior::Checkpoint(saved) => {
+            let saved = *saved;
+            pictures.resume(saved.pictures);
+            CaseRun::resume(case, saved.state, options.threads)?
         }
         _ => CaseRun::new(case, options.threads)?,
     };
@@ -189,9 +378,9 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         run.simulation().steps(),
         run.simulation().particles().len(),
     );
+    let checkpoint_path = out_dir.join(CHECKPOINT_FILE);
+    let summary_path = out_dir.join(SUMMARY_FILE);
     let mut next_checkpoint = run.simulation().time() + case.output.checkpoint_interval;
-    let draw = options.pictures && case.output.plots;
-    let mut pictures = outputs::Pictures::new(out_dir, case, draw)?;
     let mut chunks = 0u64;
     loop {
         let phase = run.phase();
@@ -205,7 +394,8 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         pictures.observe(&run)?;
         if case.output.checkpoint_interval > 0.0 && t >= next_checkpoint {
             next_checkpoint = t + case.output.checkpoint_interval;
-            write_checkpoint(&checkpoint_path, &mut run)?;
+            let header = checkpoint_header(case, &case_text, &hash, &run);
+            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
         }
         if let Some(report) = &options.progress {
             let sim = run.simulation();
@@ -232,7 +422,8 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         }
         protocol_time.add(phase, chunk_started.elapsed().as_secs_f64());
         if options.chunk_limit.is_some_and(|limit| chunks >= limit) {
-            write_checkpoint(&checkpoint_path, &mut run)?;
+            let header = checkpoint_header(case, &case_text, &hash, &run);
+            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
             return Ok(RunOutcome::Interrupted);
         }
     }

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use analysis::profile::BinnedProfile;
 use analysis::selfsimilar::{fit_power_profile, power_profile, PROFILE_FIT_HALF_WIDTH};
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
-use sha2::{Digest, Sha256};
 
 use super::protocol::{CaseRun, Phase};
 use super::RunError;
@@ -17,18 +16,40 @@ use crate::output::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, write_csv_table, write_frame_png, write_particles_vtu,
     write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView, ParticleFields, Profile,
-    PvdCollection, WallSegment,
+    PvdCollection, PvdEntry, WallSegment,
 };
 use crate::summary::{CaseSummary, ProfileRow, StopReason};
 
-/// Hex SHA-256 of the resolved case text.
-pub fn config_hash(text: &str) -> String {
-    let digest = Sha256::digest(text.as_bytes());
-    digest.iter().map(|b| format!("{b:02x}")).collect()
-}
+/// The results a finished run writes beside its summary, besides the snapshot folder.
+pub(crate) const RESULT_FILES: &[&str] = &[
+    "flow.csv",
+    "profiles.csv",
+    "field.csv",
+    "flow_rate.png",
+    "flow_rate.svg",
+    "velocity_profile.png",
+    "area_fraction_profile.png",
+    "particles.pvd",
+];
+/// The folder of VTU snapshots and PNG frames inside a run directory.
+pub(crate) const SNAPSHOT_DIR: &str = "snapshots";
 
 /// Simulated time between PNG frames of the discharge [s].
 const FRAME_INTERVAL: f64 = 0.1;
+
+/// Where the snapshot series of a run stands: what a checkpoint keeps so that a resumed run
+/// writes the same VTU files, PVD collection and numbered frames as an uninterrupted one.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PictureSchedule {
+    /// Simulated time of the next VTU snapshot [s].
+    next_vtu: f64,
+    /// Simulated time of the next PNG frame [s] (NaN before the gate opens).
+    next_frame: f64,
+    /// Frames written so far (the next frame's number).
+    frames: usize,
+    /// The PVD collection's datasets so far.
+    pvd: Vec<PvdEntry>,
+}
 
 /// Snapshots written while the case runs: VTU + PVD and PNG frames.
 pub struct Pictures {
@@ -47,7 +68,7 @@ pub struct Pictures {
 impl Pictures {
     /// Prepares the snapshot folders of `out_dir`.
     pub fn new(out_dir: &Path, case: &Case, enabled: bool) -> Result<Self, RunError> {
-        let dir = out_dir.join("snapshots");
+        let dir = out_dir.join(SNAPSHOT_DIR);
         if enabled {
             std::fs::create_dir_all(&dir).map_err(|source| RunError::Directory {
                 path: dir.clone(),
@@ -87,6 +108,24 @@ impl Pictures {
             geometry_height: case.geometry.height,
             half_width: 0.5 * case.geometry.width,
         })
+    }
+
+    /// Where the snapshot series stands, for a checkpoint.
+    pub fn schedule(&self) -> PictureSchedule {
+        PictureSchedule {
+            next_vtu: self.next_vtu,
+            next_frame: self.next_frame,
+            frames: self.frames,
+            pvd: self.pvd.entries().to_vec(),
+        }
+    }
+
+    /// Continues the series of a checkpointed run.
+    pub fn resume(&mut self, schedule: PictureSchedule) {
+        self.next_vtu = schedule.next_vtu;
+        self.next_frame = schedule.next_frame;
+        self.frames = schedule.frames;
+        self.pvd = PvdCollection::with_entries(self.pvd.path().to_path_buf(), schedule.pvd);
     }
 
     /// Writes whatever snapshot is due.

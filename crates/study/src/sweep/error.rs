@@ -45,6 +45,16 @@ pub enum StudyError {
         /// Config hash of the sweep being run.
         expected_hash: String,
     },
+    /// A case's folder holds a run that this sweep must not continue: a summary, checkpoint
+    /// or case file of other inputs, or a damaged checkpoint or summary.
+    #[error("case {id}: {source}; remove that case folder to run the case afresh")]
+    CaseFolder {
+        /// The case.
+        id: String,
+        /// What is wrong with its folder.
+        #[source]
+        source: Box<crate::run::RunError>,
+    },
     /// Two cases of the plan share an identifier, so they would share a directory.
     #[error("the sweep has two cases named '{0}'")]
     DuplicateCase(String),

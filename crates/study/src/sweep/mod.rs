@@ -15,7 +15,7 @@ pub use error::StudyError;
 pub use manifest::{CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
 pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
 pub use runner::{
-    expected_cost, run_study, CaseRunner, StudyEvent, StudyOptions, StudyOutcome, StudyPaths,
-    SUMMARY_FILE,
+    check_study_dir, expected_cost, run_study, CaseRunner, StudyEvent, StudyOptions, StudyOutcome,
+    StudyPaths, SUMMARY_FILE,
 };
 pub use simulation::SimulationRunner;

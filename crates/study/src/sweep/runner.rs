@@ -154,18 +154,11 @@ struct Progress {
     first_error: Option<StudyError>,
 }
 
-/// Runs `plan` into `root` with `runner`, skipping finished cases, and reports progress
-/// through `observer`.
-///
-/// Refuses a directory whose `study.json` belongs to a different sweep (other name or
-/// config hash), so that results of different inputs are never mixed.
-pub fn run_study(
-    plan: &SweepPlan,
-    root: &Path,
-    runner: &dyn CaseRunner,
-    options: &StudyOptions,
-    observer: &(dyn Fn(&StudyEvent) + Sync),
-) -> Result<StudyOutcome, StudyError> {
+/// Checks, reading only, that `plan` may run into `root`: its case identifiers are unique,
+/// `study.json` (if any) belongs to the same sweep (name and config hash), and no case
+/// folder holds a summary, checkpoint or case file of other inputs or a damaged one
+/// ([`crate::run::check_run_dir`]). A study refused here has changed nothing.
+pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> {
     let paths = StudyPaths::new(root);
     let mut seen = std::collections::BTreeSet::new();
     for case in &plan.cases {
@@ -173,9 +166,6 @@ pub fn run_study(
             return Err(StudyError::DuplicateCase(case.id.clone()));
         }
     }
-    let cases_dir = root.join("cases");
-    std::fs::create_dir_all(&cases_dir).map_err(|e| StudyError::io(&cases_dir, e))?;
-
     let manifest = StudyManifest::of_plan(plan);
     if let Some(old) = StudyManifest::read(&paths.manifest())? {
         if old.name != manifest.name || old.config_hash != manifest.config_hash {
@@ -188,6 +178,35 @@ pub fn run_study(
             });
         }
     }
+    for case in &plan.cases {
+        crate::run::check_run_dir(&case.case, &paths.case_dir(&case.id)).map_err(|source| {
+            StudyError::CaseFolder {
+                id: case.id.clone(),
+                source: Box::new(source),
+            }
+        })?;
+    }
+    Ok(())
+}
+
+/// Runs `plan` into `root` with `runner`, skipping finished cases, and reports progress
+/// through `observer`.
+///
+/// Refuses, before writing anything, what [`check_study_dir`] refuses: a directory of a
+/// different sweep, or a case folder of other inputs, so that results of different inputs
+/// are never mixed or mislabelled.
+pub fn run_study(
+    plan: &SweepPlan,
+    root: &Path,
+    runner: &dyn CaseRunner,
+    options: &StudyOptions,
+    observer: &(dyn Fn(&StudyEvent) + Sync),
+) -> Result<StudyOutcome, StudyError> {
+    let paths = StudyPaths::new(root);
+    check_study_dir(plan, root)?;
+    let cases_dir = root.join("cases");
+    std::fs::create_dir_all(&cases_dir).map_err(|e| StudyError::io(&cases_dir, e))?;
+    let manifest = StudyManifest::of_plan(plan);
     manifest.write(&paths.manifest())?;
 
     let mut rows = BTreeMap::new();

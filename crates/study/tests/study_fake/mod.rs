@@ -232,7 +232,7 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
     CaseSummary {
         version: "test".into(),
         seed: case.case.seed,
-        config_hash: "fake".into(),
+        config_hash: study::run::config_hash(&case.case.to_toml_string()),
         outlet_width: g.outlet_width,
         hopper_angle_deg: alpha,
         outlet_gap: g.outlet_gap,

@@ -1,0 +1,309 @@
+//! The checkpoint file: a run's state together with the inputs that produced it.
+//!
+//! A checkpoint is only worth resuming under the inputs that wrote it, so the file carries
+//! them: the resolved case text (and its hash), the seed and the program version. A resume
+//! compares them with the case at hand and refuses a mismatch, naming every key that
+//! changed ([`case_changes`]).
+//!
+//! Layout, so that truncation and corruption are told apart from a foreign file:
+//!
+//! | bytes | content |
+//! |---|---|
+//! | 8 | [`MAGIC`] |
+//! | 8 | body length n, little-endian u64 |
+//! | n | body: postcard of [`CheckpointHeader`], then of [`RunState`] and [`PictureSchedule`] |
+//! | 32 | SHA-256 of the body |
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+
+use sha2::{Digest, Sha256};
+
+use super::outputs::PictureSchedule;
+use super::protocol::RunState;
+use crate::output::{write_atomic, OutputError};
+
+/// The first eight bytes of every checkpoint: a name and the layout's version.
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x02";
+/// Bytes before the body: the magic and the body's length.
+const PREFIX: usize = 16;
+/// Bytes of the trailing SHA-256.
+const DIGEST: usize = 32;
+
+/// Hex SHA-256 of a resolved case text: the identity of a run's inputs.
+pub fn config_hash(text: &str) -> String {
+    let digest = Sha256::digest(text.as_bytes());
+    digest.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// What a checkpoint says about the run that wrote it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CheckpointHeader {
+    /// hopperflow version that wrote it.
+    pub program_version: String,
+    /// Hex SHA-256 of `case_text`.
+    pub config_hash: String,
+    /// Seed of the run (also a key of `case_text`).
+    pub seed: u64,
+    /// The resolved case, as `case.toml` holds it without its header line.
+    pub case_text: String,
+    /// Protocol phase when it was written: "fill", "settle", "discharge" or "done".
+    pub phase: String,
+    /// Simulated time when it was written [s].
+    pub time: f64,
+}
+
+/// Why a checkpoint file cannot be resumed from.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CheckpointError {
+    /// The file could not be read.
+    #[error("cannot be read: {0}")]
+    Io(String),
+    /// The file does not start with the checkpoint magic.
+    #[error("is not a hopperflow checkpoint (its first bytes are not the checkpoint signature)")]
+    Foreign,
+    /// The file ends before its stated length.
+    #[error(
+        "is truncated: {found} bytes, a complete checkpoint of this one's body has {expected}"
+    )]
+    Truncated {
+        /// Bytes the header promises.
+        expected: u64,
+        /// Bytes in the file.
+        found: u64,
+    },
+    /// The body's checksum does not match.
+    #[error("is corrupt: the SHA-256 of its content does not match the one stored with it")]
+    Corrupt,
+    /// The body passed its checksum but does not decode (another layout).
+    #[error("cannot be decoded ({0}); it was written by an incompatible build")]
+    Undecodable(String),
+    /// Written by another program version, whose state need not continue bit-identically.
+    #[error("was written by hopperflow {found}; this is hopperflow {expected}, which does not resume another version's state")]
+    OtherVersion {
+        /// The version in the file.
+        found: String,
+        /// This program's version.
+        expected: String,
+    },
+}
+
+/// Writes `header`, `state` and the snapshot schedule `pictures` to `path` atomically.
+pub(crate) fn write_checkpoint(
+    path: &Path,
+    header: &CheckpointHeader,
+    state: &RunState,
+    pictures: &PictureSchedule,
+) -> Result<(), OutputError> {
+    let mut body = postcard::to_allocvec(header)
+        .map_err(|e| OutputError::invalid(path, format!("checkpoint header: {e}")))?;
+    let state = postcard::to_allocvec(&(state, pictures))
+        .map_err(|e| OutputError::invalid(path, format!("checkpoint state: {e}")))?;
+    body.extend_from_slice(&state);
+    let mut bytes = Vec::with_capacity(PREFIX + body.len() + DIGEST);
+    bytes.extend_from_slice(&MAGIC);
+    bytes.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(&body);
+    bytes.extend_from_slice(&Sha256::digest(&body));
+    write_atomic(path, &bytes)
+}
+
+/// The verified body of a checkpoint file's bytes.
+fn body_of(bytes: &[u8]) -> Result<&[u8], CheckpointError> {
+    if bytes.len() < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
+        return Err(CheckpointError::Foreign);
+    }
+    let Some(length) = bytes.get(MAGIC.len()..PREFIX) else {
+        return Err(CheckpointError::Truncated {
+            expected: PREFIX as u64,
+            found: bytes.len() as u64,
+        });
+    };
+    let mut le = [0u8; 8];
+    le.copy_from_slice(length);
+    let body_length = u64::from_le_bytes(le);
+    let expected = body_length.saturating_add((PREFIX + DIGEST) as u64);
+    if (bytes.len() as u64) < expected {
+        return Err(CheckpointError::Truncated {
+            expected,
+            found: bytes.len() as u64,
+        });
+    }
+    if (bytes.len() as u64) > expected {
+        // Trailing bytes: the length field or the file was altered.
+        return Err(CheckpointError::Corrupt);
+    }
+    let end = PREFIX + body_length as usize;
+    let (body, digest) = (&bytes[PREFIX..end], &bytes[end..]);
+    if Sha256::digest(body).as_slice() != digest {
+        return Err(CheckpointError::Corrupt);
+    }
+    Ok(body)
+}
+
+/// A checkpoint's content.
+pub(crate) struct Checkpoint {
+    /// Whose run it is.
+    pub(crate) header: CheckpointHeader,
+    /// The protocol's state, the engine's included.
+    pub(crate) state: RunState,
+    /// Where the snapshot series stands.
+    pub(crate) pictures: PictureSchedule,
+}
+
+/// Reads a checkpoint, checking its signature, length, checksum and program version.
+pub(crate) fn read_checkpoint(path: &Path) -> Result<Checkpoint, CheckpointError> {
+    let bytes = std::fs::read(path).map_err(|e| CheckpointError::Io(e.to_string()))?;
+    let body = body_of(&bytes)?;
+    let (header, rest) = postcard::take_from_bytes::<CheckpointHeader>(body)
+        .map_err(|e| CheckpointError::Undecodable(e.to_string()))?;
+    if header.program_version != env!("CARGO_PKG_VERSION") {
+        return Err(CheckpointError::OtherVersion {
+            found: header.program_version,
+            expected: env!("CARGO_PKG_VERSION").to_string(),
+        });
+    }
+    let (state, pictures): (RunState, PictureSchedule) =
+        postcard::from_bytes(rest).map_err(|e| CheckpointError::Undecodable(e.to_string()))?;
+    Ok(Checkpoint {
+        header,
+        state,
+        pictures,
+    })
+}
+
+/// Reads only a checkpoint's header (after the same checks as [`read_checkpoint`], less the
+/// program version): what a study or a tool needs to tell whose checkpoint it is.
+pub fn read_checkpoint_header(path: &Path) -> Result<CheckpointHeader, CheckpointError> {
+    let bytes = std::fs::read(path).map_err(|e| CheckpointError::Io(e.to_string()))?;
+    let body = body_of(&bytes)?;
+    postcard::take_from_bytes::<CheckpointHeader>(body)
+        .map(|(header, _)| header)
+        .map_err(|e| CheckpointError::Undecodable(e.to_string()))
+}
+
+/// One key whose value differs between two resolved cases.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct KeyChange {
+    /// Dotted key, e.g. `geometry.outlet_width`.
+    pub key: String,
+    /// Its value in the earlier inputs (`None`: absent there).
+    pub old: Option<String>,
+    /// Its value in the case at hand (`None`: absent here).
+    pub new: Option<String>,
+}
+
+impl fmt::Display for KeyChange {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let show = |v: &Option<String>| v.clone().unwrap_or_else(|| "(absent)".to_string());
+        write!(
+            f,
+            "{}: {} -> {}",
+            self.key,
+            show(&self.old),
+            show(&self.new)
+        )
+    }
+}
+
+/// Every key whose value differs between two resolved case texts, in key order. Comments
+/// and layout do not count; a text that is not TOML counts as having no keys.
+pub fn case_changes(old_text: &str, new_text: &str) -> Vec<KeyChange> {
+    let (old, new) = (flatten(old_text), flatten(new_text));
+    let keys: std::collections::BTreeSet<&String> = old.keys().chain(new.keys()).collect();
+    keys.into_iter()
+        .filter(|k| old.get(*k) != new.get(*k))
+        .map(|k| KeyChange {
+            key: k.clone(),
+            old: old.get(k).cloned(),
+            new: new.get(k).cloned(),
+        })
+        .collect()
+}
+
+/// The values of a TOML text by dotted key.
+fn flatten(text: &str) -> BTreeMap<String, String> {
+    fn walk(prefix: &str, table: &toml::Table, out: &mut BTreeMap<String, String>) {
+        for (key, value) in table {
+            let dotted = if prefix.is_empty() {
+                key.clone()
+            } else {
+                format!("{prefix}.{key}")
+            };
+            match value {
+                toml::Value::Table(inner) => walk(&dotted, inner, out),
+                other => {
+                    out.insert(dotted, other.to_string());
+                }
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    if let Ok(table) = text.parse::<toml::Table>() {
+        walk("", &table, &mut out);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn changes_name_each_differing_key_with_both_values() {
+        let old = "seed = 1\n[geometry]\nwidth = 0.1\noutlet_width = 0.018\n";
+        let new =
+            "seed = 1\n# a comment\n[geometry]\nwidth = 0.1\noutlet_width = 0.03\nextra = true\n";
+        let changes = case_changes(old, new);
+        assert_eq!(
+            changes,
+            vec![
+                KeyChange {
+                    key: "geometry.extra".into(),
+                    old: None,
+                    new: Some("true".into())
+                },
+                KeyChange {
+                    key: "geometry.outlet_width".into(),
+                    old: Some("0.018".into()),
+                    new: Some("0.03".into())
+                },
+            ]
+        );
+        assert_eq!(
+            changes[1].to_string(),
+            "geometry.outlet_width: 0.018 -> 0.03"
+        );
+        assert!(case_changes(old, old).is_empty());
+    }
+
+    #[test]
+    fn damaged_bodies_are_told_apart() {
+        let body = b"some body".to_vec();
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&(body.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(&body);
+        bytes.extend_from_slice(&Sha256::digest(&body));
+        assert_eq!(body_of(&bytes), Ok(&body[..]));
+        // Every proper prefix is truncated (or, shorter than the magic, foreign).
+        for cut in 0..bytes.len() {
+            let err = body_of(&bytes[..cut]).unwrap_err();
+            if cut < MAGIC.len() {
+                assert_eq!(err, CheckpointError::Foreign, "cut at {cut}");
+            } else {
+                assert!(
+                    matches!(err, CheckpointError::Truncated { found, .. } if found == cut as u64),
+                    "cut at {cut}: {err:?}"
+                );
+            }
+        }
+        let mut flipped = bytes.clone();
+        flipped[PREFIX + 2] ^= 1;
+        assert_eq!(body_of(&flipped), Err(CheckpointError::Corrupt));
+        let mut longer = bytes.clone();
+        longer.push(0);
+        assert_eq!(body_of(&longer), Err(CheckpointError::Corrupt));
+        assert_eq!(body_of(b"{\"json\": true}"), Err(CheckpointError::Foreign));
+    }
+}
