@@ -20,8 +20,15 @@
 //! Tolerance (physics.md §9): 1 % on accelerations; threshold within ±0.5° (bisection resolves
 //! it to 0.04°, Fast to 0.16°); EPSD: displacement < 1e-3 d over the observation window after a
 //! 0.1 s settling period in which the springs take up the load (their elastic set-up alone is
-//! ≈ 1e-3 d at this angle); CDT: recorded, only required to stay bounded — creep below one
-//! diameter (a freely rolling sphere would cover ≈ 6 d in 1 s) and spin chatter below 2 |Δω|.
+//! ≈ 1e-3 d at this angle); CDT: physics.md §9 asks to record the creep, not to match it. Here
+//! it is bounded by 1 % of the distance a sphere without rolling resistance would roll in the
+//! same window, ½ a_free ((t_s + w)² − t_s²) with a_free = (5/7) g sin θ, t_s = 0.1 s settling
+//! and w the window: 1.47 mm at Fast and 22.0 mm at Full, so bounds of 14.7 µm and 220 µm. The
+//! bound scales with the window, so the row can fail at either resolution: a sphere that CDT
+//! does not hold rolls 100 times the bound, and a torque too weak to hold it (an effective μ_r'
+//! below tan θ = 0.0052, e.g. half the lever) rolls the fraction 1 − μ_r'/tan θ of the free
+//! distance. The chatter lets the held sphere creep at ≈ 0.3 µm/s, 0.07 µm at Fast (0.5 % of
+//! the bound). The spin chatter is held below 2 |Δω|.
 //! The observation window is 1 s at Full and 0.2 s at Fast.
 
 use dem::{ContactLaws, Interaction, RollingLaw};
@@ -76,11 +83,27 @@ fn slips(theta_deg: f64) -> Result<bool, VerifyError> {
     Ok(probe(&sim).3 - early > 1e-5)
 }
 
+/// Settling period before the rest behaviour is observed [s].
+const SETTLING: f64 = 0.1;
+
+/// Distance [m] a sphere without rolling resistance rolls down `theta_deg` in `window` [s]
+/// after the settling period, both from rest at release: a = (5/7) g sin θ, so
+/// s = ½ a ((t_s + w)² − t_s²).
+fn free_rolling_distance(theta_deg: f64, window: f64) -> f64 {
+    let a = 5.0 / 7.0 * GRAVITY * theta_deg.to_radians().sin();
+    0.5 * a * ((SETTLING + window).powi(2) - SETTLING * SETTLING)
+}
+
+/// Largest accepted CDT creep at rest over `window` [s]: 1 % of the free-rolling distance.
+fn cdt_creep_bound(theta_deg: f64, window: f64) -> f64 {
+    0.01 * free_rolling_distance(theta_deg, window)
+}
+
 /// Creep [m] over `window` [s] after a 0.1 s settling period, and the largest |ω_y| [rad/s] seen
 /// in that window, for a sphere released at `theta_deg`.
 fn at_rest(theta_deg: f64, rolling: RollingLaw, window: f64) -> Result<(f64, f64), VerifyError> {
     let mut sim = sphere(theta_deg, rolling).build()?;
-    sim.run(steps(0.1))?;
+    sim.run(steps(SETTLING))?;
     let x0 = probe(&sim).0;
     let (mut creep, mut spin): (f64, f64) = (0.0, 0.0);
     for _ in 0..steps(window) {
@@ -166,9 +189,9 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
     let (creep, spin) = at_rest(0.3, CDT, window)?;
     rows.push(Row::bounded(
         TEST,
-        format!("0.3°, CDT: creep over {window} s (recorded; bound: one diameter) [m]"),
+        format!("0.3°, CDT: creep over {window} s (bound: 1 % of free rolling) [m]"),
         creep,
-        diameter,
+        cdt_creep_bound(0.3, window),
     ));
     let mass = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3);
     let inertia = 0.4 * mass * RADIUS * RADIUS;
@@ -178,11 +201,28 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
     rows.push(Row::bounded(
         TEST,
         format!(
-            "0.3°, CDT: largest |ω| at rest (recorded; bound 2|Δω| = {:.2e}) [rad/s]",
+            "0.3°, CDT: largest |ω| at rest (bound 2|Δω| = {:.2e}) [rad/s]",
             2.0 * chatter
         ),
         spin,
         2.0 * chatter,
     ));
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cdt_creep_row_fails_for_a_sphere_without_rolling_resistance() {
+        // The bound must be one the row can miss at the fast window: without rolling
+        // resistance the sphere rolls the whole free distance, 100 times the bound (the
+        // engine's rolling sphere matches ½ a t² to well under 1 %, see the 30° row).
+        let window = 0.2;
+        let (creep, _) = at_rest(0.3, RollingLaw::None, window).unwrap_or((0.0, 0.0));
+        let free = free_rolling_distance(0.3, window);
+        assert!((creep / free - 1.0).abs() < 0.01, "{creep} vs {free}");
+        assert!(!Row::bounded(TEST, "q", creep, cdt_creep_bound(0.3, window)).pass);
+    }
 }

@@ -12,6 +12,17 @@
 //!
 //! Tolerance (physics.md §9): 0.02 absolute on the sliding line and the Ω plateau (Ψ1 ≥ 4),
 //! 0.05 elsewhere.
+//!
+//! Poisson separation: the two e = 1 series differ by at most 0.040 (at Ψ1 = 0.5 and 1.0), less
+//! than the 0.05 tolerance, so the rows above cannot tell ν = 0.25 from ν = 0.30. Three more
+//! rows check the difference Ψ2(ν = 0.25) − Ψ2(ν = 0.30) at Ψ1 = 0.5, 1.0, 1.5 against the
+//! difference of the two tabulated series (0.040, 0.040, 0.036), within 0.01. The reason for
+//! 0.01: the engine's Ψ2 in either series lies within 0.003 of the table at 1000 steps per
+//! contact and beyond, with errors of the same sign that largely cancel in the difference
+//! (measured within 0.001 of the table's difference), and the three-digit table rounds each
+//! difference by at most 0.001; yet 0.01 is a quarter of the separation, so a run of both
+//! series at one ν (difference 0) or with the ratios swapped (−0.040) misses it by at least
+//! 0.026.
 
 use dem::{ContactLaws, Interaction, Material};
 
@@ -52,6 +63,79 @@ fn tolerance(psi1: f64) -> f64 {
     }
 }
 
+/// Ψ1 values of the Poisson-separation rows: where the two e = 1 series differ most.
+pub const SEPARATION_PSI1: [f64; 3] = [0.5, 1.0, 1.5];
+
+/// Tolerance of the Poisson-separation rows (see the module documentation).
+const SEPARATION_TOLERANCE: f64 = 0.01;
+
+/// The Poisson-separation row at `psi1` (one of [`SEPARATION_PSI1`]): the measured
+/// Ψ2(ν = 0.25) − Ψ2(ν = 0.30) against the difference of the two tabulated series.
+pub fn separation_row(psi1: f64, psi2_nu25: f64, psi2_nu30: f64) -> Row {
+    let expected = PSI1
+        .iter()
+        .position(|&p| p == psi1)
+        .map_or(f64::NAN, |k| PSI2_NU25[k] - PSI2_NU30[k]);
+    Row::absolute(
+        TEST,
+        format!("e = 1, Ψ1 = {psi1}: Ψ2(ν = 0.25) − Ψ2(ν = 0.30) [-]"),
+        expected,
+        psi2_nu25 - psi2_nu30,
+        SEPARATION_TOLERANCE,
+    )
+}
+
+/// The e = 1 material of the elastic series with Poisson ratio `poisson_ratio`.
+fn elastic(poisson_ratio: f64) -> Material {
+    Material {
+        density: 2700.0,
+        youngs_modulus: 7.0e10,
+        poisson_ratio,
+    }
+}
+
+/// Friction, rolling friction and restitution of the elastic series.
+const FRICTIONAL: Interaction = Interaction {
+    friction: 0.3,
+    rolling_friction: 0.0,
+    restitution: 1.0,
+};
+
+/// Normal impact speed V_n of every series [m/s].
+const NORMAL_SPEED: f64 = 1.0;
+
+/// Measured (Ψ2, Ω) of one impact at `psi1`.
+fn normalised_impact(
+    material: Material,
+    radius: f64,
+    interaction: Interaction,
+    psi1: f64,
+    resolution: Resolution,
+) -> Result<(f64, f64), VerifyError> {
+    let scale = interaction.friction * (1.0 + interaction.restitution) * NORMAL_SPEED;
+    let o = oblique_on_rigid_plane(
+        material,
+        radius,
+        interaction,
+        ContactLaws::default(),
+        psi1 * scale,
+        NORMAL_SPEED,
+        0.0,
+        resolution.steps_per_contact(),
+    )?;
+    Ok((o.contact_tangential / scale, radius * o.spin.abs() / scale))
+}
+
+/// Measured Ψ2 at `psi1` of the e = 1 series with Poisson ratio `poisson_ratio`.
+pub fn elastic_psi2(
+    poisson_ratio: f64,
+    psi1: f64,
+    resolution: Resolution,
+) -> Result<f64, VerifyError> {
+    normalised_impact(elastic(poisson_ratio), 2.5e-3, FRICTIONAL, psi1, resolution)
+        .map(|(psi2, _)| psi2)
+}
+
 /// One series: its label, particle, and the tabulated Ψ2 and (optionally) Ω.
 struct Series {
     label: &'static str,
@@ -64,16 +148,6 @@ struct Series {
 
 /// Runs CO-T.
 pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
-    let elastic = |nu| Material {
-        density: 2700.0,
-        youngs_modulus: 7.0e10,
-        poisson_ratio: nu,
-    };
-    let frictional = Interaction {
-        friction: 0.3,
-        rolling_friction: 0.0,
-        restitution: 1.0,
-    };
     let table1 = Interaction {
         rolling_friction: 0.0,
         ..Interaction::fan2023()
@@ -83,7 +157,7 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
             label: "e = 1, ν = 0.30",
             material: elastic(0.30),
             radius: 2.5e-3,
-            interaction: frictional,
+            interaction: FRICTIONAL,
             psi2: PSI2_NU30,
             omega: Some(OMEGA_NU30),
         },
@@ -91,7 +165,7 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
             label: "e = 1, ν = 0.25",
             material: elastic(0.25),
             radius: 2.5e-3,
-            interaction: frictional,
+            interaction: FRICTIONAL,
             psi2: PSI2_NU25,
             omega: None,
         },
@@ -104,38 +178,37 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
             omega: Some(OMEGA_TABLE1),
         },
     ];
-    let normal = 1.0;
     let mut rows = Vec::new();
-    for s in &series {
-        let scale = s.interaction.friction * (1.0 + s.interaction.restitution) * normal;
+    // Measured Ψ2 of each series, in the order of `PSI1`, for the separation rows.
+    let mut measured = [[f64::NAN; 11]; 3];
+    for (s, psi2_measured) in series.iter().zip(measured.iter_mut()) {
         for (k, &psi1) in PSI1.iter().enumerate() {
-            let o = oblique_on_rigid_plane(
-                s.material,
-                s.radius,
-                s.interaction,
-                ContactLaws::default(),
-                psi1 * scale,
-                normal,
-                0.0,
-                resolution.steps_per_contact(),
-            )?;
+            let (psi2, omega) =
+                normalised_impact(s.material, s.radius, s.interaction, psi1, resolution)?;
+            psi2_measured[k] = psi2;
             let tol = tolerance(psi1);
             rows.push(Row::absolute(
                 TEST,
                 format!("{} Ψ1 = {psi1}: Ψ2 [-]", s.label),
                 s.psi2[k],
-                o.contact_tangential / scale,
+                psi2,
                 tol,
             ));
-            if let Some(omega) = s.omega {
+            if let Some(reference) = s.omega {
                 rows.push(Row::absolute(
                     TEST,
                     format!("{} Ψ1 = {psi1}: Ω [-]", s.label),
-                    omega[k],
-                    s.radius * o.spin.abs() / scale,
+                    reference[k],
+                    omega,
                     tol,
                 ));
             }
+        }
+    }
+    // measured[0] is the ν = 0.30 series, measured[1] the ν = 0.25 one.
+    for (k, &psi1) in PSI1.iter().enumerate() {
+        if SEPARATION_PSI1.contains(&psi1) {
+            rows.push(separation_row(psi1, measured[1][k], measured[0][k]));
         }
     }
     Ok(rows)

@@ -1,4 +1,5 @@
-//! Errors of the verification suite: an engine refusal, or a run that never produced the event it waited for.
+//! Errors of the verification suite: an engine refusal, a run that never produced the event it
+//! waited for, or a state from which a measurement could not be read.
 
 use dem::wall::WallError;
 use dem::DemError;
@@ -19,5 +20,13 @@ pub enum VerifyError {
         what: &'static str,
         /// Steps taken before giving up.
         steps: u64,
+    },
+    /// A measured quantity could not be read from the engine's state.
+    #[error("{what} could not be read: {reason}")]
+    Measurement {
+        /// What was to be read.
+        what: &'static str,
+        /// Why it could not.
+        reason: String,
     },
 }

@@ -2,7 +2,7 @@
 //! to pass within the tolerance the spec documents for it (each case's module explains its
 //! tolerance; the fast resolution uses 1000 steps per contact, see `Resolution`).
 
-use verify::{run_all, Resolution, Row};
+use verify::{cot, run_all, Resolution, Row};
 
 fn failures(rows: &[Row]) -> String {
     rows.iter()
@@ -24,15 +24,76 @@ fn every_verification_row_passes_at_fast_resolution() {
 }
 
 #[test]
-fn every_case_of_the_spec_reports_rows() {
-    // A case that silently returned nothing would pass the test above; require each one.
+fn every_case_reports_exactly_its_rows() {
+    // A case that silently dropped rows (an early return, a skipped loop) would still pass the
+    // test above. Each count follows from the case's structure, which its module documents.
+    let expected = [
+        // 2 materials × (δ_max, F_max, t_c, rebound speed, F–δ curve).
+        ("CO1", 10),
+        ("CO2", 10),
+        // 2 materials × 5 e_in, 3 Table-1 targets × 3 speeds, 9 clamped e_in.
+        ("CO3", 28),
+        // Al oxide 6 stick angles × (e_t, ω', θ_r) and 6 sliding angles × 3, Al alloy 6 stick
+        // angles × (e_t, θ_r), 2 Mindlin–Deresiewicz rows at 10°.
+        ("CO4", 50),
+        // 2 materials × (5 sliding β_t, 4 sliding tan θ_r from 70°, 9 stick β_t).
+        ("CO5", 36),
+        // 11 Ψ1 × (Ψ2 and Ω at ν = 0.30, Ψ2 at ν = 0.25, Ψ2 and Ω for Table 1), 3 separation rows.
+        ("CO-T", 58),
+        // pp e = 1 (3), pp e = 0.2 (2), rigid wall (2), same-material wall (2), production Δt (1).
+        ("P1", 10),
+        // stop time, distance, creep after the stop, creep at 20°, acceleration at 35°.
+        ("A1", 5),
+        // One launch (Fast): t1, s1, v1, s2, t2.
+        ("A2", 5),
+        // a at 30°, a and α at 70°, threshold, EPSD creep, CDT creep, CDT spin.
+        ("A3", 7),
+        // no-slip curve, cap, engine-run slope and ξ growth; Mindlin–Deresiewicz curve, cap,
+        // finite-difference slope, k_t(0); rotated |ξ| and ξ·n.
+        ("A4", 10),
+    ];
     let rows = run_all(Resolution::Fast);
-    for case in [
-        "CO1", "CO2", "CO3", "CO4", "CO5", "CO-T", "P1", "A1", "A2", "A3", "A4",
-    ] {
-        let n = rows.iter().filter(|r| r.test == case).count();
-        assert!(n >= 3, "case {case} reported {n} rows");
+    for (case, n) in expected {
+        let count = rows.iter().filter(|r| r.test == case).count();
+        assert_eq!(count, n, "case {case} reported {count} rows, expected {n}");
     }
+    // No rows outside the listed cases.
+    let total: usize = expected.iter().map(|(_, n)| n).sum();
+    assert_eq!(rows.len(), total);
+}
+
+#[test]
+fn the_poisson_separation_rows_fail_when_both_series_share_one_ratio() {
+    // The separation rows exist because the per-point CO-T tolerance (0.05) exceeds the whole
+    // difference between the ν = 0.25 and ν = 0.30 series (≤ 0.040). They must pass with the
+    // right ratios and fail when either series is run at the other's ratio, or the two swapped.
+    for psi1 in cot::SEPARATION_PSI1 {
+        let nu25 = cot::elastic_psi2(0.25, psi1, Resolution::Fast).unwrap_or(f64::NAN);
+        let nu30 = cot::elastic_psi2(0.30, psi1, Resolution::Fast).unwrap_or(f64::NAN);
+        assert!(cot::separation_row(psi1, nu25, nu30).pass, "Ψ1 = {psi1}");
+        assert!(!cot::separation_row(psi1, nu30, nu30).pass, "Ψ1 = {psi1}");
+        assert!(!cot::separation_row(psi1, nu25, nu25).pass, "Ψ1 = {psi1}");
+        assert!(!cot::separation_row(psi1, nu30, nu25).pass, "Ψ1 = {psi1}");
+    }
+}
+
+#[test]
+fn the_engine_run_slope_row_tells_the_no_slip_law_from_mindlin_deresiewicz() {
+    // The A4 slope row measures the chord of F_t(ξ) between ξ = δ_slip/8 and δ_slip/2. For the
+    // Mindlin–Deresiewicz law, F_t = μF_ne(1 − (1 − z)^{3/2}) with z from 1/12 to 1/3, that chord
+    // is (0.4557 − 0.1223)/0.25 = 1.334 μF_ne/δ_t,max = 0.889 S_t; its dashpot, which softens
+    // with k_t(ξ), moves it by a few thousandths, hence the 0.01 band. Either way the row,
+    // held to 1e-10, would fail.
+    let material = dem::Material::fan2023();
+    let g_star = dem::material::effective_shear_modulus(&material, Some(&material));
+    let held = verify::a4::held_contact(2.0e-5, 0.5, dem::TangentialLaw::MindlinDeresiewicz);
+    let held = held.unwrap_or(verify::a4::HeldContact {
+        overlap: f64::NAN,
+        slope: f64::NAN,
+        displacement_ratio: f64::NAN,
+    });
+    let ratio = held.slope / (8.0 * g_star * (1.5e-3 * held.overlap).sqrt());
+    assert!((ratio - 0.889).abs() < 0.01, "chord over S_t {ratio}");
 }
 
 #[test]

@@ -227,7 +227,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_support::{normal, seeded_rng};
+    use crate::test_support::{normal, seeded_rng, Coverage};
 
     #[test]
     fn exponential_decay_parameters_are_recovered_within_their_errors() {
@@ -259,6 +259,68 @@ mod tests {
         // Reduced χ² of unweighted residuals estimates the noise variance 0.04² within ~20 %
         // (relative sd of a χ² with 57 dof is √(2/57) ≈ 19 %, 2σ band ≈ 40 %).
         assert!((fit.reduced_chi_squared / 0.0016 - 1.0).abs() < 0.4);
+    }
+
+    /// Fits y = A e^{−x/λ} + c to `trials` synthetic data sets of 30 points on [0, 5.8] with
+    /// Gaussian noise of standard deviation `noise(x)`, weighted by it when `weighted`, and
+    /// returns the coverage counters of A, λ and c.
+    fn decay_coverage(
+        trials: usize,
+        noise: impl Fn(f64) -> f64,
+        weighted: bool,
+        seed: u64,
+    ) -> [Coverage; 3] {
+        let truth = [2.0, 1.5, 0.3];
+        let mut coverage = [
+            Coverage::new("A", truth[0]),
+            Coverage::new("λ", truth[1]),
+            Coverage::new("c", truth[2]),
+        ];
+        let mut rng = seeded_rng(seed);
+        let x: Vec<f64> = (0..30).map(|i| i as f64 * 0.2).collect();
+        let sigma: Vec<f64> = x.iter().map(|&v| noise(v)).collect();
+        for _ in 0..trials {
+            let y: Vec<f64> = x
+                .iter()
+                .zip(&sigma)
+                .map(|(&v, &s)| truth[0] * (-v / truth[1]).exp() + truth[2] + s * normal(&mut rng))
+                .collect();
+            let fit = fit_curve(
+                |v, p| p[0] * (-v / p[1]).exp() + p[2],
+                CurveData {
+                    x: &x,
+                    y: &y,
+                    sigma: weighted.then_some(sigma.as_slice()),
+                },
+                &[1.0, 1.0, 0.0],
+                None,
+            )
+            .unwrap();
+            for (c, p) in coverage.iter_mut().zip(&fit.parameters) {
+                c.record(*p);
+            }
+        }
+        coverage
+    }
+
+    #[test]
+    fn one_sigma_errors_cover_the_truth_at_the_student_t_rate() {
+        // 2000 data sets with homoscedastic noise of 2 % of A, unweighted: the χ²-scaled
+        // errors must hold the truth at P(|t_27| ≤ 1) = 67.4 %, within the 4σ binomial band
+        // (`Coverage::assert_nominal`). The noise is small enough that the model is close to
+        // linear over the scatter of the estimates, where the t law is exact.
+        for c in decay_coverage(2000, |_| 0.04, false, 5) {
+            c.assert_nominal(27);
+        }
+    }
+
+    #[test]
+    fn weighted_one_sigma_errors_cover_the_truth_at_the_student_t_rate() {
+        // Noise growing from 1 % to 4 % of A along x, with those σ_i as weights: the errors of
+        // the weighted problem, scaled by √(χ²/ν), must cover as in the unweighted case.
+        for c in decay_coverage(2000, |v| 0.02 * (1.0 + v / 2.0), true, 6) {
+            c.assert_nominal(27);
+        }
     }
 
     #[test]

@@ -120,7 +120,7 @@ pub fn fit_packing_saturation(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_support::{normal, seeded_rng};
+    use crate::test_support::{normal, seeded_rng, Coverage};
 
     #[test]
     fn saturation_parameters_are_recovered_with_radius_in_millimetres() {
@@ -144,6 +144,36 @@ mod tests {
         );
         // φ∞ is pinned by the large outlets to better than 0.01.
         assert!(fit.phi_infinity.standard_error < 0.01);
+    }
+
+    #[test]
+    fn one_sigma_errors_cover_the_truth_at_the_student_t_rate() {
+        // The set-up of the test above (φ∞ = 0.78, τ₁ = 3.74, τ₂ = 0.18/mm, eight outlets of
+        // R = 4.5–30 mm, noise 0.003 given as the errors) in 2000 data sets: ν = 5, so each
+        // ±1σ interval must hold the truth at P(|t_5| ≤ 1) = 63.7 %, within the 4σ binomial band.
+        let (phi, tau1, tau2) = (0.78, 3.74, 0.18);
+        let radii: Vec<f64> = (0..8).map(|i| 0.0045 + 0.0036 * i as f64).collect();
+        let sigma = vec![0.003; radii.len()];
+        let mut coverage = [
+            Coverage::new("φ∞", phi),
+            Coverage::new("τ₁", tau1),
+            Coverage::new("τ₂", tau2),
+        ];
+        let mut rng = seeded_rng(13);
+        for _ in 0..2000 {
+            let fractions: Vec<f64> = radii
+                .iter()
+                .map(|&r| packing_saturation(r, phi, tau1, tau2) + 0.003 * normal(&mut rng))
+                .collect();
+            let fit = fit_packing_saturation(&radii, &fractions, Some(&sigma)).unwrap();
+            assert_eq!(fit.degrees_of_freedom, 5);
+            coverage[0].record(fit.phi_infinity);
+            coverage[1].record(fit.tau1);
+            coverage[2].record(fit.tau2_per_millimetre);
+        }
+        for c in coverage {
+            c.assert_nominal(5);
+        }
     }
 
     #[test]
