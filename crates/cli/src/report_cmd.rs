@@ -1,9 +1,14 @@
 //! `hopperflow report DIR`: builds the report of a finished study from its saved results.
+//!
+//! Exit status: 0 when the report is written; 2 when DIR holds no study (bad input: no
+//! `results.csv` there); 1 when the study cannot be read or the report cannot be written.
 
 use std::path::PathBuf;
 
 use clap::Args;
-use study::report::build_report;
+use study::report::{build_report, ReportError};
+
+use crate::run_cmd::EXIT_BAD_INPUT;
 
 #[derive(Args)]
 pub struct ReportArgs {
@@ -22,7 +27,10 @@ pub fn run(args: ReportArgs) -> i32 {
         }
         Err(e) => {
             eprintln!("error: {e}");
-            1
+            match e {
+                ReportError::NoStudy { .. } => EXIT_BAD_INPUT,
+                _ => 1,
+            }
         }
     }
 }

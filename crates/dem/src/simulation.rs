@@ -183,13 +183,31 @@ impl Simulation {
                 config.time_step
             )));
         }
-        if !config.gravity.is_finite()
-            || !(config.skin >= 0.0)
-            || !(config.max_overlap_fraction > 0.0)
-        {
-            return Err(DemError::InvalidInput(
-                "gravity, skin and overlap limit must be finite and non-negative".into(),
-            ));
+        if !config.gravity.is_finite() {
+            return Err(DemError::InvalidInput(format!(
+                "gravity must be finite, got {}",
+                config.gravity
+            )));
+        }
+        // `!(x >= 0)` and `!(x > 0)` also refuse NaN, which every comparison would let pass.
+        if !(config.skin >= 0.0 && config.skin.is_finite()) {
+            return Err(DemError::InvalidInput(format!(
+                "skin must be finite and ≥ 0 (0 picks 0.2 × the largest radius), got {}",
+                config.skin
+            )));
+        }
+        if !(config.max_overlap_fraction > 0.0) {
+            return Err(DemError::InvalidInput(format!(
+                "overlap limit (max_overlap_fraction) must be > 0, got {}",
+                config.max_overlap_fraction
+            )));
+        }
+        if !(config.max_rayleigh_fraction > 0.0) {
+            // A NaN limit would switch the Rayleigh guard off without a word.
+            return Err(DemError::InvalidInput(format!(
+                "time-step limit (max_rayleigh_fraction) must be > 0, got {}",
+                config.max_rayleigh_fraction
+            )));
         }
         let state = SimulationState {
             config,
@@ -264,15 +282,30 @@ impl Simulation {
         material: Material,
         self_interaction: Interaction,
     ) -> Result<MaterialId, DemError> {
-        let ok = material.density > 0.0
-            && material.youngs_modulus > 0.0
-            && material.poisson_ratio > -1.0
-            && material.poisson_ratio < 0.5
-            && material.density.is_finite()
-            && material.youngs_modulus.is_finite();
-        if !ok {
+        let fault = if !(material.density > 0.0 && material.density.is_finite()) {
+            Some((
+                "density",
+                material.density,
+                "must be positive and finite [kg/m³]",
+            ))
+        } else if !(material.youngs_modulus > 0.0 && material.youngs_modulus.is_finite()) {
+            Some((
+                "Young's modulus",
+                material.youngs_modulus,
+                "must be positive and finite [Pa]",
+            ))
+        } else if !(material.poisson_ratio > -1.0 && material.poisson_ratio < 0.5) {
+            Some((
+                "Poisson ratio",
+                material.poisson_ratio,
+                "must be in (-1, 0.5)",
+            ))
+        } else {
+            None
+        };
+        if let Some((what, value, range)) = fault {
             return Err(DemError::InvalidInput(format!(
-                "unphysical material {material:?}"
+                "unphysical material: {what} {value} {range}; got {material:?}"
             )));
         }
         check_interaction(&self_interaction)?;
@@ -301,8 +334,11 @@ impl Simulation {
     ) -> Result<(), DemError> {
         check_interaction(&interaction)?;
         let n = self.state.materials.len();
-        if a.0 as usize >= n || b.0 as usize >= n {
-            return Err(DemError::InvalidInput("unknown material".into()));
+        if let Some(unknown) = [a, b].into_iter().find(|m| m.0 as usize >= n) {
+            return Err(DemError::InvalidInput(format!(
+                "unknown material {}: {n} material(s) are registered",
+                unknown.0
+            )));
         }
         self.state.interactions[a.0 as usize * n + b.0 as usize] = Some(interaction);
         self.state.interactions[b.0 as usize * n + a.0 as usize] = Some(interaction);
@@ -314,8 +350,9 @@ impl Simulation {
     pub fn add_particle(&mut self, init: ParticleInit) -> Result<ParticleTag, DemError> {
         let Some(mat) = self.state.materials.get(init.material.0 as usize) else {
             return Err(DemError::InvalidInput(format!(
-                "unknown material {}",
-                init.material.0
+                "unknown material {}: {} material(s) are registered",
+                init.material.0,
+                self.state.materials.len()
             )));
         };
         if !(init.radius > 0.0 && init.radius.is_finite())

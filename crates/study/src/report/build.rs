@@ -9,7 +9,7 @@ use super::document::{Block, Document};
 use super::figures::report_figures;
 use super::{analyse_study, tables};
 use crate::output::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
-use crate::sweep::{CaseStatus, StudyError};
+use crate::sweep::{CaseStatus, StudyError, StudyPaths};
 
 /// Figure size [px]: wide enough for legends beside six series.
 const FIGURE_SIZE: (u32, u32) = (900, 600);
@@ -17,6 +17,20 @@ const FIGURE_SIZE: (u32, u32) = (900, 600);
 /// Why a report could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
+    /// The directory holds no study: no `results.csv` (a folder that `hopperflow study`
+    /// never wrote to, or a mistyped path).
+    #[error(
+        "{} holds no study: {} is missing; give the directory a `hopperflow study` run wrote \
+         to (its --out, or study-<sweep name> by default)",
+        dir.display(),
+        results.display()
+    )]
+    NoStudy {
+        /// The directory given.
+        dir: PathBuf,
+        /// The results table it lacks.
+        results: PathBuf,
+    },
     /// The study could not be read.
     #[error(transparent)]
     Study(#[from] StudyError),
@@ -49,6 +63,15 @@ pub struct ReportFiles {
 
 /// Builds the report of the study in `root` from its saved results (no simulation).
 pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
+    // Checked before anything is read or written: no `report/` folder is left in a
+    // directory that holds no study.
+    let results = StudyPaths::new(root).results();
+    if !results.is_file() {
+        return Err(ReportError::NoStudy {
+            dir: root.to_path_buf(),
+            results,
+        });
+    }
     let data = load_study(root)?;
     let analysis = analyse_study(&data.points);
     let items = compare_with_paper(&analysis);
