@@ -7,7 +7,7 @@ use std::sync::Mutex;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use study::config::{builtin_sweep, load_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
-use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyEvent, StudyOptions};
+use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyError, StudyEvent, StudyOptions};
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -145,7 +145,12 @@ pub fn run(args: StudyArgs) -> i32 {
     // anything in it changes.
     if let Err(e) = study::sweep::check_study_dir(&plan, &out) {
         eprintln!("error: {e}");
-        return 2;
+        return match e {
+            StudyError::DifferentStudy { .. }
+            | StudyError::CaseFolder { .. }
+            | StudyError::DuplicateCase(_) => 2,
+            _ => 1,
+        };
     }
     if let Err(e) = std::fs::create_dir_all(&out) {
         eprintln!("error: cannot create {}: {e}", out.display());

@@ -288,7 +288,7 @@ fn damaged_checkpoints_are_refused_with_a_clear_message_and_no_change() {
         ("truncated", good[..good.len() / 3].to_vec(), "is truncated"),
         ("flipped bit", flipped, "is corrupt"),
         ("random bytes", random, "is not a hopperflow checkpoint"),
-        ("another case's", foreign_case, "seed: 11 -> 12"),
+        ("another case's", foreign_case, "seed: 12 -> 11"),
     ];
     for (what, bytes, expected) in damaged {
         std::fs::write(out.join(CHECKPOINT_FILE), &bytes).expect("plant checkpoint");

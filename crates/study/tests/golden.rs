@@ -18,30 +18,42 @@ use study::run::{run_case, RunOptions, RunOutcome};
 /// Summary keys and their recorded values, as `summary.json` writes them (shortest
 /// round-trip decimals, so string equality is bit equality).
 const GOLDEN_SUMMARY: &[(&str, &str)] = &[
-    ("discharge_rate", "?"),
-    ("discharge_rate_error", "?"),
-    ("steady_window", "?"),
-    ("plateau_found", "?"),
-    ("flux_check_rate", "?"),
-    ("flux_check_rate_profiles", "?"),
-    ("bulk_volume_fraction", "?"),
-    ("bulk_area_fraction", "?"),
-    ("bed_height", "?"),
-    ("centre_velocity", "?"),
-    ("centre_area_fraction", "?"),
-    ("max_area_fraction", "?"),
-    ("max_area_fraction_position", "?"),
-    ("stop_reason", "?"),
-    ("discharged_mass", "?"),
-    ("discharge_time", "?"),
-    ("fill_time", "?"),
-    ("settled_kinetic_energy", "?"),
-    ("settled", "?"),
+    ("discharge_rate", "0.014726215563702162"),
+    ("discharge_rate_error", "0.0006825996347391868"),
+    ("steady_window", "[0.1,0.4]"),
+    ("plateau_found", "true"),
+    ("flux_check_rate", "0.014808782470793204"),
+    ("flux_check_rate_profiles", "0.01448890550433107"),
+    ("bulk_volume_fraction", "0.5282982661600516"),
+    ("bulk_area_fraction", "0.799964745311489"),
+    ("bed_height", "0.04420427983419389"),
+    ("centre_velocity", "0.4629936994724564"),
+    ("centre_area_fraction", "0.5860516616633855"),
+    ("max_area_fraction", "0.5902493259431426"),
+    ("max_area_fraction_position", "-0.08333333333333337"),
+    ("stop_reason", "time_limit"),
+    ("discharged_mass", "0.007563384313517446"),
+    ("discharge_time", "0.6000000000000001"),
+    ("fill_time", "0.19"),
+    ("settled_kinetic_energy", "1.4356230833208067e-9"),
+    ("settled", "true"),
 ];
 
 /// SHA-256 of the output tables.
-const GOLDEN_FILES: &[(&str, &str)] =
-    &[("flow.csv", "?"), ("profiles.csv", "?"), ("field.csv", "?")];
+const GOLDEN_FILES: &[(&str, &str)] = &[
+    (
+        "flow.csv",
+        "e80e4a48c6b85550d5ac11103c72e2bcef2ae9b0dcbeeed58d05cd7d01cecadb",
+    ),
+    (
+        "profiles.csv",
+        "9f3229a51ded724391cf33f6a8d45d00aea417d550bb878962c2c723de544749",
+    ),
+    (
+        "field.csv",
+        "bb8d47f5cd9e9358b59d6fe78109d8aa5d3bafa675ae45fdb8a9509d1c8c6014",
+    ),
+];
 
 #[test]
 fn tiny_hopper_run_reproduces_its_golden_outputs() {

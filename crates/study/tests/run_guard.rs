@@ -190,6 +190,11 @@ fn restart_equals_a_fresh_run() {
             .map(|(p, b)| (p.strip_prefix(base).expect("inside").to_path_buf(), b))
             .collect()
     };
+    assert_eq!(
+        tiny_hopper::read(&fresh, "case.toml"),
+        tiny_hopper::read(&reused, "case.toml"),
+        "the restart records the new inputs"
+    );
     assert!(
         strip(files(&fresh), &fresh) == strip(files(&reused), &reused),
         "a restart over another case's checkpoint differs from a fresh run"
@@ -222,7 +227,7 @@ label = "D"
 scale = 1000.0
 digits = 3
 "#;
-    let plan = parse_sweep(sweep, "guard.toml", &[]).expect("sweep");
+    let plan = parse_sweep(sweep, "guard.toml", None, &[]).expect("sweep");
     let root = tempfile::tempdir().expect("temporary directory");
     assert!(
         check_study_dir(&plan, root.path()).is_ok(),

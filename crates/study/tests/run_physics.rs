@@ -181,11 +181,14 @@ fn thirty_degree_hopper_empties_with_a_rate_the_outlet_flux_reproduces() {
     let rate = summary.discharge_rate;
     assert!(rate.is_finite() && rate > 0.0, "no discharge rate: {rate}");
     // Beverloo's scale for this slab: ρ_p Z √g D^{3/2} ≈ 2500 · 0.00303 · 3.13 · 0.0024
-    // ≈ 0.057 kg/s, times the packing and C ≈ 0.5 of the paper → order 0.02 kg/s. Seeds 1–4
-    // gave 24.2–24.6 g/s; a factor-of-two band catches unit or bookkeeping errors only.
+    // ≈ 0.057 kg/s, times the packing and C ≈ 0.5 of the paper → order 0.02 kg/s. Seeds 1–8
+    // (`hopperflow run` of this case with `--set seed=N`) gave 22.0–24.2 g/s: mean 23.3,
+    // standard deviation 0.8 g/s, about one run's own stated error. The band 23.3 ± 3.3 g/s
+    // is four of those standard deviations: any seed passes, while a change of physics or
+    // bookkeeping that moves W by a seventh fails.
     assert!(
-        (0.01..0.05).contains(&rate),
-        "discharge rate {rate} kg/s is not of Beverloo's order"
+        (0.0200..0.0266).contains(&rate),
+        "discharge rate {rate} kg/s is outside 23.3 ± 3.3 g/s"
     );
 
     // The outlet flux must account for the mass that leaves (physics.md §7.4). With only

@@ -166,6 +166,10 @@ pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> 
             return Err(StudyError::DuplicateCase(case.id.clone()));
         }
     }
+    if !root.is_dir() {
+        // Nothing there to continue or to mix with (creating it may still fail).
+        return Ok(());
+    }
     let manifest = StudyManifest::of_plan(plan);
     if let Some(old) = StudyManifest::read(&paths.manifest())? {
         if old.name != manifest.name || old.config_hash != manifest.config_hash {
