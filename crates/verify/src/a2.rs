@@ -12,10 +12,11 @@
 //! - rolling phase: deceleration a_r = (5/7) μ_r g, so s2 = v1²/(2 a_r) and t2 = v1/a_r.
 //!   For v0 = 0.1 m/s: t1 = 5.910 ms, s1 = 0.5053 mm, v1 = 0.07101 m/s, s2 = 35.99 mm, t2 = 1.013 s.
 //!
-//! physics.md §9 prints the μ_r = 0 sliding formulas t1 = 2 v0/(7 μ g), v1 = 5 v0/7,
-//! s1 = 12 v0²/(49 μ g) (5.82 ms, 0.07143 m/s, 0.499 mm, and then s2 = 36.41 mm, t2 = 1.019 s).
-//! Those neglect the rolling torque during sliding, which shifts t1 and s1 by 1.5 % and 1.2 % —
-//! more than the 1 % tolerance — so the exact expressions above are the expected values.
+//! The often-quoted μ_r = 0 sliding formulas t1 = 2 v0/(7 μ g), v1 = 5 v0/7,
+//! s1 = 12 v0²/(49 μ g) (5.82 ms, 0.07143 m/s, 0.499 mm, and then s2 = 36.41 mm, t2 = 1.019 s)
+//! neglect the rolling torque during sliding, which shifts t1 and s1 by 1.5 % and 1.2 % — more
+//! than the 1 % tolerance — so the exact expressions above are the expected values
+//! (physics.md §9 A2).
 //!
 //! Measurement: the end of sliding is where the contact-point slip v_x − R ω_y first crosses
 //! zero; rest is where v_x first crosses zero; both instants are interpolated between steps.
