@@ -128,8 +128,8 @@ def main():
     b_ns = median_and_range([x["b_ns"] for x in rounds])
     # Cost per particle-step grows with the contacts per particle. Two builds whose results
     # differ in any bit follow different trajectories from the same cached hopper, and their
-    # windows need not hold the same number of contacts (the thirteenth session's builds
-    # differed by 5 %): the ratio then mixes speed with work.
+    # windows need not hold the same number of contacts (such builds can differ by 5 %):
+    # the ratio then mixes speed with work.
     contacts = {
         side: statistics.median(
             x[f"{side}_contacts_per_particle"] or 0.0 for x in rounds
