@@ -5,6 +5,8 @@ use clap::{Parser, Subcommand};
 mod bench_cmd;
 mod report_cmd;
 mod run_cmd;
+mod signals;
+mod slurm_cmd;
 mod study_cmd;
 mod verify_cmd;
 

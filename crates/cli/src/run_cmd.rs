@@ -177,6 +177,7 @@ pub fn run(args: RunArgs) -> i32 {
         progress: Some(progress),
         pictures: true,
         chunk_limit: None,
+        stop: Some(crate::signals::stop_flag()),
     };
     let started = std::time::Instant::now();
     let outcome = run_case(&case, &args.out, &options);
@@ -225,7 +226,13 @@ pub fn run(args: RunArgs) -> i32 {
             println!("wall time {:.1} s", started.elapsed().as_secs_f64());
             0
         }
-        Ok(RunOutcome::Interrupted) => 0,
+        Ok(RunOutcome::Interrupted) => {
+            eprintln!(
+                "stopped by a signal; the checkpoint in {} continues with --resume",
+                args.out.display()
+            );
+            crate::signals::EXIT_STOPPED
+        }
         Err(
             e @ (RunError::OtherInputs { .. }
             | RunError::BadCheckpoint { .. }

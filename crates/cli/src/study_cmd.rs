@@ -2,9 +2,11 @@
 //! file) in parallel and resumably, then prints where the results are.
 
 use std::path::PathBuf;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use clap::Args;
+
+use crate::slurm_cmd::SlurmArgs;
 use indicatif::{ProgressBar, ProgressStyle};
 use study::config::{builtin_sweep, load_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
 use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyError, StudyEvent, StudyOptions};
@@ -34,6 +36,56 @@ pub struct StudyArgs {
     /// Skip the per-case plots and frames (faster; the report does not need them).
     #[arg(long)]
     no_pictures: bool,
+    /// Worker threads of each case (results do not depend on it). With --slurm it is
+    /// --cpus-per-task.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    case_threads: u32,
+    #[command(flatten)]
+    cluster: SlurmArgs,
+}
+
+/// The exit status of a study-level error: 2 for what the user's inputs or folder cause
+/// (another sweep in the folder, a case folder of other inputs, an unknown case), 1 else.
+pub fn exit_code_of(e: &StudyError) -> i32 {
+    match e {
+        StudyError::DifferentStudy { .. }
+        | StudyError::CaseFolder { .. }
+        | StudyError::DuplicateCase(_)
+        | StudyError::UnknownCase { .. } => 2,
+        _ => 1,
+    }
+}
+
+/// The hopperflow binary and this study's own arguments, as an array task or the report
+/// job must repeat them to plan the same study (the sweep file by its absolute path).
+fn task_command(args: &StudyArgs, out: &std::path::Path, threads: u32) -> Vec<String> {
+    let exe = std::env::current_exe()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|_| "hopperflow".into());
+    let sweep = if builtin_sweep(&args.sweep).is_some() {
+        args.sweep.clone()
+    } else {
+        std::path::absolute(&args.sweep)
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|_| args.sweep.clone())
+    };
+    let mut words = vec![exe, "study".into(), sweep];
+    let out = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    words.extend(["--out".into(), out.display().to_string()]);
+    if args.quick {
+        words.push("--quick".into());
+    }
+    if let Some(r) = args.replicas {
+        words.extend(["--replicas".into(), r.to_string()]);
+    }
+    for set in &args.sets {
+        words.extend(["--set".into(), set.clone()]);
+    }
+    if args.no_pictures {
+        words.push("--no-pictures".into());
+    }
+    words.extend(["--case-threads".into(), threads.to_string()]);
+    words
 }
 
 /// The sweep text and its plan.
@@ -130,6 +182,13 @@ pub fn run(args: StudyArgs) -> i32 {
         }
         return 0;
     }
+    if args.cluster.status {
+        let dir = args
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(&args.sweep));
+        return crate::slurm_cmd::status(&dir);
+    }
     let (text, plan) = match plan(&args) {
         Ok(p) => p,
         Err(e) => {
@@ -141,16 +200,27 @@ pub fn run(args: StudyArgs) -> i32 {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("study-{}", plan.name)));
+    let stop = crate::signals::stop_flag();
+    let runner = SimulationRunner {
+        pictures: !args.no_pictures,
+        stop: Some(Arc::clone(&stop)),
+        threads: args.case_threads as usize,
+    };
+    if let (Some(index), Some(list)) = (args.cluster.task_index, &args.cluster.task_list) {
+        return crate::slurm_cmd::task(&plan, &out, list, index, &runner);
+    }
+    if args.cluster.collect {
+        return crate::slurm_cmd::collect(&plan, &out);
+    }
+    if args.cluster.slurm {
+        let command = task_command(&args, &out, args.cluster.cpus_per_task);
+        return crate::slurm_cmd::write_jobs(&plan, &text, &out, &command, &args.cluster);
+    }
     // A folder of another sweep, or a case folder of other inputs, is refused before
     // anything in it changes.
     if let Err(e) = study::sweep::check_study_dir(&plan, &out) {
         eprintln!("error: {e}");
-        return match e {
-            StudyError::DifferentStudy { .. }
-            | StudyError::CaseFolder { .. }
-            | StudyError::DuplicateCase(_) => 2,
-            _ => 1,
-        };
+        return exit_code_of(&e);
     }
     if let Err(e) = std::fs::create_dir_all(&out) {
         eprintln!("error: cannot create {}: {e}", out.display());
@@ -211,9 +281,6 @@ pub fn run(args: StudyArgs) -> i32 {
             }
         }
     };
-    let runner = SimulationRunner {
-        pictures: !args.no_pictures,
-    };
     let options = StudyOptions {
         jobs: args.jobs.unwrap_or(0),
     };
@@ -230,7 +297,12 @@ pub fn run(args: StudyArgs) -> i32 {
             );
             println!("results: {}", out.join("results.csv").display());
             println!("report:  hopperflow report {}", out.display());
-            if outcome.failures.is_empty() {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                eprintln!(
+                    "stopped by a signal: running cases wrote checkpoints; rerun the same command to continue"
+                );
+                crate::signals::EXIT_STOPPED
+            } else if outcome.failures.is_empty() {
                 0
             } else {
                 eprintln!(

@@ -188,6 +188,64 @@ fn run_killed_in_fill_and_discharge_resumes_to_the_uninterrupted_bytes() {
 }
 
 #[test]
+fn sigterm_checkpoints_exits_75_and_the_resumed_run_matches() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let case = dir.path().join("tiny.toml");
+    std::fs::write(&case, TINY_CASE).expect("write case");
+    let (reference, stopped) = (dir.path().join("reference"), dir.path().join("stopped"));
+    let case = path_str(&case);
+    let done = run_to_end(&["run", case, "--out", path_str(&reference), "--quiet"]);
+    assert!(done.status.success(), "reference run");
+
+    // SIGTERM (a scheduler's time limit, scancel) once the run is in its settling phase or
+    // later: the run writes a checkpoint after its current chunk and exits with 75.
+    let child = binary()
+        .args(["run", case, "--out", path_str(&stopped), "--quiet"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the hopperflow binary starts");
+    let started = Instant::now();
+    while !read_checkpoint_header(&stopped.join(CHECKPOINT_FILE))
+        .is_ok_and(|h| h.phase == "discharge")
+    {
+        assert!(started.elapsed() < PATIENCE, "no discharge checkpoint");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let seen = read_checkpoint_header(&stopped.join(CHECKPOINT_FILE)).expect("header");
+    let term = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(term.success());
+    let output = child.wait_with_output().expect("reap");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        output.status.code(),
+        Some(75),
+        "exit status after SIGTERM: {stderr}"
+    );
+    assert!(stderr.contains("stopped by a signal"), "{stderr}");
+    let left = read_checkpoint_header(&stopped.join(CHECKPOINT_FILE)).expect("checkpoint");
+    assert!(
+        left.time >= seen.time,
+        "the checkpoint written on SIGTERM is the latest one ({} s, seen {} s)",
+        left.time,
+        seen.time
+    );
+    let resumed = run_to_end(&[
+        "run",
+        case,
+        "--out",
+        path_str(&stopped),
+        "--resume",
+        "--quiet",
+    ]);
+    assert!(resumed.status.success(), "resume after SIGTERM");
+    assert_same_files(&reference, &stopped, "stopped by SIGTERM and resumed");
+}
+
+#[test]
 fn resume_after_an_edit_is_refused_and_restart_equals_a_fresh_run() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let case_path = dir.path().join("tiny.toml");

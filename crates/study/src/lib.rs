@@ -4,6 +4,7 @@
 //! nothing of the engine. This crate wires the two for the hopper problem.
 
 pub mod bench;
+pub mod cluster;
 pub mod config;
 pub mod hopper;
 pub mod measure;

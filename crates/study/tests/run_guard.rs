@@ -254,7 +254,10 @@ digits = 3
     let err = study::sweep::run_study(
         &plan,
         root.path(),
-        &study::sweep::SimulationRunner { pictures: false },
+        &study::sweep::SimulationRunner {
+            pictures: false,
+            ..Default::default()
+        },
         &study::sweep::StudyOptions::default(),
         &|_| {},
     )

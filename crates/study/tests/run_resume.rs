@@ -28,6 +28,7 @@ fn recording_options(
         })),
         pictures: false,
         chunk_limit,
+        stop: None,
     };
     (options, phases)
 }

@@ -83,7 +83,10 @@ fn study_resume_matches_uninterrupted() {
     let plan = parse_sweep(TINY_SWEEP, "tiny", None, &[]).expect("the tiny sweep must expand");
     assert_eq!(plan.cases.len(), 2);
     let runner = || CountingRunner {
-        inner: SimulationRunner { pictures: false },
+        inner: SimulationRunner {
+            pictures: false,
+            ..Default::default()
+        },
         calls: AtomicUsize::new(0),
     };
     let options = StudyOptions { jobs: 2 };

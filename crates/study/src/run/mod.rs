@@ -5,6 +5,7 @@ mod outputs;
 mod protocol;
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -128,6 +129,9 @@ pub struct RunOptions {
     pub pictures: bool,
     /// Stop after this many protocol chunks (testing interruptions); `None` runs to the end.
     pub chunk_limit: Option<u64>,
+    /// Set from outside (a signal handler: SIGTERM from a scheduler, Ctrl-C) to stop the run
+    /// after its current protocol chunk, with a checkpoint written.
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl Default for RunOptions {
@@ -138,6 +142,7 @@ impl Default for RunOptions {
             progress: None,
             pictures: false,
             chunk_limit: None,
+            stop: None,
         }
     }
 }
@@ -147,7 +152,8 @@ impl Default for RunOptions {
 pub enum RunOutcome {
     /// The case finished; its summary.
     Finished(Box<CaseSummary>),
-    /// Stopped early by `chunk_limit`; a checkpoint was written.
+    /// Stopped early by `chunk_limit` or the `stop` flag; a checkpoint was written, from
+    /// which a resumed run continues bit-identically.
     Interrupted,
 }
 
@@ -421,7 +427,11 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             last_report = (Instant::now(), sim.steps(), sim.particles().len());
         }
         protocol_time.add(phase, chunk_started.elapsed().as_secs_f64());
-        if options.chunk_limit.is_some_and(|limit| chunks >= limit) {
+        let stopped = options
+            .stop
+            .as_ref()
+            .is_some_and(|flag| flag.load(Ordering::Relaxed));
+        if stopped || options.chunk_limit.is_some_and(|limit| chunks >= limit) {
             let header = checkpoint_header(case, &case_text, &hash, &run);
             write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
             return Ok(RunOutcome::Interrupted);

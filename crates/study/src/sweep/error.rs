@@ -55,6 +55,14 @@ pub enum StudyError {
         #[source]
         source: Box<crate::run::RunError>,
     },
+    /// A task names a case that the sweep does not have.
+    #[error("the sweep has no case '{id}' (it has {known} cases)")]
+    UnknownCase {
+        /// The identifier asked for.
+        id: String,
+        /// How many cases the sweep has.
+        known: usize,
+    },
     /// Two cases of the plan share an identifier, so they would share a directory.
     #[error("the sweep has two cases named '{0}'")]
     DuplicateCase(String),

@@ -10,6 +10,7 @@ mod manifest;
 mod results;
 mod runner;
 mod simulation;
+mod task;
 
 pub use error::StudyError;
 pub use manifest::{CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
@@ -18,4 +19,8 @@ pub use runner::{
     check_study_dir, expected_cost, run_study, CaseRunner, StudyEvent, StudyOptions, StudyOutcome,
     StudyPaths, SUMMARY_FILE,
 };
-pub use simulation::SimulationRunner;
+pub use simulation::{SimulationRunner, STOPPED};
+pub use task::{
+    case_states, collect_study, prepare_study, run_task, CaseState, Collected, TaskOutcome,
+    FAILURE_FILE,
+};

@@ -129,14 +129,26 @@ impl StudyPaths {
     }
 }
 
+/// Saves a summary the runner returned but did not save, so that the case counts as finished
+/// on a restart, and returns it as read back from disk: JSON parsing may differ from the
+/// in-memory value in the last bit, and the table of a resumed (or collected) study must
+/// equal an uninterrupted one.
+pub(crate) fn keep_summary(dir: &Path, summary: CaseSummary) -> Result<CaseSummary, String> {
+    let path = dir.join(SUMMARY_FILE);
+    if !path.exists() {
+        write_json_atomic(&path, &summary).map_err(|e| e.to_string())?;
+    }
+    Ok(finished_summary(dir).unwrap_or(summary))
+}
+
 /// Reads a finished case's summary; `None` when it is absent or unreadable (then the case
 /// is run again: summaries are written atomically, so an unreadable one is not ours).
-fn finished_summary(dir: &Path) -> Option<CaseSummary> {
+pub(crate) fn finished_summary(dir: &Path) -> Option<CaseSummary> {
     let text = std::fs::read_to_string(dir.join(SUMMARY_FILE)).ok()?;
     serde_json::from_str(&text).ok()
 }
 
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     if let Some(text) = payload.downcast_ref::<&str>() {
         (*text).to_string()
     } else if let Some(text) = payload.downcast_ref::<String>() {
@@ -258,18 +270,7 @@ pub fn run_study(
                 |payload| Err(format!("the run panicked: {}", panic_message(&*payload))),
             ),
         };
-        // A summary the runner returned but did not save is saved here, so that the
-        // case counts as finished on a restart.
-        // The row is built from the summary as read back from disk, exactly as a restarted
-        // study will read it: JSON parsing may differ from the in-memory value in the last
-        // bit, and the table of a resumed study must equal an uninterrupted one.
-        let result = result.and_then(|summary| {
-            let path = dir.join(SUMMARY_FILE);
-            if !path.exists() {
-                write_json_atomic(&path, &summary).map_err(|e| e.to_string())?;
-            }
-            Ok(finished_summary(&dir).unwrap_or(summary))
-        });
+        let result = result.and_then(|summary| keep_summary(&dir, summary));
         let wall_time = started.elapsed().as_secs_f64();
         let (row, reason) = match result {
             Ok(summary) => (ResultRow::measured(case, &summary), None),

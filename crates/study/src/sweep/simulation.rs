@@ -2,38 +2,59 @@
 //! side instead, which scales better than threads inside a 3000-particle run).
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use super::runner::CaseRunner;
 use crate::config::SweepCase;
 use crate::run::{run_case, RunOptions, RunOutcome};
 use crate::summary::CaseSummary;
 
+/// What a case stopped by the `stop` flag reports as its error.
+pub const STOPPED: &str = "stopped by a signal; its checkpoint will be resumed";
+
 /// Runs each case with [`run_case`], resuming its own checkpoints.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct SimulationRunner {
     /// Write each case's plots and frames too (slower; the study's report does not need them).
     pub pictures: bool,
+    /// When set (by a signal handler), running cases checkpoint and stop after their current
+    /// protocol chunk, and cases not yet started are not started.
+    pub stop: Option<Arc<AtomicBool>>,
+    /// Worker threads of each case (1 by default: cases side by side use the cores better;
+    /// results do not depend on it).
+    pub threads: usize,
 }
 
 impl Default for SimulationRunner {
     fn default() -> Self {
-        Self { pictures: true }
+        Self {
+            pictures: true,
+            stop: None,
+            threads: 1,
+        }
     }
 }
 
 impl CaseRunner for SimulationRunner {
     fn run(&self, case: &SweepCase, dir: &Path) -> Result<CaseSummary, String> {
+        if self
+            .stop
+            .as_ref()
+            .is_some_and(|flag| flag.load(Ordering::Relaxed))
+        {
+            return Err(STOPPED.to_string());
+        }
         let options = RunOptions {
-            threads: 1,
+            threads: self.threads.max(1),
             resume: true,
             pictures: self.pictures,
+            stop: self.stop.clone(),
             ..RunOptions::default()
         };
         match run_case(&case.case, dir, &options) {
             Ok(RunOutcome::Finished(summary)) => Ok(*summary),
-            Ok(RunOutcome::Interrupted) => {
-                Err("the run stopped early; its checkpoint will be resumed".to_string())
-            }
+            Ok(RunOutcome::Interrupted) => Err(STOPPED.to_string()),
             Err(e) => Err(e.to_string()),
         }
     }

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The project's test command (README; .ci/run calls it): the Rust tests, then the Slurm
+# tests against a one-node cluster that it starts on this machine and stops again.
+#
+# The Slurm part installs Debian's slurm-wlm and munge where they are missing, so it needs
+# root (as CI has); HOPPERFLOW_SKIP_SLURM=1 leaves it out on a machine without them.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+cargo test --workspace --locked
+
+if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
+    echo "Slurm tests skipped (HOPPERFLOW_SKIP_SLURM=1)"
+    exit 0
+fi
+cluster=$(mktemp -d -t hopperflow-slurm.XXXXXX)
+trap 'scripts/slurm-cluster.sh stop "$cluster"' EXIT
+scripts/slurm-cluster.sh start "$cluster"
+SLURM_CONF="$cluster/slurm.conf" cargo test -p hopperflow --test slurm --locked -- --ignored
