@@ -1,5 +1,10 @@
 //! `hopperflow study`: runs a parametric study (the built-in fan2023 programme or a sweep
-//! file) in parallel and resumably, then prints where the results are.
+//! file) in parallel and resumably, then writes its report (`report/` in the output
+//! folder, as `hopperflow report` does) unless `--no-report`, and prints where both are.
+//!
+//! Exit status: 0 when every case finished and the report is written; 3 when a case failed
+//! (the report of what finished is still written); 1 when the study or its report could
+//! not be written; 2 for bad input.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -42,6 +47,9 @@ pub struct StudyArgs {
     case_threads: u32,
     #[command(flatten)]
     cluster: SlurmArgs,
+    /// Do not write the report at the end (build it later with `hopperflow report DIR`).
+    #[arg(long)]
+    no_report: bool,
 }
 
 /// The exit status of a study-level error: 2 for what the user's inputs or folder cause
@@ -296,21 +304,43 @@ pub fn run(args: StudyArgs) -> i32 {
                 outcome.failures.len()
             );
             println!("results: {}", out.join("results.csv").display());
-            println!("report:  hopperflow report {}", out.display());
             if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                // Stopped cases are unfinished, not failed: no report of a partial study.
                 eprintln!(
                     "stopped by a signal: running cases wrote checkpoints; rerun the same command to continue"
                 );
-                crate::signals::EXIT_STOPPED
-            } else if outcome.failures.is_empty() {
-                0
+                return crate::signals::EXIT_STOPPED;
+            }
+            // The report covers what finished; failed cases are left out of its fits
+            // and counted in it.
+            let report_ok = if args.no_report {
+                println!("report:  hopperflow report {}", out.display());
+                true
             } else {
+                match study::report::build_report(&out) {
+                    Ok(files) => {
+                        println!("report:  {}", files.markdown.display());
+                        println!("html:    {}", files.html.display());
+                        println!("comparison: {}", files.comparison.display());
+                        true
+                    }
+                    Err(e) => {
+                        eprintln!("error: the report could not be written: {e}");
+                        false
+                    }
+                }
+            };
+            if !outcome.failures.is_empty() {
                 eprintln!(
                     "{} case(s) failed (see {}); rerun the same command to retry them",
                     outcome.failures.len(),
                     out.join("failures.json").display()
                 );
                 3
+            } else if report_ok {
+                0
+            } else {
+                1
             }
         }
         Err(e) => {

@@ -204,6 +204,42 @@ fn a_study_with_a_failed_case_exits_with_three_and_lists_it() {
     let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.expect("a row")).collect();
     assert_eq!(rows.len(), 1);
     assert_eq!((&rows[0][id], &rows[0][status]), (ONE_CASE_ID, "failed"));
+    // The report of what finished is written all the same (here: nothing measured).
+    let comparison = out.join("report/comparison.json");
+    assert!(
+        comparison.is_file(),
+        "a study with a failed case still writes its report"
+    );
+    let report = std::fs::read_to_string(out.join("report/report.md")).expect("report.md");
+    assert!(report.contains("1 failed"), "the report counts the failure");
+}
+
+#[test]
+fn a_study_with_no_report_leaves_no_report_folder() {
+    // The same failing one-case study (fast), with --no-report: exit 3 for the failure,
+    // and no report/ folder.
+    let scratch = tempfile::tempdir().expect("temporary directory");
+    let sweep = scratch.path().join("sweep.toml");
+    std::fs::write(&sweep, ONE_CASE_SWEEP).expect("sweep written");
+    let out = scratch.path().join("study");
+    std::fs::create_dir_all(out.join("cases")).expect("cases folder");
+    std::fs::write(out.join("cases").join(ONE_CASE_ID), b"not a folder").expect("blocker");
+    let output = hopperflow(&[
+        "study",
+        utf8(&sweep),
+        "--out",
+        utf8(&out),
+        "--jobs",
+        "1",
+        "--no-pictures",
+        "--no-report",
+    ]);
+    assert_status(&output, EXIT_CASE_FAILED, "study with --no-report");
+    assert!(out.join("results.csv").is_file());
+    assert!(
+        !out.join("report").exists(),
+        "--no-report must not write the report"
+    );
 }
 
 #[test]

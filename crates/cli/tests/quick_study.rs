@@ -44,6 +44,50 @@ fn quick_study_runs_and_its_report_builds() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "the quick study failed:\n{stderr}");
 
+    // The study's command leaves its report behind, with the comparison items of the
+    // paper's conventions: Fig. 2b's pooled k and Table 2's b trend. Two widths per angle
+    // are too few for a Beverloo fit (it needs three), so the pooled k must say "not
+    // measured" rather than fail; the b trend has 30° and 90°, so it is measured at least
+    // under the strip definition.
+    let written: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("report/comparison.json"))
+            .expect("`study` wrote report/comparison.json"),
+    )
+    .expect("comparison.json parses");
+    let find = |start: &str| {
+        written
+            .as_array()
+            .expect("an array of items")
+            .iter()
+            .find(|i| i["item"].as_str().is_some_and(|t| t.starts_with(start)))
+            .unwrap_or_else(|| panic!("no item {start}"))
+            .clone()
+    };
+    let pooled = find("Beverloo k (all α pooled");
+    assert_eq!(pooled["measured"], "not measured", "{pooled}");
+    assert_eq!(pooled["pass"], serde_json::Value::Null);
+    let trend = find("Table 2 trend: b rises");
+    let shown = trend["measured"].as_str().expect("a text");
+    assert!(
+        shown.contains("strip area fraction: ") && shown.contains("crossing number density: "),
+        "both φ definitions shown: {trend}"
+    );
+    assert!(out.join("report/report.md").is_file());
+
+    // Every case lists its outlet crossings, one row per crossing counted in W.
+    for entry in std::fs::read_dir(out.join("cases")).expect("cases") {
+        let case = entry.expect("entry").path();
+        let (headers, rows) = read_csv(&case.join("crossings.csv"));
+        assert_eq!(headers[0], "time_s");
+        assert_eq!(headers.last().map(String::as_str), Some("id"));
+        assert!(
+            rows.len() > 100,
+            "{}: {} crossings",
+            case.display(),
+            rows.len()
+        );
+    }
+
     // The quick preset has six grid points (two angles × two widths, and the wall outlet at
     // both widths), each run once; every one must finish.
     let (headers, rows) = read_csv(&out.join("results.csv"));

@@ -88,6 +88,14 @@ pub struct CaseSummary {
     pub settled_kinetic_energy: f64,
     /// Whether the settling threshold was reached before the settle time limit.
     pub settled: bool,
+    /// Exponent b of φ/φ_c = (1 − x*²)^b (paper Eq. 11) fitted to this run's strip
+    /// area-fraction profile (bins |x*| ≤ 0.9, divided by the centre value) [-]; `null`
+    /// when the profile is missing or the fit fails.
+    #[serde(default)]
+    pub area_fraction_exponent: Option<f64>,
+    /// The same exponent for the crossing number-density profile [-]; `null` as above.
+    #[serde(default)]
+    pub crossing_area_fraction_exponent: Option<f64>,
 }
 
 /// One x-bin of the outlet profiles (`profiles.csv`).
@@ -111,4 +119,17 @@ pub struct ProfileRow {
     pub area_fraction_velocity: f64,
     /// Snapshot mean downward velocity in the strip [m/s] (NaN if none).
     pub snapshot_velocity: f64,
+    /// Area fraction from the number density of centres crossing the outlet line,
+    /// Σ π r²/|v_z| over the bin's crossings / (window × bin width) [-] (NaN without
+    /// crossings; see `measure::crossing`). A second definition of φ(x) beside the strip's.
+    #[serde(default = "not_measured")]
+    pub crossing_area_fraction: f64,
+    /// Standard error of that fraction from time blocks [-] (NaN when unknown).
+    #[serde(default = "not_measured")]
+    pub crossing_area_fraction_error: f64,
+}
+
+/// NaN: the value of a column that a profiles table written before it existed lacks.
+fn not_measured() -> f64 {
+    f64::NAN
 }

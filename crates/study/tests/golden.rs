@@ -47,7 +47,7 @@ const GOLDEN_FILES: &[(&str, &str)] = &[
     ),
     (
         "profiles.csv",
-        "9f3229a51ded724391cf33f6a8d45d00aea417d550bb878962c2c723de544749",
+        "43f8525edaa447d89a59810688a3ae20d2bf351e225d8110004bf25d01a89ec6",
     ),
     (
         "field.csv",

@@ -294,3 +294,56 @@ fn record_survives_a_json_round_trip_and_gives_the_same_profile() {
         }
     }
 }
+
+#[test]
+fn crossing_density_profile_recovers_the_area_fraction_of_a_falling_lattice() {
+    // Columns of centres, one per bin centre (bins 3 mm wide), fall through the outlet line.
+    // Bins 1–8: rows 4 mm apart at 0.8 m/s, areal density n = 1/(3 mm · 4 mm), so
+    // φ_n = n π r² = π (1.5 mm)²/12 mm² = 0.589. Bin 0: rows 8 mm apart at 1.6 m/s, the
+    // same flux of centres but half the density: φ_n = 0.295, which a plain count of
+    // crossings (a flux) could not tell from bins 1–8. Bin 9 stays empty.
+    let g = geometry();
+    let bins = OutletBins::across(&g, 10).unwrap();
+    let z_o = g.outlet_height;
+    let mut particles = Vec::new();
+    let mut id = 0;
+    for bin in 0..9 {
+        let speed = if bin == 0 { 1.6 } else { 0.8 };
+        for k in 0..10 {
+            // Crossing at 2.5 ms + 5 ms · k: one per column in each of the window's ten
+            // 5 ms blocks.
+            let t_cross = 2.5e-3 + 5.0e-3 * k as f64;
+            particles.push((id, bins.x_centre(bin), z_o + speed * t_cross, 0.0, -speed));
+            id += 1;
+        }
+    }
+    let mut probe = CrossingProbe::new(g).unwrap();
+    for frame in 0..=50 {
+        observe_at(&mut probe, &particles, 1.0e-3 * frame as f64);
+    }
+    assert_eq!(probe.record().events.len(), 90);
+    let profile = probe
+        .record()
+        .crossing_density_profile(TimeWindow::new(0.0, 0.05).unwrap(), &bins);
+    let r = 0.5 * D;
+    let dense = PI * r * r / (bins.width() * 4.0e-3);
+    // Sums of ten equal terms and a few products: round-off only (1e-12 relative).
+    for bin in 1..9 {
+        let phi = profile.area_fraction[bin].unwrap();
+        assert!(
+            (phi / dense - 1.0).abs() < 1e-12,
+            "bin {bin}: {phi} vs {dense}"
+        );
+        // Every block holds the same crossing, so the blocks do not scatter.
+        assert!(profile.standard_error[bin].unwrap() < 1e-12 * dense);
+    }
+    let sparse = profile.area_fraction[0].unwrap();
+    assert!((sparse / (0.5 * dense) - 1.0).abs() < 1e-12, "{sparse}");
+    assert_eq!(profile.area_fraction[9], None);
+    assert_eq!(profile.standard_error[9], None);
+    // The events carry what crossings.csv writes: identifier, radius and v_x.
+    let first = probe.record().events[0];
+    assert_eq!(first.radius, r);
+    assert_eq!(first.velocity_x, 0.0);
+    assert!(first.id < 90);
+}

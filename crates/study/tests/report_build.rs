@@ -126,16 +126,30 @@ fn report_of_a_paper_like_study_passes_every_item_and_writes_all_documents() {
     run_fake(FAN2023_SWEEP, dir.path(), &FakeRunner::new());
     let files = build_report(dir.path()).unwrap();
     let items = comparison(dir.path());
-    assert_eq!(items.len(), 10);
+    assert_eq!(items.len(), 12);
     for i in &items {
         let mut keys: Vec<&str> = i.as_object().unwrap().keys().map(|k| k.as_str()).collect();
         keys.sort();
         assert_eq!(keys, ["band", "item", "measured", "paper", "pass"]);
-        // The fake follows the paper's laws, so every item must be measured and pass.
-        assert_eq!(i["pass"], Value::Bool(true), "{i}");
+        if i["item"]
+            .as_str()
+            .unwrap()
+            .starts_with("Beverloo k (α = 90°")
+        {
+            // The reference row: measured, with no band of its own.
+            assert_eq!(i["pass"], Value::Null, "{i}");
+            assert!(i["measured"].is_number(), "{i}");
+        } else {
+            // The fake follows the paper's laws, so every item must be measured and pass.
+            assert_eq!(i["pass"], Value::Bool(true), "{i}");
+        }
     }
-    let k = item(&items, "Beverloo k")["measured"].as_f64().unwrap();
-    assert!((k - 1.55).abs() < 1e-6);
+    // The fake's W is Beverloo with k = 1.55 at every angle, times Brown's α factor, so the
+    // 90° fit recovers 1.55 to rounding.
+    let k90 = item(&items, "Beverloo k (α = 90°")["measured"]
+        .as_f64()
+        .unwrap();
+    assert!((k90 - 1.55).abs() < 1e-6, "k(90°) = {k90}");
 
     let md = std::fs::read_to_string(&files.markdown).unwrap();
     let html = std::fs::read_to_string(&files.html).unwrap();
@@ -198,9 +212,14 @@ fn quick_study_report_builds_with_not_measured_rows() {
     run_fake(FAN2023_QUICK_SWEEP, dir.path(), &FakeRunner::new());
     build_report(dir.path()).unwrap();
     let items = comparison(dir.path());
-    assert_eq!(items.len(), 10);
+    assert_eq!(items.len(), 12);
     // Two widths only: no Beverloo fit (needs 3) and no Eq. 12 fit (needs 4).
-    for name in ["Beverloo k", "φ∞(90°)", "Table 2 trend: γ flat"] {
+    for name in [
+        "Beverloo k (all α pooled",
+        "Beverloo k (α = 90°",
+        "φ∞(90°)",
+        "Table 2 trend: γ flat",
+    ] {
         let i = item(&items, name);
         assert_eq!(i["measured"], Value::String("not measured".into()), "{i}");
         assert_eq!(i["pass"], Value::Null);
@@ -211,10 +230,22 @@ fn quick_study_report_builds_with_not_measured_rows() {
         "a(90°)",
         "b(90°)",
         "Table 2 trend: γ rises",
+        "Table 2 trend: b rises",
         "W(s = 0)/W0",
     ] {
         assert_eq!(item(&items, name)["pass"], Value::Bool(true), "{name}");
     }
+    // The b trend from the strip profiles at 30° and 90° (the fake's 0.19 and 0.39); the
+    // fake writes no crossing profiles, and the item says so instead of failing.
+    let trend = item(&items, "Table 2 trend: b rises")["measured"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(trend.contains("strip area fraction: 0.1"), "{trend}");
+    assert!(
+        trend.contains("crossing number density: not measured"),
+        "{trend}"
+    );
     let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
     assert!(
         md.contains("not measured (1 outlet width(s); the fit needs at least 3)")
@@ -239,4 +270,119 @@ fn report_survives_failed_cases_and_missing_profiles() {
     );
     let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
     assert!(md.contains("1 failed"));
+}
+
+#[test]
+fn pooled_beverloo_k_fits_every_angle_together_and_differs_from_the_flat_bottom_fit() {
+    // k rising as the hopper steepens, 1.55 at 90° to 2.3 at 15°: one line through all
+    // angles then has an intercept unlike the 90° line's. (With one k at every angle, the
+    // pooled intercept equals it: Brown's factor scales each angle's line about the same
+    // root D = kd.)
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner {
+        beverloo_k: Some(|alpha| 1.55 + (90.0 - alpha) / 100.0),
+        ..FakeRunner::new()
+    };
+    run_fake(FAN2023_SWEEP, dir.path(), &fake);
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    // Fig. 2b fits one line through the points of all angles. Recompute it independently:
+    // every centred angle-series case of results.csv in one Beverloo fit.
+    let data = load_study(dir.path()).unwrap();
+    let points: Vec<_> = data
+        .points
+        .iter()
+        .filter(|p| p.series == "angle" && p.is_centred())
+        .collect();
+    let angles: std::collections::BTreeSet<u64> =
+        points.iter().map(|p| p.hopper_angle_deg as u64).collect();
+    assert_eq!(angles.len(), 5, "all five angles enter the pooled fit");
+    let analysis = analyse_study(&data.points);
+    let pooled = study::report::beverloo::pooled_angle_fit(&analysis.beverloo, "angle").unwrap();
+    assert_eq!(pooled.hopper_angles, [15.0, 30.0, 55.0, 75.0, 90.0]);
+    let normalisation = analysis::beverloo::BeverlooNormalisation {
+        slab_thickness: points[0].thickness,
+        particle_diameter: points[0].particle_diameter,
+        particle_density: points[0].particle_density,
+        bulk_fraction: pooled.bulk_fraction,
+        area_fraction: pooled.area_fraction,
+        gravity: study::report::GRAVITY,
+    };
+    let d: Vec<f64> = points.iter().map(|p| p.outlet_width).collect();
+    let w: Vec<f64> = points.iter().map(|p| p.discharge_rate.value).collect();
+    let e: Vec<f64> = points
+        .iter()
+        .map(|p| p.discharge_rate.standard_error)
+        .collect();
+    let expected =
+        analysis::beverloo::fit_beverloo_2d(&d, &w, Some(&e), &normalisation, 0.95).unwrap();
+    let k = item(&items, "Beverloo k (all α pooled")["measured"]
+        .as_f64()
+        .unwrap();
+    // The same points in a different order: equal to summation round-off (1e-9 of k).
+    assert!(
+        (k - expected.k.value).abs() < 1e-9,
+        "{k} vs {}",
+        expected.k.value
+    );
+    // The 90° row keeps the 90° line's own k (1.55 to rounding), and the pooled item is
+    // not it: the other angles' larger k pull it up by a few hundredths at least.
+    let k90 = item(&items, "Beverloo k (α = 90°")["measured"]
+        .as_f64()
+        .unwrap();
+    assert!((k90 - 1.55).abs() < 1e-6, "k(90°) = {k90}");
+    assert!(k - k90 > 0.05, "pooled {k} against the 90° fit {k90}");
+    // The report states the other codes' 90° values beside ours.
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    assert!(md.contains("LIGGGHTS 3.8") && md.contains("2.12") && md.contains("2.19"));
+}
+
+#[test]
+fn b_trend_shows_both_phi_definitions_and_fails_when_one_falls_with_angle() {
+    // Crossing-density b falling with α (0.5 − α/300: 0.4 at 30°, 0.2 at 90°) while the
+    // strip b follows Table 2 (rising): the item must show both and fail on the crossing one.
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner {
+        crossing_exponent: Some(|alpha| 0.5 - alpha / 300.0),
+        ..FakeRunner::new()
+    };
+    run_fake(FAN2023_SWEEP, dir.path(), &fake);
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    let trend = item(&items, "Table 2 trend: b rises");
+    assert_eq!(trend["pass"], Value::Bool(false), "{trend}");
+    let text = trend["measured"].as_str().unwrap();
+    assert!(
+        text.contains("strip area fraction: 0.19") && text.contains("crossing number density: 0.3"),
+        "{text}"
+    );
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    assert!(
+        md.contains("crossing number density: b(55°)"),
+        "the miss names the definition"
+    );
+
+    // Rising under both (α/300: 0.1 at 30° to 0.3 at 90°) passes, each value recovered
+    // within 0.01 (0.2 % profile noise, as in the recovery test).
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner {
+        crossing_exponent: Some(|alpha| alpha / 300.0),
+        ..FakeRunner::new()
+    };
+    run_fake(FAN2023_SWEEP, dir.path(), &fake);
+    build_report(dir.path()).unwrap();
+    let analysis = analyse_study(&load_study(dir.path()).unwrap().points);
+    for f in analysis.angles.iter().filter(|f| f.series == "angle") {
+        let b = f.crossing_packing_exponent.as_ref().unwrap().value;
+        assert!(
+            (b - f.hopper_angle_deg / 300.0).abs() < 0.01,
+            "b = {b} at {}°",
+            f.hopper_angle_deg
+        );
+    }
+    let items = comparison(dir.path());
+    assert_eq!(
+        item(&items, "Table 2 trend: b rises")["pass"],
+        Value::Bool(true)
+    );
 }

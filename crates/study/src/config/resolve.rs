@@ -15,7 +15,7 @@ use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
 use super::geometry::HopperGeometry;
 use super::particles::Material;
 use super::reader::Section;
-use super::resolve_particles::{read_material, read_particles};
+use super::resolve_particles::{read_material, read_particles, source};
 use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
 
 /// Pairs of keys that are alternatives: giving one through `--set` or a sweep axis
@@ -66,10 +66,15 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
     let particles = read_particles(&mut root.section("particles", &mut errors), &mut errors);
     // Diameter-based defaults and checks fall back to the paper's 3 mm when the particle
     // table itself is invalid; its own errors are already recorded.
-    let d_max = particles.as_ref().map_or(3.0e-3, |p| p.size.max_diameter());
+    let d_max = particles
+        .as_ref()
+        .map_or(3.0e-3, |(p, _)| p.size.max_diameter());
+    let d_max_source = particles.as_ref().map(|(_, s)| s.largest_diameter.as_str());
     let geometry = read_geometry(
         &mut root.section("geometry", &mut errors),
-        particles.as_ref().map(|p| p.size.max_diameter()),
+        particles
+            .as_ref()
+            .map(|(p, s)| (p.size.max_diameter(), s.largest_diameter.as_str())),
         &mut errors,
     );
     let wall = read_wall(&mut root.section("wall", &mut errors), &mut errors);
@@ -83,24 +88,27 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
     let protocol = read_protocol(
         &mut root.section("protocol", &mut errors),
         d_max,
+        d_max_source,
         height,
         &mut errors,
     );
     let measure = read_measure(
         &mut root.section("measure", &mut errors),
         d_max,
+        d_max_source,
         geometry.as_ref().map(|g| g.outlet_width),
-        time_step,
+        time_step.as_ref(),
         protocol.as_ref().map(|p| p.stop_fraction),
         &mut errors,
     );
     let output = read_output(&mut root.section("output", &mut errors), &mut errors);
     root.finish(TOP_KEYS, &mut errors);
 
+    let largest_diameter = d_max_source.map(str::to_string);
     let case = match (
         geometry, particles, wall, contact, time_step, protocol, measure, output,
     ) {
-        (Some(g), Some(p), Some(w), Some(c), Some(dt), Some(pr), Some(m), Some(o))
+        (Some(g), Some((p, _)), Some(w), Some(c), Some((dt, _)), Some(pr), Some(m), Some(o))
             if seed.value >= 0 =>
         {
             Some(Case {
@@ -118,7 +126,13 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         _ => None,
     };
     if let Some(case) = &case {
-        check_particles_fit(case, document, source, &mut errors);
+        check_particles_fit(
+            case,
+            document,
+            source,
+            largest_diameter.as_deref().unwrap_or("particles.diameter"),
+            &mut errors,
+        );
     }
     match case {
         Some(case) if errors.is_empty() => Ok(case),
@@ -152,9 +166,11 @@ fn read_interaction(
     })
 }
 
+/// Reads `[geometry]`; `d_max` is the largest particle diameter [m] with the key that set
+/// it, when the particles are valid.
 fn read_geometry(
     section: &mut Section<'_>,
-    d_max: Option<f64>,
+    d_max: Option<(f64, &str)>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<HopperGeometry> {
     let paper = HopperGeometry::paper();
@@ -210,13 +226,14 @@ fn read_geometry(
         ));
         ok = false;
     }
-    if let Some(d_max) = d_max {
+    if let Some((d_max, d_source)) = d_max {
         let smallest = MIN_OUTLET_DIAMETERS * d_max;
         if d < smallest {
             errors.push(outlet.error(
                 ErrorKind::Invalid,
                 format!(
-                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m)",
+                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the \
+                     largest diameter, {d_source}",
                     rounded(smallest)
                 ),
             ));
@@ -226,8 +243,9 @@ fn read_geometry(
             errors.push(thickness.error(
                 ErrorKind::Invalid,
                 format!(
-                    "must be ≥ the largest particle diameter ({} m); the paper uses 1.01 d",
-                    number(d_max)
+                    "must be ≥ the largest particle diameter ({} m), {d_source}; the paper \
+                     uses 1.01 d",
+                    rounded(d_max)
                 ),
             ));
             ok = false;
@@ -250,11 +268,14 @@ fn read_geometry(
                 errors.push(s.error(
                     ErrorKind::DoesNotFit,
                     format!(
-                        "the outlet does not fit: s + D = {} m exceeds {} ({} m); s must be ≤ L − D = {} m",
+                        "the outlet does not fit: s + D = {} m exceeds {} ({} m); s must be ≤ L − D = {} m, \
+                         from {} and {}",
                         rounded(s.value + d),
                         width.key,
                         number(l),
-                        rounded(l - d)
+                        rounded(l - d),
+                        source(&width),
+                        source(&outlet)
                     ),
                 ));
                 return None;
@@ -266,8 +287,10 @@ fn read_geometry(
                 errors.push(e.error(
                     ErrorKind::DoesNotFit,
                     format!(
-                        "the outlet does not fit: |e| must be ≤ (L − D)/2 = {} m",
-                        rounded(half_free)
+                        "the outlet does not fit: |e| must be ≤ (L − D)/2 = {} m, from {} and {}",
+                        rounded(half_free),
+                        source(&width),
+                        source(&outlet)
                     ),
                 ));
                 return None;
@@ -289,11 +312,19 @@ fn read_geometry(
     };
     let funnel = geometry.funnel_height();
     if funnel >= geometry.height {
+        // The rise is the longer plate's run (L − D)/2 ± e times cot α.
+        let position = if gap_value == half_free {
+            "a centred outlet".to_string()
+        } else {
+            format!("an outlet gap s = {} m", rounded(gap_value))
+        };
         errors.push(angle.error(
             ErrorKind::DoesNotFit,
             format!(
-                "the bottom plates would rise {} m, above {} ({} m)",
+                "the bottom plates would rise {} m (the longer plate's run times cot α, from {}, {} and {position}), above {} ({} m)",
                 rounded(funnel),
+                source(&width),
+                source(&outlet),
                 height.key,
                 number(geometry.height)
             ),
@@ -303,11 +334,13 @@ fn read_geometry(
     Some(geometry)
 }
 
-/// N particles at the densest assumed packing must fit below H (see `Case::packed_area`).
+/// N particles at the densest assumed packing must fit below H (see `Case::packed_area`);
+/// `diameter_source` names the key of the largest diameter with its value.
 fn check_particles_fit(
     case: &Case,
     document: &Table,
     source: &Arc<str>,
+    diameter_source: &str,
     errors: &mut Vec<ConfigError>,
 ) {
     if case.particles_fit() {
@@ -318,22 +351,43 @@ fn check_particles_fit(
     let count = particles
         .integer("count", &mut Vec::new())
         .unwrap_or_else(|| particles.default_value("count", case.particles.count as i64, ""));
-    let (what, packing) = if case.is_thick_slab() {
+    // The inputs of both areas, with their values: the sizes (and, for a thick slab, Z)
+    // set the particles' need, the hopper's keys its cross-section.
+    let mut geometry = root.section("geometry", &mut Vec::new());
+    let mut key = |name: &str, unit: &'static str, value: f64| {
+        let located = geometry
+            .float(name, unit, &mut Vec::new())
+            .unwrap_or_else(|| geometry.default_value(name, value, unit));
+        super::resolve_particles::source(&located)
+    };
+    let g = &case.geometry;
+    let hopper = [
+        key("width", "m", g.width),
+        key("height", "m", g.height),
+        key("outlet_width", "m", g.outlet_width),
+        key("hopper_angle_deg", "°", g.hopper_angle_deg),
+    ]
+    .join(", ");
+    let thickness = key("thickness", "m", g.thickness);
+    let (what, packing, need) = if case.is_thick_slab() {
         (
             "sphere volume",
             format!("volume fraction {}", super::case::BULK_VOLUME_FRACTION),
+            format!("the largest diameter, {diameter_source}, and {thickness}"),
         )
     } else {
         (
             "disc area",
             format!("area fraction {}", super::case::MONOLAYER_AREA_FRACTION),
+            format!("the largest diameter, {diameter_source}"),
         )
     };
     errors.push(count.error(
         ErrorKind::DoesNotFit,
         format!(
             "the particles cannot fit: their {what} needs {} m² of the hopper's cross-section at {packing}, \
-             but the hopper below H holds {} m²; lower the count or enlarge the hopper",
+             but the hopper below H holds {} m²; lower the count or enlarge the hopper \
+             (the need comes from the count and the sizes, {need}; the cross-section from {hopper})",
             rounded(case.packed_area()),
             rounded(case.geometry.cross_section_area()),
         ),
@@ -350,7 +404,7 @@ fn read_wall(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option
             Material::paper(),
             errors,
         )
-        .map(WallMaterial::Custom)
+        .map(|(material, _)| WallMaterial::Custom(material))
     } else {
         let options = [
             ("same", WallMaterial::SameAsParticle),

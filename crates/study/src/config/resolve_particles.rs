@@ -5,12 +5,38 @@ use super::particles::{Material, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
 use super::resolve::MAX_PARTICLE_COUNT;
 
+/// Where a value that a limit derives from was set: `key = value unit`, marked
+/// `(default)` when the user did not write it.
+pub(crate) fn source(value: &Located<f64>) -> String {
+    format!("{} = {}", value.key, value.shown())
+}
+
+/// Where the properties of a material table were set (see [`source`]).
+#[derive(Clone, Debug)]
+pub(crate) struct MaterialSources {
+    pub density: String,
+    pub shear_modulus: String,
+    pub poisson_ratio: String,
+}
+
+/// Where the particle properties that limits derive from were set, so that a check on a
+/// derived quantity (the Rayleigh time, D ≥ 3 d, Z ≥ d, …) can name its inputs.
+#[derive(Clone, Debug)]
+pub(crate) struct ParticleSources {
+    /// The material's density, shear modulus and Poisson's ratio.
+    pub material: MaterialSources,
+    /// The key that sets the smallest diameter, with its value.
+    pub smallest_diameter: String,
+    /// The key that sets the largest diameter, with its value.
+    pub largest_diameter: String,
+}
+
 /// Reads a material table (density, shear modulus, Poisson's ratio).
 pub(crate) fn read_material(
     section: &mut Section<'_>,
     default: Material,
     errors: &mut Vec<ConfigError>,
-) -> Option<Material> {
+) -> Option<(Material, MaterialSources)> {
     let density = section.float_or("density", "kg/m³", default.density, errors);
     let shear = section.float_or("shear_modulus", "Pa", default.shear_modulus, errors);
     let poisson = section.float_or("poisson_ratio", "", default.poisson_ratio, errors);
@@ -21,17 +47,26 @@ pub(crate) fn read_material(
         ok = false;
     }
     section.finish(&["density", "shear_modulus", "poisson_ratio"], errors);
-    ok.then_some(Material {
-        density: density.value,
-        shear_modulus: shear.value,
-        poisson_ratio: poisson.value,
+    ok.then(|| {
+        (
+            Material {
+                density: density.value,
+                shear_modulus: shear.value,
+                poisson_ratio: poisson.value,
+            },
+            MaterialSources {
+                density: source(&density),
+                shear_modulus: source(&shear),
+                poisson_ratio: source(&poisson),
+            },
+        )
     })
 }
 
 pub(crate) fn read_particles(
     section: &mut Section<'_>,
     errors: &mut Vec<ConfigError>,
-) -> Option<ParticleSpec> {
+) -> Option<(ParticleSpec, ParticleSources)> {
     let paper = ParticleSpec::paper();
     let count = section.integer_or("count", paper.count as i64, errors);
     let mut ok = true;
@@ -63,8 +98,13 @@ pub(crate) fn read_particles(
         read_distribution(&mut section.section("size_distribution", errors), errors)
     } else {
         let d = section.float_or("diameter", "m", 3.0e-3, errors);
-        d.require_positive(errors)
-            .then_some(SizeDistribution::Monodisperse { diameter: d.value })
+        d.require_positive(errors).then(|| {
+            (
+                SizeDistribution::Monodisperse { diameter: d.value },
+                source(&d),
+                source(&d),
+            )
+        })
     };
     let material = read_material(
         &mut section.section("material", errors),
@@ -76,19 +116,29 @@ pub(crate) fn read_particles(
         errors,
     );
     match (ok, size, material) {
-        (true, Some(size), Some(material)) => Some(ParticleSpec {
-            count: count.value as usize,
-            size,
-            material,
-        }),
+        (true, Some((size, smallest, largest)), Some((material, material_sources))) => Some((
+            ParticleSpec {
+                count: count.value as usize,
+                size,
+                material,
+            },
+            ParticleSources {
+                material: material_sources,
+                smallest_diameter: smallest,
+                largest_diameter: largest,
+            },
+        )),
         _ => None,
     }
 }
 
+/// A size distribution with where its smallest and largest diameters were set.
+type SizesWithSources = (SizeDistribution, String, String);
+
 fn read_distribution(
     section: &mut Section<'_>,
     errors: &mut Vec<ConfigError>,
-) -> Option<SizeDistribution> {
+) -> Option<SizesWithSources> {
     let kinds = [
         ("monodisperse", 0u8),
         ("uniform", 1),
@@ -110,8 +160,13 @@ fn read_distribution(
             let d = required(section, "diameter", errors);
             section.finish(&["kind", "diameter"], errors);
             let d = d?;
-            d.require_positive(errors)
-                .then_some(SizeDistribution::Monodisperse { diameter: d.value })
+            d.require_positive(errors).then(|| {
+                (
+                    SizeDistribution::Monodisperse { diameter: d.value },
+                    source(&d),
+                    source(&d),
+                )
+            })
         }
         1 => {
             let min = required(section, "min", errors);
@@ -126,9 +181,15 @@ fn read_distribution(
                 ));
                 return None;
             }
-            ok.then_some(SizeDistribution::Uniform {
-                min: min.value,
-                max: max.value,
+            ok.then(|| {
+                (
+                    SizeDistribution::Uniform {
+                        min: min.value,
+                        max: max.value,
+                    },
+                    source(&min),
+                    source(&max),
+                )
             })
         }
         2 => read_normal(section, errors),
@@ -143,7 +204,7 @@ fn read_distribution(
 fn read_normal(
     section: &mut Section<'_>,
     errors: &mut Vec<ConfigError>,
-) -> Option<SizeDistribution> {
+) -> Option<SizesWithSources> {
     let mean = required(section, "mean", errors);
     let std_dev = required(section, "std_dev", errors);
     let min = section.float("min", "m", errors);
@@ -154,6 +215,18 @@ fn read_normal(
         return None;
     }
     // Truncation defaults to mean ± 3σ, which keeps 99.7 % of a normal distribution.
+    let truncation = |given: &Option<Located<f64>>, sign: f64, end: &str| match given {
+        Some(value) => source(value),
+        None => format!(
+            "{} (default mean {} 3 std_dev = {} m, from {} and {})",
+            section.key(end),
+            if sign < 0.0 { "−" } else { "+" },
+            rounded(mean.value + sign * 3.0 * std_dev.value),
+            source(&mean),
+            source(&std_dev)
+        ),
+    };
+    let (smallest, largest) = (truncation(&min, -1.0, "min"), truncation(&max, 1.0, "max"));
     let min = min.unwrap_or_else(|| mean.with_value(mean.value - 3.0 * std_dev.value));
     let max = max.unwrap_or_else(|| mean.with_value(mean.value + 3.0 * std_dev.value));
     let mut ok = true;
@@ -168,18 +241,22 @@ fn read_normal(
         errors.push(max.error(ErrorKind::Invalid, "must be ≥ mean and > min"));
         ok = false;
     }
-    ok.then_some(SizeDistribution::Normal {
-        mean: mean.value,
-        std_dev: std_dev.value,
-        min: min.value,
-        max: max.value,
-    })
+    ok.then_some((
+        SizeDistribution::Normal {
+            mean: mean.value,
+            std_dev: std_dev.value,
+            min: min.value,
+            max: max.value,
+        },
+        smallest,
+        largest,
+    ))
 }
 
 fn read_discrete(
     section: &mut Section<'_>,
     errors: &mut Vec<ConfigError>,
-) -> Option<SizeDistribution> {
+) -> Option<SizesWithSources> {
     let diameters = section.float_array("diameters", "m", errors);
     let fractions = section.float_array("fractions", "", errors);
     for (key, present) in [
@@ -219,9 +296,18 @@ fn read_discrete(
         ));
         ok = false;
     }
-    ok.then(|| SizeDistribution::Discrete {
-        diameters: diameters.iter().map(|d| d.value).collect(),
-        fractions: fractions.iter().map(|f| f.value).collect(),
+    let smallest = diameters.iter().min_by(|a, b| a.value.total_cmp(&b.value));
+    let largest = diameters.iter().max_by(|a, b| a.value.total_cmp(&b.value));
+    let (smallest, largest) = (smallest.map(source)?, largest.map(source)?);
+    ok.then(|| {
+        (
+            SizeDistribution::Discrete {
+                diameters: diameters.iter().map(|d| d.value).collect(),
+                fractions: fractions.iter().map(|f| f.value).collect(),
+            },
+            smallest,
+            largest,
+        )
     })
 }
 

@@ -4,22 +4,41 @@ use super::case::{Case, MeasureSpec, OutputSpec, Protocol, MAX_RAYLEIGH_FRACTION
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::particles::ParticleSpec;
 use super::reader::Section;
+use super::resolve_particles::{source, ParticleSources};
 
 /// Largest number of steps between outlet-crossing checks: a particle moves < 4 µm per
 /// step, so 100 steps keep the linear interpolation of the crossing well below d/2
 /// (physics spec §7.2).
 pub(crate) const MAX_CROSSING_CHECK_INTERVAL: i64 = 100;
 
+/// "the Rayleigh time t_R = … s (paper Eq. 9), from <the keys it derives from>".
+fn rayleigh_origin(t_r: f64, sources: &ParticleSources) -> String {
+    let m = &sources.material;
+    format!(
+        "the Rayleigh time t_R = π r √(ρ/G)/(0.1631 ν + 0.8766) = {} s (paper Eq. 9) comes from \
+         {}, {}, {} and r = half the smallest diameter, {}",
+        rounded(t_r),
+        m.shear_modulus,
+        m.density,
+        m.poisson_ratio,
+        sources.smallest_diameter
+    )
+}
+
+/// A time step and where it came from: the key that set it, or the Rayleigh fraction and
+/// the keys of the Rayleigh time.
+pub(crate) type TimeStep = (f64, String);
+
 /// Reads `[time]`: either `time_step` [s] or `rayleigh_fraction` [-], not both.
 pub(crate) fn read_time_step(
     section: &mut Section<'_>,
-    particles: Option<&ParticleSpec>,
+    particles: Option<&(ParticleSpec, ParticleSources)>,
     errors: &mut Vec<ConfigError>,
-) -> Option<f64> {
+) -> Option<TimeStep> {
     let step = section.float("time_step", "s", errors);
     let fraction = section.float("rayleigh_fraction", "", errors);
     section.finish(&["time_step", "rayleigh_fraction"], errors);
-    let rayleigh = particles.map(ParticleSpec::rayleigh_time);
+    let rayleigh = particles.map(|(p, sources)| (p.rayleigh_time(), sources));
     match (step, fraction) {
         (Some(_), Some(fraction)) => {
             errors.push(fraction.error(
@@ -38,7 +57,16 @@ pub(crate) fn read_time_step(
                 ));
                 return None;
             }
-            rayleigh.map(|t| fraction.value * t)
+            rayleigh.map(|(t, sources)| {
+                let step = fraction.value * t;
+                let origin = format!(
+                    "set by {} × t_R = {} s, where {}",
+                    source(&fraction),
+                    rounded(step),
+                    rayleigh_origin(t, sources)
+                );
+                (step, origin)
+            })
         }
         (step, None) => {
             let step = step.unwrap_or_else(|| {
@@ -47,27 +75,30 @@ pub(crate) fn read_time_step(
             if !step.require_positive(errors) {
                 return None;
             }
-            let t_r = rayleigh?;
+            let (t_r, sources) = rayleigh?;
             if step.value > MAX_RAYLEIGH_FRACTION * t_r {
                 errors.push(step.error(
                     ErrorKind::Invalid,
                     format!(
-                        "must be ≤ {MAX_RAYLEIGH_FRACTION} Rayleigh times ({} s for the smallest particle); \
-                         the paper uses < 0.1 t_R",
-                        rounded(MAX_RAYLEIGH_FRACTION * t_r)
+                        "must be ≤ {MAX_RAYLEIGH_FRACTION} Rayleigh times ({} s for the smallest particle), \
+                         where {}; the paper uses < 0.1 t_R",
+                        rounded(MAX_RAYLEIGH_FRACTION * t_r),
+                        rayleigh_origin(t_r, sources)
                     ),
                 ));
                 return None;
             }
-            Some(step.value)
+            Some((step.value, format!("set by {}", source(&step))))
         }
     }
 }
 
-/// Reads `[protocol]`; `d_max` [m] and the hopper height [m] set defaults and limits.
+/// Reads `[protocol]`; `d_max` [m] (set by the key `d_max_source` names, when the
+/// particles are valid) and the hopper height [m] set defaults and limits.
 pub(crate) fn read_protocol(
     section: &mut Section<'_>,
     d_max: f64,
+    d_max_source: Option<&str>,
     height: Option<f64>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<Protocol> {
@@ -113,9 +144,18 @@ pub(crate) fn read_protocol(
         ok = false;
     }
     if ok && bottom.value >= top.value {
+        // A default fill_top is geometry.height: name it, since the user wrote neither.
+        let origin = match height {
+            Some(h) if !top.given => format!("; its default is geometry.height = {} m", number(h)),
+            _ => String::new(),
+        };
         errors.push(top.error(
             ErrorKind::Invalid,
-            format!("must be > {} ({} m)", bottom.key, number(bottom.value)),
+            format!(
+                "must be > {} ({} m){origin}",
+                bottom.key,
+                number(bottom.value)
+            ),
         ));
         ok = false;
     }
@@ -134,8 +174,9 @@ pub(crate) fn read_protocol(
         errors.push(depth.error(
             ErrorKind::Invalid,
             format!(
-                "must be ≥ the largest particle diameter ({} m)",
-                number(d_max)
+                "must be ≥ the largest particle diameter ({} m{})",
+                rounded(d_max),
+                d_max_source.map_or(String::new(), |s| format!(", {s}"))
             ),
         ));
         ok = false;
@@ -154,11 +195,14 @@ pub(crate) fn read_protocol(
 }
 
 /// Reads `[measure]`; diameters, outlet width [m] and time step [s] set defaults and limits.
+/// `d_max_source` names the key of the largest diameter (for the default bin width), and
+/// the time step comes with where it was set.
 pub(crate) fn read_measure(
     section: &mut Section<'_>,
     d_max: f64,
+    d_max_source: Option<&str>,
     outlet_width: Option<f64>,
-    time_step: Option<f64>,
+    time_step: Option<&TimeStep>,
     stop_fraction: Option<f64>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<MeasureSpec> {
@@ -195,12 +239,12 @@ pub(crate) fn read_measure(
         & x_bin.require_positive(errors)
         & strip.require_positive(errors)
         & frame.require_positive(errors);
-    if let Some(dt) = time_step {
+    if let Some((dt, origin)) = time_step {
         for interval in [&rate_bin, &frame] {
-            if interval.value < dt {
+            if interval.value < *dt {
                 errors.push(interval.error(
                     ErrorKind::Invalid,
-                    format!("must be ≥ the time step ({} s)", rounded(dt)),
+                    format!("must be ≥ the time step ({} s), {origin}", rounded(*dt)),
                 ));
                 ok = false;
             }
@@ -208,10 +252,17 @@ pub(crate) fn read_measure(
     }
     if let Some(d) = outlet_width {
         if x_bin.value > d {
+            // The default bin width is d/2: name the diameter's key when it applies.
+            let origin = match d_max_source {
+                Some(s) if !x_bin.given => {
+                    format!("; its default is half the largest particle diameter, {s}")
+                }
+                _ => String::new(),
+            };
             errors.push(x_bin.error(
                 ErrorKind::Invalid,
                 format!(
-                    "must be ≤ geometry.outlet_width ({} m) to resolve a profile",
+                    "must be ≤ geometry.outlet_width ({} m) to resolve a profile{origin}",
                     number(d)
                 ),
             ));

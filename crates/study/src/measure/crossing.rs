@@ -12,7 +12,7 @@ use std::collections::HashMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::block_error::BlockSums;
+use super::block_error::{BlockSums, ERROR_BLOCKS};
 use super::error::MeasureError;
 use super::frame::{FrameView, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
@@ -34,6 +34,12 @@ pub struct CrossingEvent {
     pub mass: f64,
     /// Whether x lies within the orifice span [x_c − R, x_c + R].
     pub inside_outlet: bool,
+    /// Interpolated horizontal velocity at the crossing [m/s].
+    pub velocity_x: f64,
+    /// Particle radius [m].
+    pub radius: f64,
+    /// The particle's stable identifier.
+    pub id: u64,
 }
 
 /// A count of crossings and the mass they carried.
@@ -101,6 +107,28 @@ impl VelocityProfile {
                 .filter_map(|i| self.entries[i].mean_speed),
         )
     }
+}
+
+/// Area fraction at the outlet from the number density of centres crossing it, per x-bin
+/// (a second definition of φ(x) beside the strip's area fraction, physics spec §7.3).
+///
+/// Centres of areal number density n(x) falling at v(x) cross a length Δx of the outlet
+/// line n v Δx times per unit time, so n = Σ 1/|v_z| / (T Δx) over the crossings of a
+/// window of duration T, and with each centre's mid-plane disc π r² the area fraction is
+/// φ_n = Σ π r²/|v_z| / (T Δx). It counts each grain once, at its centre, where the strip
+/// spreads a grain's disc over the bins it covers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CrossingDensityProfile {
+    /// Averaging window.
+    pub window: TimeWindow,
+    /// The x-bins.
+    pub bins: OutletBins,
+    /// φ_n per bin [-]; `None` without crossings.
+    pub area_fraction: Vec<Option<f64>>,
+    /// Standard error per bin [-]: the spread of the [`ERROR_BLOCKS`] equal time blocks'
+    /// own φ_n over √(blocks) (empty blocks count as zero, as a rate should); `None`
+    /// without crossings.
+    pub standard_error: Vec<Option<f64>>,
 }
 
 /// Mass discharged per time bin.
@@ -276,6 +304,55 @@ impl CrossingRecord {
     }
 }
 
+impl CrossingRecord {
+    /// φ_n(x), the area fraction from the number density of centres crossing the outlet
+    /// line over `window` (see [`CrossingDensityProfile`]). Crossings with v_z = 0 cannot
+    /// occur (a centre that crosses moves), but one would add nothing rather than ∞.
+    pub fn crossing_density_profile(
+        &self,
+        window: TimeWindow,
+        bins: &OutletBins,
+    ) -> CrossingDensityProfile {
+        let mut sum = vec![0.0; bins.count];
+        let mut count = vec![0u64; bins.count];
+        let mut blocks = vec![0.0; bins.count * ERROR_BLOCKS];
+        let block_duration = window.duration() / ERROR_BLOCKS as f64;
+        for e in self.events.iter().filter(|e| window.contains(e.time)) {
+            let speed = -e.velocity_z;
+            if let (Some(i), true) = (bins.index_of(e.x), speed > 0.0) {
+                let area = std::f64::consts::PI * e.radius * e.radius / speed;
+                sum[i] += area;
+                count[i] += 1;
+                let block = (((e.time - window.start) / block_duration).floor().max(0.0) as usize)
+                    .min(ERROR_BLOCKS - 1);
+                blocks[i * ERROR_BLOCKS + block] += area;
+            }
+        }
+        let scale = 1.0 / (window.duration() * bins.width());
+        let block_scale = 1.0 / (block_duration * bins.width());
+        let area_fraction: Vec<Option<f64>> = (0..bins.count)
+            .map(|i| (count[i] > 0).then(|| sum[i] * scale))
+            .collect();
+        let standard_error = (0..bins.count)
+            .map(|i| {
+                let mean = area_fraction[i]?;
+                let g = ERROR_BLOCKS as f64;
+                let spread: f64 = blocks[i * ERROR_BLOCKS..(i + 1) * ERROR_BLOCKS]
+                    .iter()
+                    .map(|b| (b * block_scale - mean).powi(2))
+                    .sum();
+                Some((spread / (g - 1.0) / g).sqrt())
+            })
+            .collect();
+        CrossingDensityProfile {
+            window,
+            bins: *bins,
+            area_fraction,
+            standard_error,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 struct Observation {
     time: f64,
@@ -283,6 +360,7 @@ struct Observation {
     z: f64,
     velocity_z: f64,
     generation: u64,
+    velocity_x: f64,
 }
 
 /// Detects crossings of the outlet line between consecutive observations.
@@ -330,13 +408,14 @@ impl CrossingProbe {
         let first_new_event = self.record.events.len();
         for i in 0..frame.len() {
             let [x, _, z] = frame.positions[i];
-            let velocity_z = frame.velocities[i][2];
+            let [velocity_x, _, velocity_z] = frame.velocities[i];
             let now = Observation {
                 time: frame.time,
                 x,
                 z,
                 velocity_z,
                 generation,
+                velocity_x,
             };
             if let Some(before) = self.previous.insert(frame.ids[i], now) {
                 if before.z > z_o && z <= z_o {
@@ -349,6 +428,9 @@ impl CrossingProbe {
                         velocity_z: before.velocity_z + s * (velocity_z - before.velocity_z),
                         mass: frame.mass(i),
                         inside_outlet: self.record.geometry.spans(x_cross),
+                        velocity_x: before.velocity_x + s * (velocity_x - before.velocity_x),
+                        radius: frame.radii[i],
+                        id: frame.ids[i],
                     });
                 } else if before.z <= z_o && z > z_o {
                     self.record.upward.count += 1;

@@ -31,8 +31,8 @@ mod velocity_field;
 pub use block_error::ERROR_BLOCKS;
 pub use bulk::{sphere_volume_below, BulkMeasurement, BulkProbe, ContainerOutline, CrossSection};
 pub use crossing::{
-    CrossingEvent, CrossingProbe, CrossingRecord, CrossingTally, DischargeSeries, ProfileBin,
-    VelocityProfile, DEFAULT_DISCHARGE_BIN_WIDTH,
+    CrossingDensityProfile, CrossingEvent, CrossingProbe, CrossingRecord, CrossingTally,
+    DischargeSeries, ProfileBin, VelocityProfile, DEFAULT_DISCHARGE_BIN_WIDTH,
 };
 pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
 pub use error::MeasureError;

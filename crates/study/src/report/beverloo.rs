@@ -9,6 +9,12 @@ use super::{Fitted, GRAVITY};
 /// Confidence level of the reported intervals of k and C.
 pub const BEVERLOO_CONFIDENCE: f64 = 0.95;
 
+/// Label of the fit over the centred outlets of every hopper angle of a series, when the
+/// series also holds off-centre outlets (otherwise its "all" group is that fit). The
+/// paper's Fig. 2b fits one line through the W(D) points of all angles: C = 0.58,
+/// k = 1.55.
+pub const POOLED_ANGLES_LABEL: &str = "centred, all α";
+
 /// One Beverloo fit over a group of grid points.
 #[derive(Debug, Clone)]
 pub struct BeverlooGroup {
@@ -18,6 +24,10 @@ pub struct BeverlooGroup {
     pub label: String,
     /// Distinct outlet widths in the group.
     pub widths: usize,
+    /// Distinct hopper angles in the group [°], ascending.
+    pub hopper_angles: Vec<f64>,
+    /// Whether every point of the group has a centred outlet.
+    pub centred: bool,
     /// Bulk fraction φ_B used for ρ_b = φ_B ρ_p (mean measured over the group) [-].
     pub bulk_fraction: f64,
     /// Area fraction φ_2D used for ρ_p φ_2D (mean measured φ_c over the group) [-].
@@ -38,6 +48,10 @@ fn fit_group(series: &str, label: String, points: &[&GridPoint]) -> BeverlooGrou
             .collect();
         v.iter().sum::<f64>() / v.len() as f64
     };
+    let mut hopper_angles: Vec<f64> = points.iter().map(|p| p.hopper_angle_deg).collect();
+    hopper_angles.sort_by(f64::total_cmp);
+    hopper_angles.dedup();
+    let centred = points.iter().all(|p| p.is_centred());
     let bulk_fraction = mean(|p| p.bulk_volume_fraction);
     let area_fraction = mean(|p| p.centre_area_fraction.value);
     let fit = match points.first() {
@@ -73,6 +87,8 @@ fn fit_group(series: &str, label: String, points: &[&GridPoint]) -> BeverlooGrou
         series: series.to_string(),
         label,
         widths: widths.len(),
+        hopper_angles,
+        centred,
         bulk_fraction,
         area_fraction,
         fit,
@@ -80,8 +96,10 @@ fn fit_group(series: &str, label: String, points: &[&GridPoint]) -> BeverlooGrou
 }
 
 /// Beverloo fits: for each series all its points with one material and slab, then per
-/// hopper angle (centred outlets) and per outlet gap (off-centre outlets), and for
-/// off-centre series the paper's split s = 0 against s ≠ 0 (Fig. 15b).
+/// hopper angle (centred outlets; with the centred outlets of all angles together first,
+/// [`POOLED_ANGLES_LABEL`], when the series also holds off-centre ones) and per outlet gap
+/// (off-centre outlets), and for off-centre series the paper's split s = 0 against s ≠ 0
+/// (Fig. 15b).
 pub fn fit_beverloo_groups(points: &[GridPoint]) -> Vec<BeverlooGroup> {
     let mut series: Vec<&str> = points.iter().map(|p| p.series.as_str()).collect();
     series.sort();
@@ -98,6 +116,13 @@ pub fn fit_beverloo_groups(points: &[GridPoint]) -> Vec<BeverlooGroup> {
         angles.sort_by(f64::total_cmp);
         angles.dedup();
         if angles.len() > 1 {
+            // Fig. 2b's pooled fit; the "all" group already is it when every point of the
+            // series is centred.
+            if members.iter().any(|p| !p.is_centred()) {
+                let centred: Vec<&GridPoint> =
+                    members.iter().copied().filter(|p| p.is_centred()).collect();
+                groups.push(fit_group(name, POOLED_ANGLES_LABEL.into(), &centred));
+            }
             for angle in angles {
                 let group: Vec<&GridPoint> = members
                     .iter()
@@ -134,4 +159,31 @@ pub fn fit_beverloo_groups(points: &[GridPoint]) -> Vec<BeverlooGroup> {
         }
     }
     groups
+}
+
+/// The fit of Fig. 2b in `series`: one line through the centred W(D) points of every
+/// hopper angle, or why there is none (no centred points, a single angle).
+pub fn pooled_angle_fit<'a>(
+    groups: &'a [BeverlooGroup],
+    series: &str,
+) -> Result<&'a BeverlooGroup, String> {
+    let in_series: Vec<&BeverlooGroup> = groups.iter().filter(|g| g.series == series).collect();
+    if in_series.is_empty() {
+        return Err(format!("no cases in series '{series}'"));
+    }
+    let pooled = in_series
+        .iter()
+        .find(|g| g.label == POOLED_ANGLES_LABEL)
+        .or_else(|| in_series.iter().find(|g| g.label == "all" && g.centred))
+        .copied()
+        .ok_or_else(|| {
+            format!("series '{series}' has no centred outlets at two or more hopper angles")
+        })?;
+    if pooled.hopper_angles.len() < 2 {
+        return Err(format!(
+            "centred outlets at one hopper angle only ({}°); the pooled fit needs two or more",
+            pooled.hopper_angles.first().copied().unwrap_or(f64::NAN)
+        ));
+    }
+    Ok(pooled)
 }

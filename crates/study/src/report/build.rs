@@ -103,9 +103,16 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
 
     doc.push(Block::Heading(2, "Comparison with the paper".into()));
     doc.push(Block::Paragraph(format!(
-        "Items of the acceptance list (physics spec §9 B3). The angle items use series '{}', the eccentric item series '{}'; k is the flat-bottom (α = 90°) fit. 'not measured' means the study has too few cases for the fit (the reason is given).",
+        "Items of the acceptance list (physics spec §9 B3). The angle items use series '{}', the eccentric item series '{}'. 'not measured' means the study has too few cases for the fit (the reason is given).",
         super::ANGLE_SERIES, super::ECCENTRIC_SERIES
     )));
+    doc.push(Block::Paragraph(format!(
+        "Beverloo k: the paper's k = 1.55 (Fig. 2b) is one line through the W(D) points of all hopper angles together, so the compared item is our fit over the centred outlets of every angle of series '{}'. The flat-bottom (α = 90°) fit stands beside it as a reference row: the paper gives no 90°-only k, and {} with the same contact law give k = {} at 90°.",
+        super::ANGLE_SERIES,
+        super::OTHER_CODES_K_90.iter().map(|(c, _)| *c).collect::<Vec<_>>().join(" and "),
+        super::OTHER_CODES_K_90.iter().map(|(_, k)| k.to_string()).collect::<Vec<_>>().join(" and "),
+    )));
+    doc.push(Block::Paragraph("Outlet fraction profile φ(x): its exponent b (φ/φ_c = (1 − x*²)^b, paper Eq. 11) depends on how φ is defined, so it is fitted under two definitions. Strip: the area of the bin covered by the particles' mid-plane discs in the strip |z − z_o| < h/2, averaged over frames (physics spec §7.3; the paper's image measure). Crossing: the number density of centres crossing the outlet line, Σ π r²/|v_z| over a bin's crossings divided by the window and the bin width (each grain counted once, at its centre). The paper's b can be compared only as a trend: it rises with α for α ≥ 30° (Table 2: 0.19, 0.30, 0.38, 0.39).".into()));
     doc.push(tables::comparison_table(&items));
 
     doc.push(Block::Heading(

@@ -30,8 +30,11 @@ pub struct AngleFit {
     pub points: Vec<GridPoint>,
     /// Exponent a of v/v_c = (1 − x*²)^a over the collapsed profiles.
     pub velocity_exponent: Fitted<Estimate>,
-    /// Exponent b of φ/φ_c = (1 − x*²)^b.
+    /// Exponent b of φ/φ_c = (1 − x*²)^b, φ the strip area fraction (physics spec §7.3).
     pub packing_exponent: Fitted<Estimate>,
+    /// The same exponent with φ from the number density of centres crossing the outlet
+    /// line (`crossing_area_fraction` of profiles.csv).
+    pub crossing_packing_exponent: Fitted<Estimate>,
     /// γ of v_c = √(2γgR).
     pub centre_velocity: Fitted<CentreVelocityFit>,
     /// Eq. 12 over φ_c(R): φ∞, τ₁, τ₂ [1/mm].
@@ -109,6 +112,17 @@ fn fit_angle(series: String, hopper_angle_deg: f64, points: Vec<GridPoint>) -> A
             .map(|f| f.exponent)
             .map_err(|e| e.to_string())
     };
+    let crossing: Vec<_> = points
+        .iter()
+        .filter_map(|p| p.crossing_area_fraction_profile.clone())
+        .collect();
+    let crossing_packing_exponent = if crossing.is_empty() {
+        Err("no crossing number-density profiles were saved".to_string())
+    } else {
+        fit_collapsed_power_profile(&crossing, PROFILE_FIT_HALF_WIDTH)
+            .map(|f| f.exponent)
+            .map_err(|e| e.to_string())
+    };
     let radii: Vec<f64> = points.iter().map(GridPoint::radius).collect();
     // γ and φ∞ are fitted with equal weights, as the paper's plain least squares (Fig. 4,
     // Eq. 12). A centre value carries no error of its own, only the spread of two or three
@@ -148,6 +162,7 @@ fn fit_angle(series: String, hopper_angle_deg: f64, points: Vec<GridPoint>) -> A
         points,
         velocity_exponent,
         packing_exponent,
+        crossing_packing_exponent,
         centre_velocity,
         saturation,
         predicted_rates,
@@ -233,6 +248,7 @@ mod tests {
             bulk_volume_fraction: f64::NAN,
             velocity_profile: None,
             area_fraction_profile: None,
+            crossing_area_fraction_profile: None,
             flow: None,
         }
     }

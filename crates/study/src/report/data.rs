@@ -70,6 +70,9 @@ pub struct GridPoint {
     pub velocity_profile: Option<BinnedProfile>,
     /// Mean area-fraction profile φ(x*) [-].
     pub area_fraction_profile: Option<BinnedProfile>,
+    /// Mean crossing number-density profile φ_n(x*) [-], when the profiles hold it (a
+    /// study run before the column existed has none).
+    pub crossing_area_fraction_profile: Option<BinnedProfile>,
     /// W(t) of the first replica: times [s] and rates [kg/s], when `flow.csv` was saved.
     pub flow: Option<(Vec<f64>, Vec<f64>)>,
 }
@@ -245,6 +248,20 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
                 )
             })
             .flatten();
+        // Every replica must carry the column: a bin left NaN by all of them is empty.
+        let crossing_area_fraction_profile = (usable
+            && profiles
+                .iter()
+                .all(|p| p.iter().any(|r| r.crossing_area_fraction.is_finite())))
+        .then(|| {
+            average_profiles(
+                &profiles,
+                |r| r.crossing_area_fraction,
+                |r| r.crossing_area_fraction_error,
+                |r| u64::from(r.crossing_area_fraction.is_finite()),
+            )
+        })
+        .flatten();
         points.push(GridPoint {
             key,
             series: first.series.clone(),
@@ -269,6 +286,7 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             bulk_volume_fraction: replica_mean(&values(|r| r.bulk_volume_fraction)).value,
             velocity_profile,
             area_fraction_profile,
+            crossing_area_fraction_profile,
             flow: read_flow(&paths.case_dir(&first.id).join("flow.csv")),
         });
     }

@@ -24,7 +24,8 @@ use analysis::Estimate;
 
 pub use build::{build_report, ReportError, ReportFiles};
 pub use comparison::{
-    compare_with_paper, ComparisonItem, ANGLE_SERIES, ECCENTRIC_SERIES, FLAT_TOLERANCE,
+    compare_with_paper, ComparisonItem, ANGLE_SERIES, B_TREND_FROM_DEG, ECCENTRIC_SERIES,
+    FLAT_TOLERANCE, OTHER_CODES_K_90,
 };
 pub use data::{load_study, GridPoint, StudyData};
 pub use document::{Block, Document};

@@ -73,6 +73,7 @@ pub fn comparison_table(items: &[ComparisonItem]) -> Block {
                     match i.pass {
                         Some(true) => "pass".into(),
                         Some(false) => "FAIL".into(),
+                        None if i.measured.is_number() => "reference".into(),
                         None => "not measured".into(),
                     },
                     i.note.clone(),
@@ -99,6 +100,7 @@ pub fn table2(analysis: &StudyAnalysis) -> Block {
                 estimate_of(&f.centre_velocity, |c| c.gamma),
                 show(paper.map(|p| p.2)),
                 estimate(&f.packing_exponent),
+                estimate(&f.crossing_packing_exponent),
                 show(paper.map(|p| p.3)),
                 estimate_of(&f.saturation, |s| s.phi_infinity),
                 show(paper.map(|p| p.4)),
@@ -116,7 +118,8 @@ pub fn table2(analysis: &StudyAnalysis) -> Block {
             "a paper",
             "γ",
             "γ paper",
-            "b",
+            "b (strip)",
+            "b (crossing)",
             "b paper",
             "φ∞",
             "φ∞ paper",
@@ -163,13 +166,16 @@ pub fn width_gamma_table(analysis: &StudyAnalysis) -> Block {
 
 /// Beverloo constants beside the paper's (C = 0.58, k = 1.55 overall; Fig. 8b, Fig. 15b).
 pub fn beverloo_table(analysis: &StudyAnalysis) -> Block {
-    let paper = |label: &str| match label {
+    let paper = |g: &super::beverloo::BeverlooGroup| match g.label.as_str() {
+        // Fig. 2b: one line through the centred outlets of every angle.
+        "all" if !(g.series == super::ANGLE_SERIES && g.centred) => "—",
         "α = 15°" => "C 0.72",
         "α = 30°" => "C 0.65",
-        "α = 55°" | "α = 75°" | "α = 90°" => "C ≈ 0.55, k 1.55",
+        "α = 55°" | "α = 75°" => "C ≈ 0.55",
+        "α = 90°" => "C ≈ 0.55; k: LIGGGHTS 3.8 2.12, LAMMPS 2.19",
         "s = 0 mm" => "C 0.60",
         "s ≠ 0" => "C 0.52",
-        "all" => "C 0.58, k 1.55",
+        "all" | super::beverloo::POOLED_ANGLES_LABEL => "C 0.58, k 1.55 (all α pooled)",
         _ => "—",
     };
     let rows = analysis
@@ -199,7 +205,7 @@ pub fn beverloo_table(analysis: &StudyAnalysis) -> Block {
                 }
             }
             row.push(format!("{:.3} / {:.3}", g.bulk_fraction, g.area_fraction));
-            row.push(paper(&g.label).to_string());
+            row.push(paper(g).to_string());
             row
         })
         .collect();

@@ -4,14 +4,16 @@
 use std::path::{Path, PathBuf};
 
 use analysis::profile::BinnedProfile;
-use analysis::selfsimilar::{fit_power_profile, power_profile, PROFILE_FIT_HALF_WIDTH};
+use analysis::selfsimilar::{
+    fit_collapsed_power_profile, fit_power_profile, power_profile, PROFILE_FIT_HALF_WIDTH,
+};
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
 use super::protocol::{CaseRun, Phase};
 use super::RunError;
 use crate::config::Case;
 use crate::hopper::outline;
-use crate::measure::{OutletSummary, TimeWindow};
+use crate::measure::{CrossingRecord, OutletSummary, TimeWindow};
 use crate::output::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, write_csv_table, write_frame_png, write_particles_vtu,
@@ -23,6 +25,7 @@ use crate::summary::{CaseSummary, ProfileRow, StopReason};
 /// The results a finished run writes beside its summary, besides the snapshot folder.
 pub(crate) const RESULT_FILES: &[&str] = &[
     "flow.csv",
+    "crossings.csv",
     "profiles.csv",
     "field.csv",
     "flow_rate.png",
@@ -196,6 +199,56 @@ fn or_nan(x: Option<f64>) -> f64 {
     x.unwrap_or(f64::NAN)
 }
 
+/// Columns of `crossings.csv`, SI units in the names.
+pub(crate) const CROSSING_COLUMNS: [&str; 8] = [
+    "time_s",
+    "x_m",
+    "velocity_x_m_per_s",
+    "velocity_z_m_per_s",
+    "radius_m",
+    "mass_kg",
+    "material_density_kg_per_m3",
+    "id",
+];
+
+/// Writes `crossings.csv`: every downward crossing of the outlet line by a particle centre,
+/// in time order (time from the start of the run, interpolated x and velocity, v_z < 0
+/// downward; physics spec §7.2), with the particle's radius, mass, material (its density:
+/// a case has one particle material, `particles.material`) and identifier. The record is
+/// part of the checkpointed run state, so a resumed run writes the same file.
+fn write_crossings(path: &Path, record: &CrossingRecord, density: f64) -> Result<(), RunError> {
+    let rows: Vec<Vec<Cell>> = record
+        .events
+        .iter()
+        .map(|e| {
+            vec![
+                e.time.into(),
+                e.x.into(),
+                e.velocity_x.into(),
+                e.velocity_z.into(),
+                e.radius.into(),
+                e.mass.into(),
+                density.into(),
+                Cell::Text(e.id.to_string()),
+            ]
+        })
+        .collect();
+    write_csv_table(path, &CROSSING_COLUMNS, &rows)?;
+    Ok(())
+}
+
+/// Exponent b of φ/φ_c = (1 − x*²)^b (paper Eq. 11) fitted to one profile as the paper
+/// does for a set (divided by its centre value, bins |x*| ≤ 0.9, amplitude held at 1,
+/// weighted by the bins' errors when all are known); `None` when it cannot be fitted.
+fn packing_exponent(rows: &[ProfileRow], value: fn(&ProfileRow) -> (f64, f64)) -> Option<f64> {
+    let centres = rows.iter().map(|r| r.x_star).collect();
+    let (values, errors): (Vec<f64>, Vec<f64>) = rows.iter().map(value).unzip();
+    let counts = values.iter().map(|v| u64::from(v.is_finite())).collect();
+    let profile = BinnedProfile::new(centres, values, counts, errors).ok()?;
+    let fit = fit_collapsed_power_profile(&[profile], PROFILE_FIT_HALF_WIDTH).ok()?;
+    fit.exponent.value.is_finite().then_some(fit.exponent.value)
+}
+
 /// Analyses the finished run, writes flow.csv, profiles.csv, field.csv and the plots, and
 /// returns the summary (the caller writes it last).
 pub fn finish(
@@ -248,9 +301,18 @@ pub fn finish(
     let outlet = outlet_window
         .and_then(|w| OutletSummary::new(record, state.strip.record(), w, density).ok());
 
+    write_crossings(&out_dir.join("crossings.csv"), record, density)?;
+
     let mut profile_rows = Vec::new();
     if let Some(o) = &outlet {
-        for (v, a) in o.velocity.entries.iter().zip(&o.area_fraction.entries) {
+        let crossing = record.crossing_density_profile(o.window, &o.velocity.bins);
+        for (k, (v, a)) in o
+            .velocity
+            .entries
+            .iter()
+            .zip(&o.area_fraction.entries)
+            .enumerate()
+        {
             profile_rows.push(ProfileRow {
                 x_star: v.x_star,
                 x: v.x,
@@ -261,6 +323,8 @@ pub fn finish(
                 area_fraction_error: or_nan(a.area_fraction_standard_error),
                 area_fraction_velocity: a.area_fraction_speed,
                 snapshot_velocity: or_nan(a.snapshot_speed),
+                crossing_area_fraction: or_nan(crossing.area_fraction[k]),
+                crossing_area_fraction_error: or_nan(crossing.standard_error[k]),
             });
         }
     }
@@ -274,6 +338,8 @@ pub fn finish(
         "area_fraction_error",
         "area_fraction_velocity",
         "snapshot_velocity",
+        "crossing_area_fraction",
+        "crossing_area_fraction_error",
     ];
     let rows: Vec<Vec<Cell>> = profile_rows
         .iter()
@@ -288,6 +354,8 @@ pub fn finish(
                 r.area_fraction_error.into(),
                 r.area_fraction_velocity.into(),
                 r.snapshot_velocity.into(),
+                r.crossing_area_fraction.into(),
+                r.crossing_area_fraction_error.into(),
             ]
         })
         .collect();
@@ -373,6 +441,12 @@ pub fn finish(
         fill_time: opened,
         settled_kinetic_energy: state.settled_kinetic_energy,
         settled: state.settled,
+        area_fraction_exponent: packing_exponent(&profile_rows, |r| {
+            (r.area_fraction, r.area_fraction_error)
+        }),
+        crossing_area_fraction_exponent: packing_exponent(&profile_rows, |r| {
+            (r.crossing_area_fraction, r.crossing_area_fraction_error)
+        }),
     })
 }
 

@@ -81,6 +81,11 @@ pub struct FakeRunner {
     /// Cases running right now, and the most seen at once.
     pub active: AtomicUsize,
     pub max_active: AtomicUsize,
+    /// When set, profiles.csv also holds the crossing number-density columns, following
+    /// φ_c (1 − x*²)^b with b given by this function of α [°] (centred outlets only).
+    pub crossing_exponent: Option<fn(f64) -> f64>,
+    /// When set, the Beverloo k of each hopper angle α [°] (default [`BEVERLOO_K`] at all).
+    pub beverloo_k: Option<fn(f64) -> f64>,
 }
 
 impl FakeRunner {
@@ -148,7 +153,7 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         * BULK_FRACTION
         * rho
         * GRAVITY.sqrt()
-        * (g.outlet_width - BEVERLOO_K * d).powf(1.5)
+        * (g.outlet_width - fake.beverloo_k.map_or(BEVERLOO_K, |k| k(alpha)) * d).powf(1.5)
         * brown
         * gain;
     let phi_c = PHI_INFINITY * (1.0 - TAU1 * (-2.0 * TAU2 * radius * 1000.0).exp());
@@ -180,7 +185,10 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
             phi_max = phi;
             phi_max_at = x_star;
         }
-        rows.push(vec![
+        let crossing = fake
+            .crossing_exponent
+            .map(|b_of| noisy(phi_c * base.powf(b_of(alpha))));
+        let mut row = vec![
             Cell::Number(x_star),
             Cell::Number(g.outlet_centre() + x_star * radius),
             Cell::Number(v),
@@ -190,7 +198,11 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
             Cell::Number(0.01 * phi),
             Cell::Number(phi * v),
             Cell::Number(v),
-        ]);
+        ];
+        if let Some(c) = crossing {
+            row.extend([Cell::Number(c), Cell::Number(0.01 * c)]);
+        }
+        rows.push(row);
     }
     write_csv_table(
         dir.join("profiles.csv"),
@@ -204,7 +216,13 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
             "area_fraction_error",
             "area_fraction_velocity",
             "snapshot_velocity",
-        ],
+            "crossing_area_fraction",
+            "crossing_area_fraction_error",
+        ][..if fake.crossing_exponent.is_some() {
+            11
+        } else {
+            9
+        }],
         &rows,
     )
     .unwrap();
@@ -266,5 +284,7 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         fill_time: 0.5,
         settled_kinetic_energy: 1e-9,
         settled: true,
+        area_fraction_exponent: (!eccentric).then_some(b),
+        crossing_area_fraction_exponent: None,
     }
 }
