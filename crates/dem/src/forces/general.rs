@@ -110,7 +110,7 @@ pub(super) fn wall_loop(
             omega: p.omega[i],
         };
         let bw = BodyMotion {
-            velocity: wall.velocity,
+            velocity: wall.velocity_at(x),
             omega: DVec3::ZERO,
         };
         let mut h = ContactHistory {

@@ -10,8 +10,8 @@ pub(super) enum WallProbe {
     Absent,
     /// An infinite plane: signed distance x·n − offset [m], unit normal n towards the particles.
     Plane { normal: DVec3, offset: f64 },
-    /// A polygon: the general closest-point test.
-    Polygon,
+    /// Any other shape: the general closest-point test ([`Wall::closest_point`]).
+    ClosestPoint,
 }
 
 /// The contact of a sphere at `x` with radius `r` [m] with wall `w`, if they overlap: the
@@ -30,8 +30,8 @@ pub(super) fn wall_contact(
             let s = plane_distance(x, normal, offset);
             (!(s >= r)).then_some((normal, r - s))
         }
-        WallProbe::Polygon => {
-            // Only polygons present in the simulation get this probe.
+        WallProbe::ClosestPoint => {
+            // Only walls present in the simulation get this probe.
             let wall = input.walls[w].as_ref().expect("probe of a present wall");
             let (cp, dist) = wall.closest_point(x);
             (!(dist >= r)).then(|| (wall.contact_normal(x, cp, dist), r - dist))
@@ -104,12 +104,9 @@ pub(super) fn wall_probes(walls: &[Option<Wall>], probes: &mut Vec<WallProbe>) {
     probes.clear();
     probes.extend(walls.iter().map(|w| match w {
         None => WallProbe::Absent,
-        Some(w) => match w.shape() {
-            WallShape::Plane { point, normal } => WallProbe::Plane {
-                normal: *normal,
-                offset: point.dot(*normal),
-            },
-            WallShape::Polygon { .. } => WallProbe::Polygon,
+        Some(w) => match w.shape().as_plane() {
+            Some((normal, offset)) => WallProbe::Plane { normal, offset },
+            None => WallProbe::ClosestPoint,
         },
     }));
 }
@@ -222,7 +219,7 @@ pub(super) fn wall_run(
                 compact_touching(touches, live, hits)
             }
         },
-        WallProbe::Polygon => {
+        WallProbe::ClosestPoint => {
             let touches = pi.iter().map(|&i| {
                 let i = i as usize;
                 wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some()

@@ -14,17 +14,19 @@ use serde::{Deserialize, Serialize};
 use crate::contact::ContactHistory;
 use crate::history::{HistoryArrays, NO_SOURCE};
 use crate::particles::ParticleSet;
-use crate::wall::{Wall, WallShape};
+use crate::wall::Wall;
 
 mod carry;
 mod grid;
 mod pairs;
 #[cfg(test)]
 mod tests;
+mod walls;
 
 use carry::*;
 pub use grid::CellGrid;
 use pairs::*;
+use walls::*;
 
 /// Candidate particle pairs (i < j by index) with their contact history.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -168,32 +170,7 @@ pub(crate) fn build_lists(
     for (w, wall) in walls.iter().enumerate() {
         let Some(wall) = wall else { continue };
         let before = wall_pairs.particle.len();
-        match wall.shape() {
-            // Every particle is tested, without a branch on the outcome: the slab's faces
-            // keep nearly all of them, other planes few, and a branch would be
-            // mispredicted at the edge of every run.
-            WallShape::Plane { .. } => {
-                wall_pairs.particle.resize(before + n, 0);
-                let out = &mut wall_pairs.particle[before..];
-                let mut count = 0;
-                for i in 0..n {
-                    let (_, dist) = wall.closest_point(pos[i]);
-                    out[count] = i as u32;
-                    count += usize::from((dist < rad[i] + skin) & (dist > -rad[i]));
-                }
-                wall_pairs.particle.truncate(before + count);
-            }
-            WallShape::Polygon { .. } => {
-                for i in 0..n {
-                    if wall.certainly_beyond(pos[i], rad[i] + skin) {
-                        continue;
-                    }
-                    if wall.closest_point(pos[i]).1 < rad[i] + skin {
-                        wall_pairs.particle.push(i as u32);
-                    }
-                }
-            }
-        }
+        wall_candidates(wall, (&pos[..n], &rad[..n]), skin, &mut wall_pairs.particle);
         let added = wall_pairs.particle.len() - before;
         wall_pairs.wall.extend(std::iter::repeat_n(w as u32, added));
     }
