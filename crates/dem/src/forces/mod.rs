@@ -9,7 +9,7 @@
 
 use glam::{BVec3, DVec3};
 
-use crate::contact::batch::{coefficient_row, Batch, BATCH};
+use crate::contact::batch::{Batch, BATCH};
 use crate::contact::{BodyMotion, ContactForce, ContactGeometry, ContactHistory, ContactLaws};
 use crate::history::{settle, LIVE, WAS_LIVE};
 use crate::material::{harmonic, PairCoefficients};

@@ -3,9 +3,12 @@
 
 use super::*;
 
-/// The coefficients every contact shares when there is one material, in [`Batch::coeff`] order.
-pub(super) fn uniform_coefficients(c: &[PairCoefficients], materials: usize) -> Option<[f64; 6]> {
-    (materials == 1).then(|| coefficient_row(&c[0]))
+/// The coefficients every contact shares when there is one material.
+pub(super) fn uniform_coefficients(
+    c: &[PairCoefficients],
+    materials: usize,
+) -> Option<&PairCoefficients> {
+    (materials == 1).then(|| &c[0])
 }
 
 /// The result of slot `m` of a resolved batch.
@@ -109,9 +112,7 @@ pub(super) fn batched_pair_loop(
             if uniform.is_none() {
                 let c = &input.pair_coeffs
                     [material[i] as usize * input.materials + material[j] as usize];
-                for (a, v) in coefficient_row(c).into_iter().enumerate() {
-                    batch.coeff[a][m] = v;
-                }
+                batch.coeff.set(m, c);
             }
         }
         batch.len = group.len();

@@ -236,7 +236,7 @@ pub(super) fn wall_run(
     // Pass 2: the touching ones, in batches. What the run shares is written once.
     let w = wall.index;
     let wall_velocity = input.walls[w].as_ref().map_or(DVec3::ZERO, |w| w.velocity);
-    let uniform = (input.materials == 1).then(|| coefficient_row(&input.wall_coeffs[w]));
+    let uniform = (input.materials == 1).then(|| &input.wall_coeffs[w]);
     if let Some(c) = uniform {
         batch.fill_coefficients(c);
     }
@@ -358,9 +358,7 @@ impl WallSource<'_> {
             }
             if let Some(w) = coefficients {
                 let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
-                for (a, v) in coefficient_row(c).into_iter().enumerate() {
-                    batch.coeff[a][m] = v;
-                }
+                batch.coeff.set(m, c);
             }
         }
     }
