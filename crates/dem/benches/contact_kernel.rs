@@ -135,8 +135,8 @@ fn kernels(c: &mut Criterion) {
         })
     });
     // A batch one contact short of full, as every wall run and every step's last pair
-    // batch ends: until the twenty-ninth session its last `len mod 8` contacts fell to a
-    // scalar remainder loop and cost about 25 ns each against 7 (352 ns against 219 ns).
+    // batch ends: its last `len mod 8` contacts must cost what the others do, not fall to a
+    // scalar remainder loop (about 25 ns each against 7).
     let mut short = walls.clone();
     short.len = BATCH - 1;
     group.bench_function("batch_resolve_walls_short_batch", |b| {

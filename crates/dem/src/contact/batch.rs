@@ -12,7 +12,9 @@
 
 use glam::DVec3;
 
-use crate::material::PairCoefficients;
+use super::geometry::{effective_radius, lever_arm};
+use super::{damping, normal, rolling};
+use crate::material::{harmonic, PairCoefficients};
 
 /// Contacts per batch: the arrays (≈ 40 × 8 × BATCH bytes) stay in the L1 cache.
 pub const BATCH: usize = 32;
@@ -165,12 +167,12 @@ impl Batch {
     fn resolve<const WALL: bool, const UNIFORM: bool>(&mut self, dt: f64, shared: SharedBody) {
         // The contacts rounded up to whole vectors of the widest build. The slots past
         // `len` hold what an earlier batch left there (finite numbers from real contacts,
-        // or a new batch's zeros) and are resolved too, their results never read. Without
-        // this the compiler's scalar remainder loop resolved a batch's last few contacts
+        // or a new batch's zeros) and are resolved too, their results never read. Otherwise
+        // the compiler's scalar remainder loop would resolve a batch's last few contacts
         // one at a time, each chaining its square roots and divisions: about 25 ns a
-        // contact against 7 (a batch of 31 wall contacts 352 ns, of 32 219 ns, with
-        // `cargo bench -p hopperflow-dem --bench contact_kernel`; twenty-ninth session).
-        // Every pair run, wall run and step ends with such a batch.
+        // contact against 7 (`cargo bench -p hopperflow-dem --bench contact_kernel`,
+        // `batch_resolve_walls_short_batch`). Every pair run, wall run and step ends with
+        // such a batch.
         let n = self.len.next_multiple_of(VECTOR).min(BATCH);
         let st = &mut self.stages;
 
@@ -184,9 +186,10 @@ impl Batch {
                 let overlap = self.overlap[k];
                 self.overlap_fraction[k] = overlap / ri;
                 st.overlap[k] = overlap;
-                (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, 0.0);
+                (st.arm[0][k], st.arm[1][k]) = (lever_arm(ri, overlap), 0.0);
             } else {
-                // Geometry (forces.rs): n = d/|d|, δ = R_i + R_j − |d|, R* and m* harmonic.
+                // `geometry::sphere_sphere`: n = d/|d|, δ = R_i + R_j − |d|, R* and m*
+                // harmonic.
                 let sum = ri + rj;
                 let dist = self.dist2[k].sqrt();
                 let overlap = sum - dist;
@@ -198,11 +201,11 @@ impl Batch {
                     self.overlap_fraction[k] = overlap * shared.inv_radius;
                 } else {
                     self.overlap_fraction[k] = overlap / ri.min(rj);
-                    st.r_eff[k] = ri * rj / sum;
-                    st.m_eff[k] = mi * mj / (mi + mj);
+                    st.r_eff[k] = effective_radius(ri, rj, sum);
+                    st.m_eff[k] = harmonic(mi, mj);
                 }
                 st.overlap[k] = overlap;
-                (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, rj - 0.5 * overlap);
+                (st.arm[0][k], st.arm[1][k]) = (lever_arm(ri, overlap), lever_arm(rj, overlap));
             }
         }
 
@@ -217,7 +220,7 @@ impl Batch {
             } else {
                 (st.r_eff[k], st.m_eff[k])
             };
-            let (e_star, rolling_friction, damping) = (
+            let (e_star, rolling_friction, prefactor) = (
                 self.coeff.e_star[k],
                 self.coeff.rolling_friction[k],
                 self.coeff.damping[k],
@@ -243,11 +246,10 @@ impl Batch {
                 st.v_t[c][k] = v[c] - v_n * nrm[c];
             }
 
-            let a = (r_eff * overlap).sqrt();
-            let f_ne = (4.0 / 3.0) * e_star * a * overlap;
-            let s_n = 2.0 * e_star * a;
-            let gamma_n = damping * (s_n * m_eff).sqrt();
-            st.a[k] = a;
+            let hertz = normal::hertz(e_star, r_eff, overlap);
+            let f_ne = hertz.force;
+            let gamma_n = damping::dashpot(prefactor, hertz.stiffness, m_eff);
+            st.a[k] = hertz.contact_radius;
             st.f_ne[k] = f_ne;
             st.gamma_n[k] = gamma_n;
             st.f_n[k] = f_ne - gamma_n * v_n;
@@ -259,11 +261,7 @@ impl Batch {
                 self.omega[0][2][k] - self.omega[1][2][k],
             ];
             let w2 = dot(omega_rel, omega_rel);
-            st.rolling[k] = if w2 > 0.0 && rolling_friction > 0.0 {
-                rolling_friction * f_ne / w2.sqrt()
-            } else {
-                0.0
-            };
+            st.rolling[k] = rolling::constant_torque_scale(rolling_friction, f_ne, w2);
         }
 
         // Pass 3, history into the tangent plane keeping its length (`rotate_into_plane`;

@@ -6,11 +6,10 @@ use super::*;
 /// Adds pair forces to the bodies in pair order, the one summation both evaluation paths share.
 ///
 /// Each share is added to its body at once, i's as j's: every body receives its contacts
-/// one by one, in pair-list order, onto gravity. (From the third to the twelfth session,
-/// i's run of pairs was summed in registers and added once when the run ended. Runs are
-/// about one contact long, so that saved almost no memory traffic, and keeping the run
-/// branch-free cost twelve selects per contact: the plain additions are about 6 % faster
-/// per step, docs/performance-log.md, thirteenth session.)
+/// one by one, in pair-list order, onto gravity. Summing i's run of pairs in registers and
+/// adding it once would save almost no memory traffic, since runs are about one contact
+/// long, and keeping such a run branch-free costs twelve selects per contact: the plain
+/// additions are about 6 % faster per step.
 pub(super) struct Accumulator<'a> {
     pub(super) force: &'a mut [DVec3],
     pub(super) torque: &'a mut [DVec3],
@@ -29,8 +28,7 @@ impl<'a> Accumulator<'a> {
 
     /// j's share first: i ≠ j, so the order within a contact changes no sum, and a body
     /// that is j of this contact is often i of the next, whose load of its sums then
-    /// waits less on this store (about 1 % of a step on the AMD host: the pair loop's
-    /// share of a profile 31.4 % against 30.5 %, twenty-ninth session).
+    /// waits less on this store (about 1 % of a step).
     #[inline(always)]
     pub(super) fn add(&mut self, i: usize, j: usize, cf: &ContactForce) {
         self.contacts += 1;

@@ -3,6 +3,17 @@
 //! the batched path to.
 
 use super::*;
+use crate::contact::geometry::{sphere_sphere, sphere_wall, Sphere};
+
+/// Body `k` of `p` as the contact geometry sees it.
+#[inline(always)]
+fn sphere(p: &ParticleSet, k: usize) -> Sphere {
+    Sphere {
+        radius: p.radius[k],
+        mass: p.mass[k],
+        inertia: p.inertia[k],
+    }
+}
 
 #[inline(always)]
 pub(super) fn pair_loop_with(
@@ -29,21 +40,8 @@ pub(super) fn pair_loop_with(
             (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         }
-        let dist = dist2.sqrt();
-        let overlap = sum - dist;
-        worst.see(overlap / ri.min(rj), base + k);
-        let (mi, mj) = (p.mass[i], p.mass[j]);
-        let g = ContactGeometry {
-            normal: d * (1.0 / dist),
-            overlap,
-            // harmonic(ri, rj), reusing the sum.
-            r_eff: ri * rj / sum,
-            m_eff: harmonic(mi, mj),
-            arm_i: ri - 0.5 * overlap,
-            arm_j: rj - 0.5 * overlap,
-            inertia: [p.inertia[i], p.inertia[j]],
-            mass_radius2: [mi * ri * ri, mj * rj * rj],
-        };
+        let g = sphere_sphere(d, dist2, &sphere(p, i), &sphere(p, j));
+        worst.see(g.overlap / ri.min(rj), base + k);
         let c =
             &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
         let bi = BodyMotion {
@@ -91,19 +89,8 @@ pub(super) fn wall_loop(
             (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         }
-        let overlap = ri - dist;
-        worst.see(overlap / ri, k);
-        // A wall has infinite radius and mass: R* = R_i, m* = m_i (physics.md §5).
-        let g = ContactGeometry {
-            normal: wall.contact_normal(x, cp, dist),
-            overlap,
-            r_eff: ri,
-            m_eff: p.mass[i],
-            arm_i: ri - 0.5 * overlap,
-            arm_j: 0.0,
-            inertia: [p.inertia[i], f64::INFINITY],
-            mass_radius2: [p.mass[i] * ri * ri, f64::INFINITY],
-        };
+        let g = sphere_wall(wall.contact_normal(x, cp, dist), dist, &sphere(p, i));
+        worst.see(g.overlap / ri, k);
         let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
         let bi = BodyMotion {
             velocity: p.velocity[i],

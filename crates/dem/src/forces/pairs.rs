@@ -91,8 +91,9 @@ pub(super) fn batched_pair_loop(
             live,
         };
         gather::pair_motion(batch, group, &state);
-        // Radii, masses and coefficients, where the contacts do not share them. (An `if`
-        // around the loop instead of the `take` timed 1.4 % slower, A/B 0.986: layout.)
+        // Radii, masses and coefficients, where the contacts do not share them. A `take`
+        // of zero rather than an `if` around the loop: the loop's code then lays out
+        // better, about 1.4 % of a step.
         let shared = input.uniform_body.is_some() && uniform.is_some();
         for (m, &k) in group
             .iter()

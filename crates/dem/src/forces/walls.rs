@@ -45,8 +45,8 @@ pub(super) fn wall_contact(
 /// planes are filtered with one dot product per candidate and no branch on the outcome, and
 /// the touching candidates are resolved in batches.
 ///
-/// Each particle still receives its wall forces in increasing wall order, the order of the
-/// particle-major list this replaced, so the sums are unchanged.
+/// Each particle still receives its wall forces in increasing wall order, as a
+/// particle-major walk would give them, so the sums do not depend on the list's order.
 #[inline(never)]
 pub(super) fn batched_wall_loop(
     input: &KernelInput,
@@ -130,12 +130,6 @@ pub(super) struct WallRun {
     pub(super) index: usize,
     /// Index of the run's first candidate in the whole list.
     pub(super) base: usize,
-}
-
-/// Signed distance x·n − offset [m] of a point from a plane.
-#[inline(always)]
-pub(super) fn plane_distance(x: DVec3, normal: DVec3, offset: f64) -> f64 {
-    x.dot(normal) - offset
 }
 
 /// The candidates of one wall whose particles lie in one body range.

@@ -16,9 +16,8 @@
 //! particle's force and torque have given their kicks they are dead until the next
 //! evaluation, which starts each body from its weight m g and zero torque. Writing those
 //! here, into cache lines the pass has just read, replaces a sweep of its own over both
-//! arrays at the start of the evaluation (about 4 % of a step on the paper's base case,
-//! docs/performance-log.md, twenty-second session). The values are the same products, so the
-//! trajectory is unchanged.
+//! arrays at the start of the evaluation (about 4 % of a step on the paper's base case).
+//! The values are the same products, so the trajectory is unchanged.
 
 use glam::DVec3;
 

@@ -81,7 +81,7 @@ fn flat_form_is_bit_identical_to_the_particle_by_particle_form() {
         assert_eq!(general.velocity, flat.velocity);
         assert_eq!(general.omega, flat.omega);
         // Both forms leave the evaluation's starting values: the weight m g, the same
-        // product the evaluation used to form itself, exactly, and zero torque.
+        // product as `forces::start` forms, exactly, and zero torque.
         for p in [&general, &flat] {
             for k in 0..p.len() {
                 assert_eq!(p.force[k], p.mass[k] * G, "particle {k}");

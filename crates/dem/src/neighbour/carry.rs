@@ -7,9 +7,8 @@ use super::*;
 /// A carried history as the bodies' identities define it: none when it reads as empty
 /// (zero, whatever the signs of its zeros), and negated when the pair's order of bodies
 /// turned round (ξ and the rolling torque of j relative to i are minus those of i
-/// relative to j). Until the thirtieth session histories crossed a change of indices by
-/// the bodies' tags, which stored only non-empty ones and oriented them by tag; this keeps
-/// every bit of what that store gave.
+/// relative to j). This gives, bit for bit, what a store keyed by the bodies' tags gives,
+/// which keeps only non-empty histories and orients them by tag.
 #[inline]
 pub(super) fn carried(h: ContactHistory, flipped: bool) -> ContactHistory {
     if h.is_empty() {
@@ -25,9 +24,8 @@ pub(super) fn carried(h: ContactHistory, flipped: bool) -> ContactHistory {
 /// (new body k was old body `origin[k]`), from the old pairs (i < j, sorted) and their
 /// histories `old`. The old list's rows by i are found by counting, and each new pair's
 /// old row, which holds a handful of entries, is scanned for its partner: no sort and no
-/// search by tag. (The tag-keyed store this replaced cost about 0.9 ms a build on the
-/// paper's hopper, where every outflow of particles and every sixteenth build moves the
-/// indices; thirtieth session.)
+/// search by tag, which would cost about 0.9 ms a build on the paper's hopper, where every
+/// outflow of particles and every sixteenth build moves the indices.
 pub(super) fn carry_moved_pairs(
     history: &mut HistoryArrays,
     ids: (&[u32], &[u32]),

@@ -99,10 +99,9 @@ pub(crate) enum Carry<'a> {
 }
 
 /// The working arrays of a list build, kept by the caller from build to build, so that
-/// the builds allocate nothing once these have grown. Allocated afresh at every build,
-/// arrays of their sizes went back to the allocator, and some of them to the system, to be
-/// faulted in again at the next build. (Whether that cost time on the hopper could not be
-/// told from the host's noise; thirtieth session.)
+/// the builds allocate nothing once these have grown: allocated afresh at every build,
+/// arrays of their sizes would go back to the allocator, some of them to the system, to be
+/// faulted in again at the next build.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ListScratch {
     /// Positions [m] and radii [m] in the grid's order.

@@ -25,8 +25,8 @@ pub(super) fn sort_small(v: &mut [u32]) {
 /// its 26 neighbours that come after it in the grid's order: the next cell of its row, and
 /// the three-cell runs of the rows after its own), so each pair of bodies is tested once,
 /// from the cell-ordered copies of the positions and radii, which the runs read
-/// contiguously. Until the thirtieth session every body looked at all 27 cells around it
-/// and kept the partners of higher index: twice the tests, each through an index.
+/// contiguously: half the tests of a search in which every body looks at all 27 cells
+/// around it and keeps the partners of higher index, and none through an index.
 ///
 /// The test itself is that of any order of the two bodies: (R_a + R_b) + skin and the
 /// squared components of x_b − x_a do not depend on which comes first, so the list is the

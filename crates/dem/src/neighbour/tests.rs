@@ -178,8 +178,8 @@ fn histories_follow_their_bodies_when_indices_move() {
     // wall candidate's history must be the one its two bodies had, keyed here by the
     // bodies' tags in a map: negated when the pair's order of bodies turned round, zero
     // (+0.0) when absent, not live, or zero with a negative sign. Compared bit for bit,
-    // so that a lost sign of zero fails too. The reference is a map by tag, the
-    // mechanism the engine used before (thirtieth session), and it checks every entry.
+    // so that a lost sign of zero fails too. The reference is an independent mechanism,
+    // a map by tag, and it checks every entry.
     use crate::material::{Interaction, Material, WallMaterial};
     use std::collections::HashMap;
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(30);

@@ -69,16 +69,14 @@ impl Simulation {
     /// and the walls by `wall_drift` [m]. Exact bounds, so a list kept is never short:
     ///
     /// - **Walls.** A wall candidate is any body closer than R_i + s (`build_lists`), so a
-    ///   body–wall gap can have closed only if max |Δx| + wall drift > s. (This test used
-    ///   s/2, the pairs' bound, until the twenty-sixth session.) Without walls it has nothing
-    ///   to guard.
+    ///   body–wall gap can have closed only if max |Δx| + wall drift > s (not s/2, the
+    ///   pairs' bound). Without walls it has nothing to guard.
     /// - **Pairs.** A pair left out was farther apart than R_i + R_j + s, and its distance
     ///   has changed by at most |Δx_i − Δx_j| ≤ |Δx_i − u| + |Δx_j − u| for any vector u.
     ///   The usual test takes u = 0: 2 max |Δx| > s. Taking u at the centre of the box that
     ///   holds every Δx bounds it by the box's diagonal instead, which is smaller when the
     ///   bodies move the same way: in a hopper the fastest bodies all fall, and their fall
-    ///   sets the usual test off at 0.6 of what the box allows (twenty-sixth session,
-    ///   docs/performance.md). The box costs a pass over the bodies, so it is measured only
+    ///   sets the usual test off at 0.6 of what the box allows (docs/performance.md). The box costs a pass over the bodies, so it is measured only
     ///   once the usual test has fired; the list is rebuilt when both exceed s.
     ///
     /// `max_disp2` is the largest squared displacement [m²], where the step's pass measured

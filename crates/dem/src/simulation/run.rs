@@ -34,8 +34,8 @@ impl Simulation {
     /// here that kick stays pending into the next step's pass (as it does between the steps
     /// of one `run`), and the view adds it to each velocity it is asked for (the same
     /// product and sum, so the same bits). A run protocol that looks at the outlet every
-    /// ten steps spent about 1 % of its time on those passes (thirtieth session). After
-    /// the call, as after `run`, every kick is done.
+    /// ten steps would spend about 1 % of its time on those passes. After the call, as
+    /// after `run`, every kick is done.
     pub fn run_watched<E: From<DemError> + Send>(
         &mut self,
         n: u64,

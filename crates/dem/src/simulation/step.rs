@@ -27,10 +27,9 @@ pub(super) fn uniform_body(p: &ParticleSet) -> Option<(f64, f64)> {
 /// Bodies beyond which a one-thread step does the next step's kicks and drift inside its
 /// evaluation, chunk by chunk ([`Simulation::fuses_next_drift`]). Below it (the paper's
 /// hopper) every body's numbers stay in the caches between the evaluation and a separate
-/// pass, and the chunks would only add their fixed costs. Above it the separate pass
-/// streamed every body from memory again, at the memory's full rate; done inside the
-/// evaluation, it overlaps the evaluation's waits on partner bodies (docs/performance.md,
-/// twenty-fourth session).
+/// pass, and the chunks would only add their fixed costs. Above it a separate pass would
+/// stream every body from memory again, at the memory's full rate; done inside the
+/// evaluation, it overlaps the evaluation's waits on partner bodies (docs/performance.md).
 pub(super) const FUSE_BODIES: usize = 1 << 15;
 
 /// What a kick-and-drift pass found ([`kick_drift`]).
