@@ -15,7 +15,7 @@ pub(super) fn kick_drift_bodies(
     (gravity, weight): (DVec3, DVec3),
 ) -> (f64, bool, bool) {
     match uniform {
-        Some((inv_mass, inv_inertia)) => kick_drift_uniform(
+        Some((inv_mass, inv_inertia)) => kick_drift_flat(
             b,
             (half * inv_mass, half * inv_inertia),
             (dt, weight),
@@ -23,7 +23,7 @@ pub(super) fn kick_drift_bodies(
             (true, false),
         )
         .into(),
-        None => kick_drift_general(b, (half, dt), gravity, pending),
+        None => kick_drift_per_body(b, (half, dt), gravity, pending),
     }
 }
 

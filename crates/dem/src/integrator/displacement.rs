@@ -4,8 +4,8 @@
 use super::*;
 
 /// Largest |x − x_ref|² [m²] and a probe that is zero unless some displacement is not
-/// finite, in [`LANES`] independent accumulators, as [`kick_drift_general`] takes them;
-/// also the measure a [`kick_drift_measured`] pass without `measure` left out.
+/// finite, in [`LANES`] independent accumulators, as [`kick_drift_per_body`] takes them;
+/// also the measure a [`kick_drift_flat_tracked`] pass without `measure` left out.
 pub(crate) fn largest_displacement(position: &[DVec3], reference: &[DVec3]) -> (f64, f64) {
     let mut acc = [Reduction::default(); LANES];
     let chunks = position

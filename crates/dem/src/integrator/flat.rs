@@ -11,7 +11,7 @@ use super::*;
 /// block of particles then gives its displacements, when `measure`, and its reach, when
 /// `track` (only the one-thread pass whose caller keeps bounds uses it).
 #[inline(always)]
-pub(super) fn kick_drift_uniform(
+pub(super) fn kick_drift_flat(
     b: Bodies,
     (kv, kw): (f64, f64),
     (dt, weight): (f64, DVec3),
@@ -68,7 +68,7 @@ pub(super) fn kick_drift_uniform(
 /// Numbers per vector of the flat loops (eight f64 fill a 512-bit register).
 pub(super) const WIDTH: usize = 8;
 
-/// Particles per block of [`kick_drift_uniform`]: a multiple of WIDTH, and 7 arrays of
+/// Particles per block of [`kick_drift_flat`]: a multiple of WIDTH, and 7 arrays of
 /// 24 bytes a particle in under half the 48 kB first-level cache.
 pub(super) const BLOCK: usize = 8 * WIDTH;
 

@@ -50,7 +50,7 @@ pub(crate) fn uniform_free_body(p: &ParticleSet) -> Option<(f64, f64)> {
     alike.then_some((m, i))
 }
 
-/// Half kick and drift (see [`kick_drift_general`] for the contract), leaving each body's
+/// Half kick and drift (see [`kick_drift_per_body`] for the contract), leaving each body's
 /// weight m g [N] (`gravity` g [m/s²]) in its force and zero in its torque once they have
 /// given their kicks. `uniform`: the result of [`uniform_free_body`] for the current
 /// particles. With a `pool`, contiguous ranges of
@@ -134,7 +134,7 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
             let forces = (&mut p.force[..], &mut p.torque[..]);
             flat_pass::<true, false>((v, w, x), forces, (kv, kw, 0.0), DVec3::ZERO) == 0.0
         }
-        None => kick_general(p, half),
+        None => kick_per_body(p, half),
     }
 }
 
@@ -142,7 +142,7 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
 /// (`uniform`, as [`uniform_free_body`] finds them), measuring the displacements since the
 /// last list build only when `measure` ([`Moved`]). The simulation asks for them only when
 /// its bound on them ([`crate::reach::ReachBound`]) cannot rule a list build out.
-pub(crate) fn kick_drift_measured(
+pub(crate) fn kick_drift_flat_tracked(
     p: &mut ParticleSet,
     reference: &[DVec3],
     (half, dt): (f64, f64),
@@ -154,7 +154,7 @@ pub(crate) fn kick_drift_measured(
     let weight = shared_weight(p, gravity);
     let b = Bodies::of(p, reference);
     let (kv, kw) = (half * inv_mass, half * inv_inertia);
-    kick_drift_uniform(b, (kv, kw), (dt, weight), pending, (measure, true))
+    kick_drift_flat(b, (kv, kw), (dt, weight), pending, (measure, true))
 }
 
 /// What a uniform kick-and-drift pass found.

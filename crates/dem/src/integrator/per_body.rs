@@ -16,7 +16,7 @@ use super::*;
 /// of a set does not depend on the order it is taken in, and the two finiteness probes are
 /// sums of zeros unless something is not finite, so the results are the same as one pass.
 #[inline(always)]
-pub(super) fn kick_drift_general(
+pub(super) fn kick_drift_per_body(
     b: Bodies,
     (half, dt): (f64, f64),
     gravity: DVec3,
@@ -86,7 +86,7 @@ impl Reduction {
     }
 }
 
-/// [`kick_drift_general`]'s particles and step.
+/// [`kick_drift_per_body`]'s particles and step.
 pub(super) struct KickDrift<'a> {
     pub(super) b: Bodies<'a>,
     /// Δt/2 [s].
@@ -134,7 +134,7 @@ impl KickDrift<'_> {
 
 /// Second half kick of every free particle. Returns false when some velocity or spin may be
 /// non-finite: x·0 is 0 for finite x and NaN otherwise, so one sum checks all six components.
-pub(super) fn kick_general(p: &mut ParticleSet, half: f64) -> bool {
+pub(super) fn kick_per_body(p: &mut ParticleSet, half: f64) -> bool {
     let mut probe = 0.0;
     let bodies = p
         .flags

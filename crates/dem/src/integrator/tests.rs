@@ -74,7 +74,7 @@ fn flat_form_is_bit_identical_to_the_particle_by_particle_form() {
         let uniform = uniform_free_body(&flat);
         assert!(uniform.is_some(), "equal free spheres share one body");
         let (half, dt) = (1.25e-6, 2.5e-6);
-        let a = kick_drift_general(Bodies::of(&mut general, &reference), (half, dt), G, pending);
+        let a = kick_drift_per_body(Bodies::of(&mut general, &reference), (half, dt), G, pending);
         let b = kick_drift(&mut flat, &reference, (half, dt), pending, uniform, G, None);
         assert_eq!(a, b, "displacement and probes");
         assert_eq!(general.position, flat.position);
@@ -89,7 +89,7 @@ fn flat_form_is_bit_identical_to_the_particle_by_particle_form() {
             }
         }
         assert_eq!(
-            kick_general(&mut general, half),
+            kick_per_body(&mut general, half),
             kick(&mut flat, half, uniform)
         );
         assert_eq!(general.velocity, flat.velocity);
@@ -105,13 +105,13 @@ fn flat_form_reports_what_the_general_form_reports() {
     general.force[150].y = f64::NAN;
     let mut flat = general.clone();
     let uniform = uniform_free_body(&flat);
-    assert!(!kick_general(&mut general, 1e-6));
+    assert!(!kick_per_body(&mut general, 1e-6));
     assert!(!kick(&mut flat, 1e-6, uniform));
     let (mut general, mut reference2) = bed(4);
     reference2[77] -= DVec3::new(0.0, 0.0, 5e-3);
     let mut flat = general.clone();
     let uniform = uniform_free_body(&flat);
-    let a = kick_drift_general(
+    let a = kick_drift_per_body(
         Bodies::of(&mut general, &reference2),
         (1e-6, 2e-6),
         G,

@@ -10,7 +10,7 @@ use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
 use crate::integrator::{
-    displacement_box_diagonal, kick, kick_drift, kick_drift_measured, kick_drift_range,
+    displacement_box_diagonal, kick, kick_drift, kick_drift_flat_tracked, kick_drift_range,
     largest_displacement, merge_drift, uniform_free_body, NOTHING_MOVED,
 };
 use crate::material::{harmonic, Interaction, Material, PairCoefficients};

@@ -142,7 +142,7 @@ impl Simulation {
                         let s = &mut self.state;
                         let ahead = self.reach_bound.next_reach();
                         let measure = !self.reach_bound.rules_out(s.skin, s.walls_moved(), ahead);
-                        let moved = kick_drift_measured(
+                        let moved = kick_drift_flat_tracked(
                             &mut s.particles,
                             &s.reference,
                             (half, dt),
