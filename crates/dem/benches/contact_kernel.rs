@@ -3,7 +3,7 @@
 //! (sphere pairs, and sphere–wall contacts like those on the slab's faces).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
-use dem::contact::batch::{coefficient_row, Batch, BATCH};
+use dem::contact::batch::{Batch, BATCH};
 use dem::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
 use dem::material::{harmonic, Interaction, Material, PairCoefficients};
 use dem::DVec3;
@@ -41,7 +41,7 @@ fn batch_of_table1_contacts(coeff: &PairCoefficients, r: f64, mass: f64) -> Batc
         batch.mass[0][k] = mass;
         batch.mass[1][k] = mass;
     }
-    batch.fill_coefficients(coefficient_row(coeff));
+    batch.fill_coefficients(coeff);
     batch.len = BATCH;
     batch
 }
@@ -135,8 +135,8 @@ fn kernels(c: &mut Criterion) {
         })
     });
     // A batch one contact short of full, as every wall run and every step's last pair
-    // batch ends: until the twenty-ninth session its last `len mod 8` contacts fell to a
-    // scalar remainder loop and cost about 25 ns each against 7 (352 ns against 219 ns).
+    // batch ends: its last `len mod 8` contacts must cost what the others do, not fall to a
+    // scalar remainder loop (about 25 ns each against 7).
     let mut short = walls.clone();
     short.len = BATCH - 1;
     group.bench_function("batch_resolve_walls_short_batch", |b| {

@@ -86,9 +86,8 @@ impl HistoryArrays {
     /// [`NO_SOURCE`]; every entry is live. Array by array, for the list rebuilds.
     ///
     /// Without a branch on the outcome: whether a history is kept (a source, and live
-    /// there) varies from entry to entry, and a branch on it was mispredicted often enough
-    /// to make this copy cost about 10 ns an entry (a timing probe, thirtieth session). The
-    /// kept value or +0.0 is chosen by masking its bits, so the copy is exact.
+    /// there) varies from entry to entry, and a branch on it is mispredicted often enough
+    /// to make this copy cost about 10 ns an entry. The kept value or +0.0 is chosen by masking its bits, so the copy is exact.
     pub(crate) fn carry_from(&mut self, old: &HistoryArrays, source: &[u32]) {
         self.clear();
         let n = old.len();

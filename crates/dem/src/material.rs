@@ -89,7 +89,7 @@ pub fn effective_shear_modulus(a: &Material, b: Option<&Material>) -> f64 {
 }
 
 /// Harmonic combination 1/(1/a + 1/b), used for R* and m*.
-#[inline]
+#[inline(always)]
 pub fn harmonic(a: f64, b: f64) -> f64 {
     a * b / (a + b)
 }

@@ -170,7 +170,7 @@ impl ParticleSet {
     /// Reorders every field so that new index k holds old index `order[k]`, in place: each
     /// array keeps its memory, so that a re-sort does not move the bodies' arrays about
     /// during a run (their placement changes the step's speed by a few per cent on the
-    /// paper's hopper; thirtieth session).
+    /// paper's hopper).
     pub(crate) fn permute(&mut self, order: &[u32]) {
         fn apply<T: Copy>(v: &mut [T], order: &[u32]) {
             let new: Vec<T> = order.iter().map(|&o| v[o as usize]).collect();

@@ -15,8 +15,7 @@
 //! Where those bounds keep the test's every branch false, with a margin far above the
 //! rounding of the sums, the test would have said "no build", and it is not evaluated. The
 //! lists are therefore built at exactly the steps where they were before, and the
-//! trajectories keep every bit. On the paper's hopper the measures were 3 % of a step
-//! (thirtieth session's profile).
+//! trajectories keep every bit. On the paper's hopper the measures would be 3 % of a step.
 
 use crate::integrator::FINITE_REACH;
 

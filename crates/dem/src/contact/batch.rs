@@ -12,6 +12,10 @@
 
 use glam::DVec3;
 
+use super::geometry::{effective_radius, lever_arm};
+use super::{damping, normal, rolling};
+use crate::material::{harmonic, PairCoefficients};
+
 /// Contacts per batch: the arrays (≈ 40 × 8 × BATCH bytes) stay in the L1 cache.
 pub const BATCH: usize = 32;
 
@@ -42,8 +46,8 @@ pub struct Batch {
     pub omega: [[[f64; BATCH]; 3]; 2],
     /// Tangential history ξ before (input) and after (output) the step [m].
     pub xi: [[f64; BATCH]; 3],
-    /// Pair coefficients: E* [Pa], G* [Pa], μ_s [-], μ_r [-], dashpot prefactor [-], √(4G*/E*) [-].
-    pub coeff: [[f64; BATCH]; 6],
+    /// Pair coefficients of each contact ([`PairCoefficients`], one array per field).
+    pub coeff: CoefficientRows,
     /// Output: force on i [N].
     pub force: [[f64; BATCH]; 3],
     /// Output: torque on i [N m].
@@ -69,7 +73,7 @@ impl Default for Batch {
             dv: [z; 3],
             omega: [[z; 3]; 2],
             xi: [z; 3],
-            coeff: [z; 6],
+            coeff: CoefficientRows::default(),
             force: [z; 3],
             torque_i: [z; 3],
             torque_j: [z; 3],
@@ -115,10 +119,8 @@ impl Batch {
     /// (one material): the gather then skips the six per-contact copies. Inlined: the wall
     /// pass calls it once per wall, and on the paper's case a call costs as much as the fill.
     #[inline(always)]
-    pub fn fill_coefficients(&mut self, c: [f64; 6]) {
-        for (row, v) in self.coeff.iter_mut().zip(c) {
-            row.fill(v);
-        }
+    pub fn fill_coefficients(&mut self, c: &PairCoefficients) {
+        self.coeff.fill(c);
     }
 
     /// Evaluates every particle–particle contact of the batch for time step `dt` [s],
@@ -165,12 +167,12 @@ impl Batch {
     fn resolve<const WALL: bool, const UNIFORM: bool>(&mut self, dt: f64, shared: SharedBody) {
         // The contacts rounded up to whole vectors of the widest build. The slots past
         // `len` hold what an earlier batch left there (finite numbers from real contacts,
-        // or a new batch's zeros) and are resolved too, their results never read. Without
-        // this the compiler's scalar remainder loop resolved a batch's last few contacts
+        // or a new batch's zeros) and are resolved too, their results never read. Otherwise
+        // the compiler's scalar remainder loop would resolve a batch's last few contacts
         // one at a time, each chaining its square roots and divisions: about 25 ns a
-        // contact against 7 (a batch of 31 wall contacts 352 ns, of 32 219 ns, with
-        // `cargo bench -p hopperflow-dem --bench contact_kernel`; twenty-ninth session).
-        // Every pair run, wall run and step ends with such a batch.
+        // contact against 7 (`cargo bench -p hopperflow-dem --bench contact_kernel`,
+        // `batch_resolve_walls_short_batch`). Every pair run, wall run and step ends with
+        // such a batch.
         let n = self.len.next_multiple_of(VECTOR).min(BATCH);
         let st = &mut self.stages;
 
@@ -184,9 +186,10 @@ impl Batch {
                 let overlap = self.overlap[k];
                 self.overlap_fraction[k] = overlap / ri;
                 st.overlap[k] = overlap;
-                (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, 0.0);
+                (st.arm[0][k], st.arm[1][k]) = (lever_arm(ri, overlap), 0.0);
             } else {
-                // Geometry (forces.rs): n = d/|d|, δ = R_i + R_j − |d|, R* and m* harmonic.
+                // `geometry::sphere_sphere`: n = d/|d|, δ = R_i + R_j − |d|, R* and m*
+                // harmonic.
                 let sum = ri + rj;
                 let dist = self.dist2[k].sqrt();
                 let overlap = sum - dist;
@@ -198,11 +201,11 @@ impl Batch {
                     self.overlap_fraction[k] = overlap * shared.inv_radius;
                 } else {
                     self.overlap_fraction[k] = overlap / ri.min(rj);
-                    st.r_eff[k] = ri * rj / sum;
-                    st.m_eff[k] = mi * mj / (mi + mj);
+                    st.r_eff[k] = effective_radius(ri, rj, sum);
+                    st.m_eff[k] = harmonic(mi, mj);
                 }
                 st.overlap[k] = overlap;
-                (st.arm[0][k], st.arm[1][k]) = (ri - 0.5 * overlap, rj - 0.5 * overlap);
+                (st.arm[0][k], st.arm[1][k]) = (lever_arm(ri, overlap), lever_arm(rj, overlap));
             }
         }
 
@@ -217,8 +220,11 @@ impl Batch {
             } else {
                 (st.r_eff[k], st.m_eff[k])
             };
-            let [e_star, rolling_friction, damping] =
-                [self.coeff[0][k], self.coeff[3][k], self.coeff[4][k]];
+            let (e_star, rolling_friction, prefactor) = (
+                self.coeff.e_star[k],
+                self.coeff.rolling_friction[k],
+                self.coeff.damping[k],
+            );
             let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let overlap = st.overlap[k];
             let (arm_i, arm_j) = (st.arm[0][k], st.arm[1][k]);
@@ -240,11 +246,10 @@ impl Batch {
                 st.v_t[c][k] = v[c] - v_n * nrm[c];
             }
 
-            let a = (r_eff * overlap).sqrt();
-            let f_ne = (4.0 / 3.0) * e_star * a * overlap;
-            let s_n = 2.0 * e_star * a;
-            let gamma_n = damping * (s_n * m_eff).sqrt();
-            st.a[k] = a;
+            let hertz = normal::hertz(e_star, r_eff, overlap);
+            let f_ne = hertz.force;
+            let gamma_n = damping::dashpot(prefactor, hertz.stiffness, m_eff);
+            st.a[k] = hertz.contact_radius;
             st.f_ne[k] = f_ne;
             st.gamma_n[k] = gamma_n;
             st.f_n[k] = f_ne - gamma_n * v_n;
@@ -256,11 +261,7 @@ impl Batch {
                 self.omega[0][2][k] - self.omega[1][2][k],
             ];
             let w2 = dot(omega_rel, omega_rel);
-            st.rolling[k] = if w2 > 0.0 && rolling_friction > 0.0 {
-                rolling_friction * f_ne / w2.sqrt()
-            } else {
-                0.0
-            };
+            st.rolling[k] = rolling::constant_torque_scale(rolling_friction, f_ne, w2);
         }
 
         // Pass 3, history into the tangent plane keeping its length (`rotate_into_plane`;
@@ -285,7 +286,11 @@ impl Batch {
         // Pass 4, Mindlin no-slip (`mindlin_no_slip`): spring on ξ, Coulomb cap μ F_ne,
         // dashpot γ_t = γ_n √(4G*/E*) only while sticking; then the torques.
         for k in 0..n {
-            let [g_star, friction, ratio] = [self.coeff[1][k], self.coeff[2][k], self.coeff[5][k]];
+            let (g_star, friction, ratio) = (
+                self.coeff.g_star[k],
+                self.coeff.friction[k],
+                self.coeff.stiffness_ratio_sqrt[k],
+            );
             let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let v_t = [st.v_t[0][k], st.v_t[1][k], st.v_t[2][k]];
             let s_t = 8.0 * g_star * st.a[k];
@@ -384,17 +389,61 @@ impl Default for Stages {
     }
 }
 
-/// A pair's coefficients in [`Batch::coeff`] order.
-#[inline(always)]
-pub fn coefficient_row(c: &crate::material::PairCoefficients) -> [f64; 6] {
-    [
-        c.e_star,
-        c.g_star,
-        c.friction,
-        c.rolling_friction,
-        c.damping,
-        c.stiffness_ratio_sqrt,
-    ]
+/// The pair coefficients of a batch's contacts: the fields of [`PairCoefficients`] the laws
+/// read, one array over the slots per field.
+#[derive(Clone, Debug)]
+pub struct CoefficientRows {
+    /// Effective Young's modulus E* [Pa].
+    pub e_star: [f64; BATCH],
+    /// Effective shear modulus G* [Pa].
+    pub g_star: [f64; BATCH],
+    /// Sliding friction μ_s [-].
+    pub friction: [f64; BATCH],
+    /// Rolling friction μ_r [-].
+    pub rolling_friction: [f64; BATCH],
+    /// Dashpot prefactor 2√(5/6)|β(e)| [-].
+    pub damping: [f64; BATCH],
+    /// √(4G*/E*) [-].
+    pub stiffness_ratio_sqrt: [f64; BATCH],
+}
+
+impl Default for CoefficientRows {
+    fn default() -> Self {
+        let z = [0.0; BATCH];
+        Self {
+            e_star: z,
+            g_star: z,
+            friction: z,
+            rolling_friction: z,
+            damping: z,
+            stiffness_ratio_sqrt: z,
+        }
+    }
+}
+
+impl CoefficientRows {
+    /// Sets slot `m` to the coefficients `c`. Inlined: the gathers call it per contact
+    /// where the contacts' materials differ.
+    #[inline(always)]
+    pub fn set(&mut self, m: usize, c: &PairCoefficients) {
+        self.e_star[m] = c.e_star;
+        self.g_star[m] = c.g_star;
+        self.friction[m] = c.friction;
+        self.rolling_friction[m] = c.rolling_friction;
+        self.damping[m] = c.damping;
+        self.stiffness_ratio_sqrt[m] = c.stiffness_ratio_sqrt;
+    }
+
+    /// Sets every slot to the coefficients `c`.
+    #[inline(always)]
+    pub fn fill(&mut self, c: &PairCoefficients) {
+        self.e_star.fill(c.e_star);
+        self.g_star.fill(c.g_star);
+        self.friction.fill(c.friction);
+        self.rolling_friction.fill(c.rolling_friction);
+        self.damping.fill(c.damping);
+        self.stiffness_ratio_sqrt.fill(c.stiffness_ratio_sqrt);
+    }
 }
 
 /// R* [m], m* [kg] and 1/R [1/m] of a batch of equal spheres.
@@ -466,9 +515,7 @@ mod tests {
             batch.radius[1][k] = rj;
             batch.mass[0][k] = mi;
             batch.mass[1][k] = mj;
-            for (a, v) in coefficient_row(&c).into_iter().enumerate() {
-                batch.coeff[a][k] = v;
-            }
+            batch.coeff.set(k, &c);
             cases.push((d, ri, rj, mi, mj, vi, vj, wi, wj, xi));
         }
         batch.len = BATCH;
@@ -550,7 +597,7 @@ mod uniform_tests {
         let c = PairCoefficients::new(&m, Some(&m), &Interaction::fan2023());
         let (r, mass) = SPHERE;
         let mut batch = Batch::default();
-        batch.fill_coefficients(coefficient_row(&c));
+        batch.fill_coefficients(&c);
         for k in 0..BATCH {
             let mut u = || rng.gen::<f64>() - 0.5;
             let dir = [u(), u(), u()];

@@ -19,7 +19,7 @@ pub fn dashpot_prefactor(restitution: f64) -> f64 {
 
 /// Dashpot coefficient γ = prefactor · √(S m*) [kg/s] for stiffness `stiffness` [N/m]
 /// and effective mass `m_eff` [kg] (physics.md §2.1: γ_n = −2√(5/6) β √(S_n m*)).
-#[inline]
+#[inline(always)]
 pub fn dashpot(prefactor: f64, stiffness: f64, m_eff: f64) -> f64 {
     prefactor * (stiffness * m_eff).sqrt()
 }

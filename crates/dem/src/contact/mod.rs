@@ -5,6 +5,7 @@
 
 pub mod batch;
 pub mod damping;
+pub mod geometry;
 pub mod normal;
 pub mod rolling;
 pub mod tangential;
@@ -168,11 +169,7 @@ impl ContactLaws {
                 // −a (n × F_t ± s ω_rel). Same law as `rolling::constant_torque`, one
                 // division instead of three and no second cross product.
                 let w2 = omega_rel.length_squared();
-                let s = if w2 > 0.0 && c.rolling_friction > 0.0 {
-                    c.rolling_friction * hertz.force / w2.sqrt()
-                } else {
-                    0.0
-                };
+                let s = rolling::constant_torque_scale(c.rolling_friction, hertz.force, w2);
                 let roll = s * omega_rel;
                 torque_i = -g.arm_i * (n_cross_ft + roll);
                 torque_j = -g.arm_j * (n_cross_ft - roll);

@@ -4,7 +4,7 @@
 ///
 /// F_ne = (4/3) E* √R* δ^{3/2} [N] and S_n = dF_ne/dδ = 2 E* √(R* δ) [N/m].
 /// Written with a = √(R* δ): F_ne = (4/3) E* a δ, which avoids `powf` (δ^{3/2} = δ√δ).
-#[inline]
+#[inline(always)]
 pub fn hertz(e_star: f64, r_eff: f64, delta: f64) -> HertzForce {
     let a = (r_eff * delta).sqrt();
     HertzForce {

@@ -29,6 +29,19 @@ impl Default for RollingLaw {
     }
 }
 
+/// The scale s = μ_r F_ne/|ω_rel| [N m s] of paper Eq. 8's torque −a s ω_rel on each body,
+/// from μ_r `rolling_friction` [-], the elastic normal force `f_ne` [N] and |ω_rel|² `w2`
+/// [rad²/s²]; zero without relative spin or rolling friction. Both contact paths form the
+/// torques from it: one division instead of three and no second cross product.
+#[inline(always)]
+pub fn constant_torque_scale(rolling_friction: f64, f_ne: f64, w2: f64) -> f64 {
+    if w2 > 0.0 && rolling_friction > 0.0 {
+        rolling_friction * f_ne / w2.sqrt()
+    } else {
+        0.0
+    }
+}
+
 /// Constant directional torque of paper Eq. 8, returned as (torque on i, torque on j) [N m].
 ///
 /// `omega_rel` = ω_i − ω_j [rad/s]; `magnitude_i` = μ_r a_i F_ne and `magnitude_j` = μ_r a_j F_ne [N m];

@@ -4,8 +4,7 @@
 //! compiler vectorises, and then list the touching candidates. One at a time, that listing
 //! stores every index and advances a count by the flag (no branch on the outcome, which
 //! would be mispredicted about as often as not): some six instructions per candidate, about
-//! a quarter of the pair filter and a fifth of the wall pass (`perf annotate`, twenty-first
-//! session, docs/performance-log.md).
+//! a quarter of the pair filter and a fifth of the wall pass (`perf annotate`).
 //!
 //! With AVX2 the listing takes eight candidates at a time: their flags become an 8-bit mask,
 //! a table gives the positions of the mask's ones, packed in the nibbles of one word, and a

@@ -2,10 +2,9 @@
 //! time by vector rows where the build has AVX, one at a time otherwise. The same rows
 //! serve the pair filter's distances for equal spheres ([`pair_flags`]) and the gather of
 //! equal spheres' contacts with a plane ([`plane_motion`]: the slab's faces and the side
-//! walls, a third of the wall loop's time when gathered one number at a time; the wall
-//! loop's share of a profile fell from about 17.6 % to 16.2 % of the step on the AMD host,
-//! twenty-ninth session, where the nineteenth session's version had been within the noise
-//! on the first Intel host).
+//! walls, a third of the wall loop's time when gathered one number at a time; the rows
+//! save about 1.4 % of a step on the paper's hopper on AMD processors, within the noise on
+//! some Intel ones).
 //!
 //! The scalar gather (`Batch::set_pair_motion`) stores 16 numbers per contact one at a
 //! time, and stores are what the gather is short of (docs/performance.md, "What limits it
@@ -173,9 +172,8 @@ pub(super) fn plane_motion(
 /// (`forces::pair_flags`): |d|² is glam's `length_squared`, (x x + y y) + z z.
 ///
 /// Two row loads, a subtraction and a quarter of a transpose per candidate, against the
-/// scalar pass's six loads and its shuffles: on the AMD host the filter's share of a
-/// profile fell from about 9.1 % to 8.2 % of the step (twenty-ninth session; on the first
-/// Intel host the nineteenth session's version had made no difference).
+/// scalar pass's six loads and its shuffles: about 0.9 % of a step on AMD processors,
+/// within the noise on some Intel ones.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 #[inline(always)]
 pub(super) fn pair_flags(
@@ -267,7 +265,7 @@ mod rows {
         // One test for all seven rows (`&`, not `&&`: one branch), after which the loads
         // need no bounds checks of their own, since `fours` cuts the body arrays to one
         // length. It fails only for the last body or candidate, whose row ends its array.
-        // Seven checked rows cost 2 % of a step (A/B 1.019, twenty-third session).
+        // Seven checked rows would cost about 2 % of a step.
         if (3 * i + LANES <= n) & (3 * j + LANES <= n) & (3 * k + LANES <= h) {
             let whole = |flat: &[f64], i: usize| {
                 load_unaligned_m256d(flat[3 * i..3 * i + LANES].try_into().expect("four lanes"))

@@ -1,0 +1,113 @@
+//! Any choice of contact laws, one contact at a time through `ContactLaws::resolve`: the
+//! path of the laws the batched kernel does not cover, and the reference the tests hold
+//! the batched path to.
+
+use super::*;
+use crate::contact::geometry::{sphere_sphere, sphere_wall, Sphere};
+
+/// Body `k` of `p` as the contact geometry sees it.
+#[inline(always)]
+fn sphere(p: &ParticleSet, k: usize) -> Sphere {
+    Sphere {
+        radius: p.radius[k],
+        mass: p.mass[k],
+        inertia: p.inertia[k],
+    }
+}
+
+#[inline(always)]
+pub(super) fn pair_loop_with(
+    input: &KernelInput,
+    laws: ContactLaws,
+    (pi, pj): (&[u32], &[u32]),
+    base: usize,
+    (tangential, rolling): (&mut [DVec3], &mut [DVec3]),
+    sink: &mut impl PairSink,
+) -> WorstOverlap {
+    let p = input.particles;
+    let mut worst = WorstOverlap::default();
+    let pi = &pi[base..base + tangential.len()];
+    let pj = &pj[base..base + tangential.len()];
+    let history = tangential.iter_mut().zip(rolling.iter_mut());
+    for (k, ((&i, &j), (t, r))) in pi.iter().zip(pj).zip(history).enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let d = p.position[i] - p.position[j];
+        let (ri, rj) = (p.radius[i], p.radius[j]);
+        let sum = ri + rj;
+        let dist2 = d.length_squared();
+        if dist2 >= sum * sum {
+            // Separated: the contact forgets its history (physics.md §3.1).
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
+            continue;
+        }
+        let g = sphere_sphere(d, dist2, &sphere(p, i), &sphere(p, j));
+        worst.see(g.overlap / ri.min(rj), base + k);
+        let c =
+            &input.pair_coeffs[p.material[i] as usize * input.materials + p.material[j] as usize];
+        let bi = BodyMotion {
+            velocity: p.velocity[i],
+            omega: p.omega[i],
+        };
+        let bj = BodyMotion {
+            velocity: p.velocity[j],
+            omega: p.omega[j],
+        };
+        let mut h = ContactHistory {
+            tangential: *t,
+            rolling: *r,
+        };
+        let cf = laws.resolve(&g, &bi, &bj, c, &mut h, input.dt);
+        (*t, *r) = (h.tangential, h.rolling);
+        sink.contact(i, j, &cf);
+    }
+    worst
+}
+
+/// Runs the kernel over the particle–wall candidates, calling `sink(i, force)` per contact;
+/// returns the largest overlap and the number of contacts.
+#[inline(always)]
+pub(super) fn wall_loop(
+    input: &KernelInput,
+    (pi, pw): (&[u32], &[u32]),
+    (tangential, rolling): (&mut [DVec3], &mut [DVec3]),
+    mut sink: impl FnMut(usize, &ContactForce),
+) -> (WorstOverlap, usize) {
+    let p = input.particles;
+    let mut worst = WorstOverlap::default();
+    let mut contacts = 0;
+    let history = tangential.iter_mut().zip(rolling.iter_mut());
+    for (k, ((&i, &w), (t, r))) in pi.iter().zip(pw).zip(history).enumerate() {
+        let (i, w) = (i as usize, w as usize);
+        let Some(wall) = &input.walls[w] else {
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
+            continue;
+        };
+        let x = p.position[i];
+        let ri = p.radius[i];
+        let (cp, dist) = wall.closest_point(x);
+        if dist >= ri {
+            (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
+            continue;
+        }
+        let g = sphere_wall(wall.contact_normal(x, cp, dist), dist, &sphere(p, i));
+        worst.see(g.overlap / ri, k);
+        let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
+        let bi = BodyMotion {
+            velocity: p.velocity[i],
+            omega: p.omega[i],
+        };
+        let bw = BodyMotion {
+            velocity: wall.velocity_at(x),
+            omega: DVec3::ZERO,
+        };
+        let mut h = ContactHistory {
+            tangential: *t,
+            rolling: *r,
+        };
+        let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
+        (*t, *r) = (h.tangential, h.rolling);
+        sink(i, &cf);
+        contacts += 1;
+    }
+    (worst, contacts)
+}

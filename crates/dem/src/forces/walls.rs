@@ -1,0 +1,359 @@
+//! The paper's laws over particle–wall candidates: one run of equal wall at a time (the list
+//! is wall-major), each wall's probe, velocity and coefficients looked up once per run.
+
+use super::*;
+
+/// What the wall filter needs of one wall, flattened so that planes need no closest-point call.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum WallProbe {
+    /// The wall was removed.
+    Absent,
+    /// An infinite plane: signed distance x·n − offset [m], unit normal n towards the particles.
+    Plane { normal: DVec3, offset: f64 },
+    /// Any other shape: the general closest-point test ([`Wall::closest_point`]).
+    ClosestPoint,
+}
+
+/// The contact of a sphere at `x` with radius `r` [m] with wall `w`, if they overlap: the
+/// normal from the wall to the sphere and the overlap δ [m]. A NaN distance counts as
+/// touching (`!(≥)`), so that it reaches the NaN check.
+#[inline(always)]
+pub(super) fn wall_contact(
+    input: &KernelInput,
+    probe: &WallProbe,
+    w: usize,
+    x: DVec3,
+    r: f64,
+) -> Option<(DVec3, f64)> {
+    match *probe {
+        WallProbe::Plane { normal, offset } => {
+            let s = plane_distance(x, normal, offset);
+            (!(s >= r)).then_some((normal, r - s))
+        }
+        WallProbe::ClosestPoint => {
+            // Only walls present in the simulation get this probe.
+            let wall = input.walls[w].as_ref().expect("probe of a present wall");
+            let (cp, dist) = wall.closest_point(x);
+            (!(dist >= r)).then(|| (wall.contact_normal(x, cp, dist), r - dist))
+        }
+        WallProbe::Absent => None,
+    }
+}
+
+/// The paper's laws for particle–wall candidates, one run of equal wall at a time (the list
+/// is wall-major): the wall's probe, velocity and coefficients are looked up once per run,
+/// planes are filtered with one dot product per candidate and no branch on the outcome, and
+/// the touching candidates are resolved in batches.
+///
+/// Each particle still receives its wall forces in increasing wall order, as a
+/// particle-major walk would give them, so the sums do not depend on the list's order.
+#[inline(never)]
+pub(super) fn batched_wall_loop(
+    input: &KernelInput,
+    (pi, pw): (&[u32], &[u32]),
+    (history, live): (&mut [DVec3], &mut [u8]),
+    (hits, touch, probes, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Vec<WallProbe>, &mut Batch),
+    mut sink: impl FnMut(usize, &ContactForce),
+) -> (WorstOverlap, usize) {
+    wall_probes(input.walls, probes);
+    // Only grown, never cleared: the filters overwrite what they use, and refilling the whole
+    // buffer every step would cost as much as the filter itself.
+    if hits.len() < history.len() {
+        hits.resize(history.len(), 0);
+        touch.resize(history.len(), 0);
+    }
+    prepare_wall_batch(input, batch);
+    let mut worst = WorstOverlap::default();
+    let mut contacts = 0;
+    for (w, run) in wall_runs(pw) {
+        let len = run.len();
+        let wall = WallRun {
+            probe: probes[w as usize],
+            index: w as usize,
+            base: run.start,
+        };
+        contacts += wall_run(
+            input,
+            &wall,
+            &pi[run.clone()],
+            (&mut history[run.clone()], &mut live[run]),
+            (&mut hits[..len], &mut touch[..len], batch),
+            &mut worst,
+            &mut sink,
+        );
+    }
+    (worst, contacts)
+}
+
+/// The runs of equal wall in a wall-major list of candidates' walls: each wall with the
+/// index range of its candidates, in list order.
+pub(super) fn wall_runs(pw: &[u32]) -> impl Iterator<Item = (u32, std::ops::Range<usize>)> + '_ {
+    let mut start = 0;
+    std::iter::from_fn(move || {
+        let &w = pw.get(start)?;
+        // The list is wall-major (`build_lists`, `Simulation::from_state`).
+        let end = start + pw[start..].partition_point(|&x| x <= w);
+        let run = start..end;
+        start = end;
+        Some((w, run))
+    })
+}
+
+/// The filter's view of every wall, by wall index, into `probes`.
+pub(super) fn wall_probes(walls: &[Option<Wall>], probes: &mut Vec<WallProbe>) {
+    probes.clear();
+    probes.extend(walls.iter().map(|w| match w {
+        None => WallProbe::Absent,
+        Some(w) => match w.shape().as_plane() {
+            Some((normal, offset)) => WallProbe::Plane { normal, offset },
+            None => WallProbe::ClosestPoint,
+        },
+    }));
+}
+
+/// Fills what every wall contact of a batch shares: a wall does not spin (§5), so ω_j = 0 in
+/// every slot, and equal spheres share one radius and mass.
+pub(super) fn prepare_wall_batch(input: &KernelInput, batch: &mut Batch) {
+    for row in &mut batch.omega[1] {
+        row.fill(0.0);
+    }
+    if let Some((r, m)) = input.uniform_body {
+        batch.radius[0].fill(r);
+        batch.mass[0].fill(m);
+    }
+}
+
+/// One run of the wall-major candidate list: its wall and where it starts.
+pub(super) struct WallRun {
+    pub(super) probe: WallProbe,
+    /// The wall's index.
+    pub(super) index: usize,
+    /// Index of the run's first candidate in the whole list.
+    pub(super) base: usize,
+}
+
+/// The candidates of one wall whose particles lie in one body range.
+pub(super) struct WallPiece<'a> {
+    /// The wall's index.
+    pub(super) wall: usize,
+    /// Index of the piece's first candidate in the whole wall list.
+    pub(super) base: usize,
+    pub(super) particles: &'a [u32],
+    /// Their ξ and live flags (`HistoryArrays`).
+    pub(super) history: &'a mut [DVec3],
+    pub(super) live: &'a mut [u8],
+}
+
+/// Filters and resolves the wall candidates of `pieces`, in their order, into `sink`, with
+/// the filter buffers `hits` and `touch` (only grown, never cleared, as in
+/// [`batched_wall_loop`]) and a batch that [`prepare_wall_batch`] has prepared.
+pub(super) fn wall_pieces<'a>(
+    input: &KernelInput,
+    probes: &[WallProbe],
+    pieces: impl IntoIterator<Item = WallPiece<'a>>,
+    (hits, touch, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Batch),
+    sink: &mut impl FnMut(usize, &ContactForce),
+) -> (WorstOverlap, usize) {
+    let mut worst = WorstOverlap::default();
+    let mut contacts = 0;
+    for piece in pieces {
+        let len = piece.particles.len();
+        if hits.len() < len {
+            hits.resize(len, 0);
+            touch.resize(len, 0);
+        }
+        let run = WallRun {
+            probe: probes[piece.wall],
+            index: piece.wall,
+            base: piece.base,
+        };
+        contacts += wall_run(
+            input,
+            &run,
+            piece.particles,
+            (piece.history, piece.live),
+            (&mut hits[..len], &mut touch[..len], batch),
+            &mut worst,
+            sink,
+        );
+    }
+    (worst, contacts)
+}
+
+/// Filters and resolves the candidates `pi` of one wall; returns how many touch.
+#[inline(always)]
+pub(super) fn wall_run(
+    input: &KernelInput,
+    wall: &WallRun,
+    pi: &[u32],
+    (history, live): (&mut [DVec3], &mut [u8]),
+    (hits, touch, batch): (&mut [u32], &mut [u8], &mut Batch),
+    worst: &mut WorstOverlap,
+    sink: &mut impl FnMut(usize, &ContactForce),
+) -> usize {
+    let p = input.particles;
+    let n = p.len();
+    let (pos, radius) = (&p.position[..n], &p.radius[..n]);
+    // Pass 1: which candidates touch. A separated contact (or one with a removed wall)
+    // forgets its history (§3.1): it loses its live flag.
+    let count = match wall.probe {
+        // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
+        WallProbe::Plane { normal, offset } => match input.uniform_body {
+            Some((r, _)) => {
+                let touch = &mut touch[..pi.len()];
+                plane_touches(pos, pi, (normal, offset, r), touch);
+                note_live(touch, live);
+                compact::from_bytes(touch, hits)
+            }
+            None => {
+                let touches = pi.iter().map(|&i| {
+                    let i = i as usize;
+                    !(plane_distance(pos[i], normal, offset) >= radius[i])
+                });
+                compact_touching(touches, live, hits)
+            }
+        },
+        WallProbe::ClosestPoint => {
+            let touches = pi.iter().map(|&i| {
+                let i = i as usize;
+                wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some()
+            });
+            compact_touching(touches, live, hits)
+        }
+        WallProbe::Absent => {
+            live.fill(0);
+            return 0;
+        }
+    };
+    let hits = &hits[..count];
+
+    // Pass 2: the touching ones, in batches. What the run shares is written once.
+    let w = wall.index;
+    let wall_velocity = input.walls[w].as_ref().map_or(DVec3::ZERO, |w| w.velocity);
+    let uniform = (input.materials == 1).then(|| &input.wall_coeffs[w]);
+    if let Some(c) = uniform {
+        batch.fill_coefficients(c);
+    }
+    let plane = match wall.probe {
+        WallProbe::Plane { normal, offset } => {
+            for (row, v) in batch.d.iter_mut().zip(normal.to_array()) {
+                row.fill(v);
+            }
+            Some((normal, offset))
+        }
+        _ => None,
+    };
+    let coefficients = uniform.is_none().then_some(w);
+    for group in hits.chunks(BATCH) {
+        let source = WallSource {
+            input,
+            velocity: wall_velocity,
+            coefficients,
+            pi,
+            history,
+            live,
+        };
+        // The plane's case apart, so that its loop carries no test of the wall's kind per
+        // contact: the filter's expression, so the same overlap.
+        match plane {
+            Some((normal, offset)) => {
+                // Equal spheres of one material by fours where the build allows: the batch
+                // already holds their radius, mass and coefficients.
+                let fours = match input.uniform_body {
+                    Some((radius, _)) if coefficients.is_none() => {
+                        gather::plane_motion(batch, group, &source, (normal, offset), radius)
+                    }
+                    _ => 0,
+                };
+                source.gather(group, fours, batch, |b, m, x, r| {
+                    b.overlap[m] = r - plane_distance(x, normal, offset);
+                })
+            }
+            None => source.gather(group, 0, batch, |b, m, x, r| {
+                let (normal, overlap) =
+                    wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
+                for (a, v) in normal.to_array().into_iter().enumerate() {
+                    b.d[a][m] = v;
+                }
+                b.overlap[m] = overlap;
+            }),
+        }
+        batch.len = group.len();
+        batch.resolve_walls(input.dt);
+        worst.see_batch(batch, group.iter().map(|&k| wall.base + k as usize));
+        for (m, &k) in group.iter().enumerate() {
+            let m = m & (BATCH - 1);
+            let k = k as usize;
+            history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
+            sink(pi[k] as usize, &batch_force(batch, m));
+        }
+    }
+    count
+}
+
+/// Where one wall run's gather reads: the bodies, the wall's velocity and coefficients, the
+/// run's candidates `pi` and their ξ and live flags.
+pub(super) struct WallSource<'a> {
+    pub(super) input: &'a KernelInput<'a>,
+    /// The wall's velocity [m/s].
+    pub(super) velocity: DVec3,
+    /// The wall's index, where the coefficients differ by particle material (none when the
+    /// batch already holds the one material's).
+    pub(super) coefficients: Option<usize>,
+    pub(super) pi: &'a [u32],
+    pub(super) history: &'a [DVec3],
+    pub(super) live: &'a [u8],
+}
+
+impl WallSource<'_> {
+    /// Copies the touching candidates `group` (indices into `pi`) into slots
+    /// `0..group.len()` of `batch`, from slot `first` on (the ones before are filled);
+    /// `geometry(batch, slot, x, r)` writes a contact's normal and overlap from the
+    /// particle's position `x` [m] and radius `r` [m].
+    #[inline(always)]
+    pub(super) fn gather(
+        &self,
+        group: &[u32],
+        first: usize,
+        batch: &mut Batch,
+        geometry: impl Fn(&mut Batch, usize, DVec3, f64),
+    ) {
+        let Self {
+            input,
+            velocity,
+            coefficients,
+            pi,
+            history,
+            live,
+        } = *self;
+        let p = input.particles;
+        let n = p.len();
+        let (pos, vel, omega) = (&p.position[..n], &p.velocity[..n], &p.omega[..n]);
+        let (radius, mass, material) = (&p.radius[..n], &p.mass[..n], &p.material[..n]);
+        for (m, &k) in group.iter().enumerate().skip(first) {
+            let m = m & (BATCH - 1);
+            let k = k as usize;
+            let i = pi[k] as usize;
+            let (x, r) = (pos[i], radius[i]);
+            geometry(batch, m, x, r);
+            let dv = vel[i] - velocity;
+            let (wi, xi) = (omega[i], live_history(live[k], history[k]));
+            for (a, (v, u, z)) in [(dv.x, wi.x, xi.x), (dv.y, wi.y, xi.y), (dv.z, wi.z, xi.z)]
+                .into_iter()
+                .enumerate()
+            {
+                batch.dv[a][m] = v;
+                batch.omega[0][a][m] = u;
+                batch.xi[a][m] = z;
+            }
+            if input.uniform_body.is_none() {
+                batch.radius[0][m] = r;
+                batch.mass[0][m] = mass[i];
+            }
+            if let Some(w) = coefficients {
+                let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
+                batch.coeff.set(m, c);
+            }
+        }
+    }
+}

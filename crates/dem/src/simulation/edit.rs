@@ -1,0 +1,274 @@
+//! Changes to the system between steps: materials and their interactions, particles added
+//! and removed, walls added, moved and removed; and the preparation (mixed coefficients,
+//! the Δt check) that runs before the next step whenever one of them changed the set-up.
+
+use super::*;
+
+/// A particle taken out of the simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RemovedParticle {
+    /// Its tag.
+    pub tag: ParticleTag,
+    /// Position when removed [m].
+    pub position: DVec3,
+    /// Velocity when removed [m/s].
+    pub velocity: DVec3,
+    /// Mass [kg].
+    pub mass: f64,
+}
+
+pub(super) fn check_interaction(i: &Interaction) -> Result<(), DemError> {
+    let ok = i.friction >= 0.0
+        && i.rolling_friction >= 0.0
+        && i.restitution > 0.0
+        && i.restitution <= 1.0
+        && i.friction.is_finite()
+        && i.rolling_friction.is_finite();
+    if ok {
+        Ok(())
+    } else {
+        Err(DemError::InvalidInput(format!(
+            "friction ≥ 0, rolling friction ≥ 0 and restitution in (0, 1] required, got {i:?}"
+        )))
+    }
+}
+
+impl Simulation {
+    /// Registers a material and how it interacts with itself.
+    pub fn add_material(
+        &mut self,
+        material: Material,
+        self_interaction: Interaction,
+    ) -> Result<MaterialId, DemError> {
+        let fault = if !(material.density > 0.0 && material.density.is_finite()) {
+            Some((
+                "density",
+                material.density,
+                "must be positive and finite [kg/m³]",
+            ))
+        } else if !(material.youngs_modulus > 0.0 && material.youngs_modulus.is_finite()) {
+            Some((
+                "Young's modulus",
+                material.youngs_modulus,
+                "must be positive and finite [Pa]",
+            ))
+        } else if !(material.poisson_ratio > -1.0 && material.poisson_ratio < 0.5) {
+            Some((
+                "Poisson ratio",
+                material.poisson_ratio,
+                "must be in (-1, 0.5)",
+            ))
+        } else {
+            None
+        };
+        if let Some((what, value, range)) = fault {
+            return Err(DemError::InvalidInput(format!(
+                "unphysical material: {what} {value} {range}; got {material:?}"
+            )));
+        }
+        check_interaction(&self_interaction)?;
+        let s = &mut self.state;
+        let old = s.materials.len();
+        let n = old + 1;
+        let mut table = vec![None; n * n];
+        for a in 0..old {
+            for b in 0..old {
+                table[a * n + b] = s.interactions[a * old + b];
+            }
+        }
+        table[old * n + old] = Some(self_interaction);
+        s.materials.push(material);
+        s.interactions = table;
+        self.prepared = false;
+        Ok(MaterialId(old as u16))
+    }
+
+    /// Sets how two different materials interact.
+    pub fn set_interaction(
+        &mut self,
+        a: MaterialId,
+        b: MaterialId,
+        interaction: Interaction,
+    ) -> Result<(), DemError> {
+        check_interaction(&interaction)?;
+        let n = self.state.materials.len();
+        if let Some(unknown) = [a, b].into_iter().find(|m| m.0 as usize >= n) {
+            return Err(DemError::InvalidInput(format!(
+                "unknown material {}: {n} material(s) are registered",
+                unknown.0
+            )));
+        }
+        self.state.interactions[a.0 as usize * n + b.0 as usize] = Some(interaction);
+        self.state.interactions[b.0 as usize * n + a.0 as usize] = Some(interaction);
+        self.prepared = false;
+        Ok(())
+    }
+
+    /// Adds a particle; its initial force is its weight.
+    pub fn add_particle(&mut self, init: ParticleInit) -> Result<ParticleTag, DemError> {
+        let Some(mat) = self.state.materials.get(init.material.0 as usize) else {
+            return Err(DemError::InvalidInput(format!(
+                "unknown material {}: {} material(s) are registered",
+                init.material.0,
+                self.state.materials.len()
+            )));
+        };
+        if !(init.radius > 0.0 && init.radius.is_finite())
+            || !init.position.is_finite()
+            || !init.velocity.is_finite()
+            || !init.angular_velocity.is_finite()
+        {
+            return Err(DemError::InvalidInput(format!(
+                "particle radius must be positive and the state finite: {init:?}"
+            )));
+        }
+        let density = mat.density;
+        let g = self.state.config.gravity;
+        let p = &mut self.state.particles;
+        let tag = p.push(&init, density);
+        let k = p.len() - 1;
+        p.force[k] = p.mass[k] * g;
+        self.state.needs_rebuild = true;
+        self.prepared = false;
+        Ok(tag)
+    }
+
+    /// Removes every particle for which `remove(index, particles)` is true and returns them.
+    pub fn remove_particles(
+        &mut self,
+        mut remove: impl FnMut(usize, &ParticleSet) -> bool,
+    ) -> Vec<RemovedParticle> {
+        let p = &self.state.particles;
+        let keep: Vec<bool> = (0..p.len()).map(|k| !remove(k, p)).collect();
+        if keep.iter().all(|&k| k) {
+            return Vec::new();
+        }
+        let removed = (0..p.len())
+            .filter(|&k| !keep[k])
+            .map(|k| RemovedParticle {
+                tag: p.tag[k],
+                position: p.position[k],
+                velocity: p.velocity[k],
+                mass: p.mass[k],
+            })
+            .collect();
+        // The survivors' contact memory follows them across the change of indices: new
+        // body k was body `origin[k]`.
+        let origin: Vec<u32> = (0..keep.len() as u32)
+            .filter(|&k| keep[k as usize])
+            .collect();
+        self.state.particles.retain_mask(&keep);
+        self.rebuild(Some(&origin));
+        removed
+    }
+
+    /// Adds a wall; returns its handle.
+    pub fn add_wall(&mut self, wall: Wall) -> WallId {
+        self.state.walls.push(Some(wall));
+        self.state.needs_rebuild = true;
+        self.prepared = false;
+        WallId(self.state.walls.len() as u32 - 1)
+    }
+
+    /// Removes a wall (a hopper's gate, say).
+    pub fn remove_wall(&mut self, id: WallId) -> Result<Wall, DemError> {
+        let slot = self
+            .state
+            .walls
+            .get_mut(id.0 as usize)
+            .ok_or(DemError::UnknownWall(id.0))?;
+        let wall = slot.take().ok_or(DemError::UnknownWall(id.0))?;
+        self.state.needs_rebuild = true;
+        Ok(wall)
+    }
+
+    /// Moves a wall rigidly by `offset` [m].
+    pub fn translate_wall(&mut self, id: WallId, offset: DVec3) -> Result<(), DemError> {
+        let wall = self
+            .state
+            .walls
+            .get_mut(id.0 as usize)
+            .and_then(Option::as_mut)
+            .ok_or(DemError::UnknownWall(id.0))?;
+        wall.translate(offset);
+        self.state.wall_drift += offset.length();
+        Ok(())
+    }
+
+    /// Sets the velocity a wall shows to the contact law [m/s] (it does not move it).
+    pub fn set_wall_velocity(&mut self, id: WallId, velocity: DVec3) -> Result<(), DemError> {
+        let wall = self
+            .state
+            .walls
+            .get_mut(id.0 as usize)
+            .and_then(Option::as_mut)
+            .ok_or(DemError::UnknownWall(id.0))?;
+        wall.velocity = velocity;
+        Ok(())
+    }
+
+    /// Sets the velocity and spin of particle `index` (test set-ups).
+    pub fn set_particle_motion(&mut self, index: usize, velocity: DVec3, angular_velocity: DVec3) {
+        self.state.particles.velocity[index] = velocity;
+        self.state.particles.omega[index] = angular_velocity;
+    }
+
+    /// Sets the flags of particle `index` (`FLAG_*`).
+    pub fn set_particle_flags(&mut self, index: usize, flags: u8) {
+        self.state.particles.flags[index] = flags;
+        // The integrator's shared-body form holds only while no particle has flags.
+        self.prepared = false;
+    }
+
+    /// Mixes coefficients and checks Δt; runs before a step whenever the set-up changed.
+    pub(super) fn prepare(&mut self) -> Result<(), DemError> {
+        let s = &self.state;
+        let n = s.materials.len();
+        self.pair_coeffs.clear();
+        for a in 0..n {
+            for b in 0..n {
+                let c = match s.interactions[a * n + b] {
+                    Some(i) => PairCoefficients::new(&s.materials[a], Some(&s.materials[b]), &i),
+                    // Never read unless the two materials meet; checked below.
+                    None => PairCoefficients::new(&s.materials[a], None, &Interaction::fan2023()),
+                };
+                self.pair_coeffs.push(c);
+            }
+        }
+        let mut present = vec![false; n];
+        for &m in &s.particles.material {
+            present[m as usize] = true;
+        }
+        for a in 0..n {
+            for b in 0..n {
+                if present[a] && present[b] && s.interactions[a * n + b].is_none() {
+                    return Err(DemError::MissingInteraction(a as u16, b as u16));
+                }
+            }
+        }
+        self.wall_coeffs.clear();
+        for w in &s.walls {
+            for m in &s.materials {
+                self.wall_coeffs.push(match w {
+                    Some(w) => PairCoefficients::with_wall(m, &w.material, &w.interaction),
+                    None => PairCoefficients::new(m, None, &Interaction::fan2023()),
+                });
+            }
+        }
+        if let Some(t_r) = self.rayleigh_time() {
+            let fraction = s.config.time_step / t_r;
+            if fraction > s.config.max_rayleigh_fraction {
+                return Err(DemError::TimeStepTooLarge {
+                    time_step: s.config.time_step,
+                    rayleigh_time: t_r,
+                    fraction,
+                    max_fraction: s.config.max_rayleigh_fraction,
+                });
+            }
+        }
+        self.uniform_body = uniform_body(&s.particles);
+        self.uniform_free = uniform_free_body(&s.particles);
+        self.prepared = true;
+        Ok(())
+    }
+}

@@ -1,0 +1,67 @@
+//! The infinite plane: a wall whose solid side lies behind its unit normal (docs/physics.md §5).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::WallError;
+
+/// An infinite plane through `point` whose solid side lies behind `normal`; particles live
+/// on the side `normal` points to and are pushed along it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Plane {
+    /// A point of the plane [m].
+    pub(super) point: DVec3,
+    /// Unit normal towards the particles [-].
+    pub(super) normal: DVec3,
+}
+
+impl Plane {
+    /// The plane through `point` with normal `normal` (any finite non-zero length; stored
+    /// as a unit vector).
+    pub(super) fn new(point: DVec3, normal: DVec3) -> Result<Self, WallError> {
+        let len = normal.length();
+        if !(len.is_finite() && len > 0.0) || !point.is_finite() {
+            return Err(WallError::BadNormal(normal));
+        }
+        Ok(Self {
+            point,
+            normal: normal / len,
+        })
+    }
+
+    /// A point of the plane [m].
+    pub fn point(&self) -> DVec3 {
+        self.point
+    }
+
+    /// Unit normal towards the particles [-].
+    pub fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    /// The plane as x·n = offset: its unit normal n and offset [m]. The force loop's filter
+    /// tests every candidate of a plane with this one dot product.
+    #[inline]
+    pub fn normal_and_offset(&self) -> (DVec3, f64) {
+        (self.normal, self.point.dot(self.normal))
+    }
+
+    /// Moves the plane by `offset` [m].
+    pub(super) fn translate(&mut self, offset: DVec3) {
+        self.point += offset;
+    }
+
+    /// Closest point of the plane to `x` and the distance to it, signed along the normal
+    /// (negative behind the plane).
+    #[inline(always)]
+    pub(super) fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
+        let s = (x - self.point).dot(self.normal);
+        (x - s * self.normal, s)
+    }
+
+    /// The contact normal, wall to particle: the plane's own, wherever the particle is.
+    #[inline(always)]
+    pub(super) fn contact_normal(&self) -> DVec3 {
+        self.normal
+    }
+}
