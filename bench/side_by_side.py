@@ -9,7 +9,7 @@ with the loop time of the `run` between the log lines BENCH_WINDOW_BEGIN and BEN
 and the mean atom count from the thermo rows of that run (trapezoidal rule, one row per
 0.01 s). The script also reports, from the same LIGGGHTS log, the steady discharge rate W
 (least-squares slope of the mass through the outlet between 15 % and 70 % of the fill
-discharged, physics.md §7 "Steady window") and the total wall time of the case.
+discharged, docs/physics.md §7 "Steady window") and the total wall time of the case.
 
 Ratio printed: LIGGGHTS ns / hopperflow ns (above 1 means hopperflow is faster).
 
@@ -33,7 +33,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 LIGGGHTS_DIR = os.path.join(HERE, "liggghts")
 HOPPERFLOW = os.path.join(REPO, "target", "release", "hopperflow")
-TIME_STEP = 2.5e-6  # Δt [s], physics.md §6.1; must match in.hopper
+TIME_STEP = 2.5e-6  # Δt [s], docs/physics.md §6.1; must match in.hopper
 STEADY_FROM, STEADY_TO = 0.15, 0.70  # steady window as fractions of the fill discharged (§7)
 
 LOOP_RE = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
@@ -117,7 +117,7 @@ def parse_liggghts_log(text):
     discharge = sorted({int(r["step"]): (r["mass_out"], r["count_out"])
                         for (i, r) in rows if i > open_line}.items())
     total_mass, total_count = discharge[-1][1]
-    # The window's fractions refer to the fill (as hopperflow's, physics.md §7): the atoms
+    # The window's fractions refer to the fill (as hopperflow's, docs/physics.md §7): the atoms
     # present when the gate opened times the mass of one sphere (they are all alike). A run
     # that discharged less than STEADY_TO of its fill falls back to what did leave.
     fill_atoms = next(r["atoms"] for (i, r) in rows if i > open_line)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the ASCII STL surfaces that in.hopper reads (the base case, physics.md §5).
+"""Writes the ASCII STL surfaces that in.hopper reads (the base case, docs/physics.md §5).
 
 All coordinates are in metres. x is across the hopper (walls at x = -L/2 and +L/2), y is the
 slab normal (front/back walls at y = 0 and y = Z), z is vertical with the outlet plane at z = 0.
@@ -12,7 +12,7 @@ Usage: make_meshes.py [output folder]   (default: meshes/ next to this file)
 import os
 import sys
 
-# Geometry of the base case (paper Table 1; physics.md §1.1 and §5) [m].
+# Geometry of the base case (paper Table 1; docs/physics.md §1.1 and §5) [m].
 HOPPER_WIDTH = 0.100  # L
 SLAB_THICKNESS = 3.03e-3  # Z = 1.01 d
 OUTLET_WIDTH = 0.030  # D
@@ -20,7 +20,7 @@ PARTICLE_DIAMETER = 3.0e-3  # d
 # The plates overhang the slab by this much in y so that no particle can meet their y-edges;
 # the front/back walls are separate planes, so the overhang changes nothing physical [m].
 OVERHANG = 2.0e-4
-# Particles are deleted 5 d below the outlet plane (physics.md §5, "Removal") [m].
+# Particles are deleted 5 d below the outlet plane (docs/physics.md §5, "Removal") [m].
 SINK_DEPTH = 5.0 * PARTICLE_DIAMETER
 
 

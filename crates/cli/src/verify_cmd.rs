@@ -1,4 +1,4 @@
-//! `hopperflow verify`: the verification suite of physics.md §9, one row per checked quantity.
+//! `hopperflow verify`: the verification suite of docs/physics.md §9, one row per checked quantity.
 //!
 //! Exit status: 0 when every row passes, 1 when any row fails (or the JSON cannot be
 //! written).

@@ -72,7 +72,7 @@ fn verify_passes_with_status_zero_and_its_json_is_the_table_of_rows() {
     // `--fast` is the resolution `cargo test` runs the suite at (crates/verify), where every
     // row passes; the full resolution takes minutes. The JSON must be the table itself: an
     // array of rows with the six documented keys, every one passing (status 0 means that),
-    // covering every case of physics.md §9.
+    // covering every case of docs/physics.md §9.
     let output = hopperflow(&["verify", "--fast", "--json"]);
     assert_status(&output, EXIT_OK, "verify --fast --json");
     let stdout = String::from_utf8_lossy(&output.stdout);

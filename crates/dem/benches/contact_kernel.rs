@@ -3,8 +3,8 @@
 //! (sphere pairs, and sphere–wall contacts like those on the slab's faces).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
-use dem::contact::batch::{Batch, BATCH};
 use dem::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
+use dem::internals::{Batch, BATCH};
 use dem::material::{harmonic, Interaction, Material, PairCoefficients};
 use dem::DVec3;
 

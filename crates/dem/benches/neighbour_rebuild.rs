@@ -3,7 +3,7 @@
 //! triggers), on a jittered dense packing of Table-1 spheres.
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use dem::neighbour::CellGrid;
+use dem::internals::CellGrid;
 use dem::{DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig};
 
 /// Table-1 diameter [m].

@@ -21,7 +21,7 @@ pub(crate) const NO_SOURCE: u32 = u32::MAX;
 
 /// The histories of a candidate list, index-aligned with it.
 ///
-/// A contact that opens forgets its history (physics.md §3.1). Rather than rewriting ξ of
+/// A contact that opens forgets its history (docs/physics.md §3.1). Rather than rewriting ξ of
 /// every separated candidate at every step, which moved 48 bytes a candidate for the two
 /// thirds of candidates that do not touch, the per-step filters clear one byte, the
 /// contact's [`LIVE`] bit: while it is clear, the history is zero whatever the arrays hold.
@@ -217,7 +217,7 @@ mod tests {
 
     #[test]
     fn a_contact_that_is_not_live_reads_as_zero_everywhere() {
-        // Clearing the live bit must be indistinguishable from writing zeros (physics.md
+        // Clearing the live bit must be indistinguishable from writing zeros (docs/physics.md
         // §3.1), for every reader: get, iter, equality, serialisation and split_mut.
         let records: Vec<ContactHistory> = (1..=4)
             .map(|k| ContactHistory {

@@ -1,21 +1,22 @@
 //! hopperflow's DEM engine: Hertz–Mindlin spheres with rolling friction, planar walls,
 //! a Verlet neighbour list and velocity-Verlet integration.
 //!
-//! The engine knows nothing of hoppers, files or fits. Its contract is in physics.md §1–6:
+//! The engine knows nothing of hoppers, files or fits. Its contract is in docs/physics.md §1–6:
 //! contact laws (`contact`), materials and mixing (`material`), walls (`wall`), storage
 //! (`particles`), neighbour search (`neighbour`), velocity Verlet (`integrator`), the
 //! simulation that owns the state (`simulation`) and the view of it between steps (`watch`).
 
 // Input checks are written `!(x > 0.0)` on purpose: unlike `x <= 0.0`, they also refuse NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
+#![warn(missing_docs)]
 
 pub mod contact;
 mod error;
 mod forces;
-pub mod history;
+pub(crate) mod history;
 mod integrator;
 pub mod material;
-pub mod neighbour;
+pub(crate) mod neighbour;
 pub mod particles;
 mod ranges;
 mod reach;
@@ -37,3 +38,12 @@ pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, Simu
 pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallShape};
 pub use watch::Watched;
+
+/// The machinery behind the API, reachable only for the crate's own benchmarks
+/// (`benches/`), which time the contact kernel and the cell grid on their own. Not part of
+/// the API: it changes with the engine's layout.
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::contact::batch::{Batch, BATCH};
+    pub use crate::neighbour::CellGrid;
+}

@@ -1,4 +1,4 @@
-//! Materials, interaction coefficients and the pair mixing rules (physics.md §1).
+//! Materials, interaction coefficients and the pair mixing rules (docs/physics.md §1).
 
 use serde::{Deserialize, Serialize};
 
@@ -44,7 +44,7 @@ impl Material {
     }
 }
 
-/// What a wall is made of. A wall is a body of infinite radius and mass (physics.md §5).
+/// What a wall is made of. A wall is a body of infinite radius and mass (docs/physics.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum WallMaterial {
     /// A rigid wall: it adds no compliance, so E* = E/(1−ν²) and G* = G/(2−ν).
@@ -77,13 +77,13 @@ impl Interaction {
 }
 
 /// Effective Young's modulus E* of two bodies; `None` stands for a rigid body
-/// (1/E* = Σ (1−ν²)/E, physics.md §1).
+/// (1/E* = Σ (1−ν²)/E, docs/physics.md §1).
 pub fn effective_youngs_modulus(a: &Material, b: Option<&Material>) -> f64 {
     1.0 / (a.normal_compliance() + b.map_or(0.0, Material::normal_compliance))
 }
 
 /// Effective shear modulus G* of two bodies; `None` stands for a rigid body
-/// (1/G* = Σ (2−ν)/G, physics.md §1).
+/// (1/G* = Σ (2−ν)/G, docs/physics.md §1).
 pub fn effective_shear_modulus(a: &Material, b: Option<&Material>) -> f64 {
     1.0 / (a.shear_compliance() + b.map_or(0.0, Material::shear_compliance))
 }
@@ -107,7 +107,7 @@ pub struct PairCoefficients {
     pub rolling_friction: f64,
     /// Restitution e [-].
     pub restitution: f64,
-    /// Dashpot prefactor 2√(5/6)|β(e)| [-] (physics.md §2.1).
+    /// Dashpot prefactor 2√(5/6)|β(e)| [-] (docs/physics.md §2.1).
     pub damping: f64,
     /// √(S_t/S_n) = √(4G*/E*) [-], relating the tangential and normal dashpots.
     pub stiffness_ratio_sqrt: f64,
@@ -143,7 +143,7 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    // Table 1 derived numbers, physics.md §1.1, printed to 5 significant digits.
+    // Table 1 derived numbers, docs/physics.md §1.1, printed to 5 significant digits.
     const TABLE_TOL: f64 = 1e-4;
 
     #[test]
@@ -174,7 +174,7 @@ mod tests {
 
     #[test]
     fn stiffness_ratio_kappa_is_two_one_minus_nu_over_two_minus_nu() {
-        // κ = 4G*/E* = 2(1−ν)/(2−ν) = 0.857 for ν = 0.25 (physics.md §1.1); exact identity.
+        // κ = 4G*/E* = 2(1−ν)/(2−ν) = 0.857 for ν = 0.25 (docs/physics.md §1.1); exact identity.
         let m = Material::fan2023();
         let kappa =
             4.0 * effective_shear_modulus(&m, Some(&m)) / effective_youngs_modulus(&m, Some(&m));

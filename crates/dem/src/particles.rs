@@ -134,7 +134,7 @@ impl ParticleSet {
         self.torque.push(DVec3::ZERO);
         self.radius.push(r);
         self.mass.push(mass);
-        // Solid sphere, I = (2/5) m r² (physics.md §6.2).
+        // Solid sphere, I = (2/5) m r² (docs/physics.md §6.2).
         self.inertia.push(0.4 * mass * r * r);
         self.inv_mass.push(1.0 / mass);
         self.inv_inertia.push(1.0 / (0.4 * mass * r * r));

@@ -4,7 +4,7 @@ use crate::material::Material;
 
 /// Rayleigh time t_R = π r √(ρ/G) / (0.1631 ν + 0.8766) [s] for the smallest radius `radius` [m].
 ///
-/// The paper's Eq. 9 prints 0.163; EDEM and LIGGGHTS use 0.1631 (physics.md §6.1, §10.4).
+/// The paper's Eq. 9 prints 0.163; EDEM and LIGGGHTS use 0.1631 (docs/physics.md §6.1, §10.4).
 pub fn rayleigh_time(material: &Material, radius: f64) -> f64 {
     std::f64::consts::PI * radius * (material.density / material.shear_modulus()).sqrt()
         / (0.1631 * material.poisson_ratio + 0.8766)
@@ -19,7 +19,7 @@ mod tests {
 
     #[test]
     fn table1_rayleigh_time_is_25_7_microseconds() {
-        // physics.md §1.1: t_R = 2.5684e-5 s (5 significant digits).
+        // docs/physics.md §1.1: t_R = 2.5684e-5 s (5 significant digits).
         assert_relative_eq!(
             rayleigh_time(&Material::fan2023(), 1.5e-3),
             2.5684e-5,

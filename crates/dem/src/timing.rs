@@ -1,5 +1,5 @@
 //! Where a step's wall-clock time goes: the three phases of velocity Verlet as the engine
-//! runs them (physics.md §6.2), for the benchmarks' breakdown, in the spirit of the timing
+//! runs them (docs/physics.md §6.2), for the benchmarks' breakdown, in the spirit of the timing
 //! table LAMMPS prints after a run (Pair, Neigh, Modify, Other).
 //!
 //! Off by default. When on, the clock is read five times a step (about 140 ns in all, a few

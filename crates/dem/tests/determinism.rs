@@ -1,5 +1,5 @@
 //! Results do not depend on the number of worker threads: forces are evaluated in parallel
-//! chunks but each body receives them in a fixed order (physics.md §6.2; forces/parallel.rs).
+//! chunks but each body receives them in a fixed order (docs/physics.md §6.2; forces/parallel.rs).
 
 mod common;
 

@@ -41,7 +41,7 @@ fn elastic_gas_conserves_energy() {
     }
     // Velocity Verlet is symplectic: over 1e5 steps the energy only fluctuates with the
     // O((Δt/t_c)²) error of the contacts in progress and the small kicks at contact onset,
-    // where the Hertz force is not smooth. 1e-4 relative (physics.md: ≥ 50 steps per
+    // where the Hertz force is not smooth. 1e-4 relative (docs/physics.md: ≥ 50 steps per
     // contact) would be exceeded by a missing half kick, a wrong elastic energy or a force/
     // energy mismatch. (Measured: 6.6e-6.)
     assert!(worst < 1e-4, "largest relative energy error {worst:e}");

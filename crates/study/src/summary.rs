@@ -56,7 +56,7 @@ pub struct CaseSummary {
     pub steady_window: [f64; 2],
     /// Whether W(t) showed a plateau in the window (see `analysis::series`).
     pub plateau_found: bool,
-    /// W from the snapshot flux (2/3) ρ_p d ∫ ⟨φ v⟩ dx over the window [kg/s] (physics.md §7.4).
+    /// W from the snapshot flux (2/3) ρ_p d ∫ ⟨φ v⟩ dx over the window [kg/s] (docs/physics.md §7.4).
     pub flux_check_rate: f64,
     /// W from the crossing v(x) times the strip φ(x) [kg/s].
     pub flux_check_rate_profiles: f64,

@@ -1,7 +1,7 @@
 //! Whole small runs reproduce the paper's qualitative findings: an outlet at the wall
 //! skews the outlet velocity profile toward the wall and raises the flow rate (Fan et al.
 //! 2023, §4.2, Figs. 10 and 16), and an inclined hopper drains completely with a
-//! discharge rate that the outlet flux (physics.md §7.4) reproduces.
+//! discharge rate that the outlet flux (docs/physics.md §7.4) reproduces.
 
 use std::path::Path;
 use std::time::Instant;
@@ -191,7 +191,7 @@ fn thirty_degree_hopper_empties_with_a_rate_the_outlet_flux_reproduces() {
         "discharge rate {rate} kg/s is outside 23.3 ± 3.3 g/s"
     );
 
-    // The outlet flux must account for the mass that leaves (physics.md §7.4). With only
+    // The outlet flux must account for the mass that leaves (docs/physics.md §7.4). With only
     // 6 d across the outlet, 12 bins of d/2 and a few hundred frames in the steady window,
     // W itself carries a 3–5 % standard error and the product φ(x)·v(x) of separately
     // averaged bins drops the φ–v correlation (seeds 1–4: up to 6.5 % low), so 10 %.

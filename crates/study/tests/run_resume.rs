@@ -163,7 +163,7 @@ fn run_resumed_after_interruptions_in_fill_and_discharge_matches_uninterrupted_r
         "interrupted twice and resumed: {:.1} s wall",
         started.elapsed().as_secs_f64()
     );
-    // Bit-identical resumption (physics.md §10.8): every output byte must match.
+    // Bit-identical resumption (docs/physics.md §10.8): every output byte must match.
     assert_same_outputs(&a, &b, "resumed run");
 
     let started = Instant::now();

@@ -1,4 +1,4 @@
-//! A1 — block sliding with rotation locked (physics.md §9).
+//! A1 — block sliding with rotation locked (docs/physics.md §9).
 //!
 //! Set-up: a Table-1 sphere (d = 3 mm) on a same-material plane with its rotation locked,
 //! launched at v0 = 0.5 m/s, μ = 0.5, e = 0.2, gravity on, Δt = 2.5 µs. Then the same block at
@@ -9,7 +9,7 @@
 //! relaxes by only μ m g/S_t ≈ 0.05 µm and must not drift. On an incline it stays put for
 //! tan θ ≤ μ (26.57°) and otherwise slides with a = g(sin θ − μ cos θ).
 //!
-//! Tolerance (physics.md §9): 1 % on the stop time, distance and incline acceleration;
+//! Tolerance (docs/physics.md §9): 1 % on the stop time, distance and incline acceleration;
 //! residual creep < 1e-6 m over the observation window after stopping (and on the 20° incline).
 //! Fast observes the creep for 0.05 s, Full for 0.5 s.
 

@@ -1,5 +1,5 @@
 //! A2 — sliding then rolling with constant-directional-torque rolling friction
-//! (physics.md §4.1 paper Eq. 8, §9; sphere on a wall, lever R_i = R − δ/2 ≈ R).
+//! (docs/physics.md §4.1 paper Eq. 8, §9; sphere on a wall, lever R_i = R − δ/2 ≈ R).
 //!
 //! Set-up: a Table-1 sphere (d = 3 mm) launched along a same-material plane with v0 and no spin;
 //! μ = 0.5, μ_r = 0.01, e = 0.2, gravity on, Δt = 2.5 µs.
@@ -16,14 +16,14 @@
 //! s1 = 12 v0²/(49 μ g) (5.82 ms, 0.07143 m/s, 0.499 mm, and then s2 = 36.41 mm, t2 = 1.019 s)
 //! neglect the rolling torque during sliding, which shifts t1 and s1 by 1.5 % and 1.2 % — more
 //! than the 1 % tolerance — so the exact expressions above are the expected values
-//! (physics.md §9 A2).
+//! (docs/physics.md §9 A2).
 //!
 //! Measurement: the end of sliding is where the contact-point slip v_x − R ω_y first crosses
 //! zero; rest is where v_x first crosses zero; both instants are interpolated between steps.
 //! The rolling phase is run to rest at both resolutions: at one particle it costs ≈ 4e5 cheap
 //! steps. Full adds v0 = 0.5 m/s (≈ 5 s, 2e6 steps).
 //!
-//! Tolerance (physics.md §9): 1 % on s1 and v1, 2 % on s2 and t2.
+//! Tolerance (docs/physics.md §9): 1 % on s1 and v1, 2 % on s2 and t2.
 
 use dem::{ContactLaws, Interaction, RollingLaw};
 

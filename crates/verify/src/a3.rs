@@ -1,5 +1,5 @@
 //! A3 — a sphere released on an incline: rolling and slipping accelerations, the roll/slip
-//! threshold, and behaviour at rest (physics.md §4.2, §9).
+//! threshold, and behaviour at rest (docs/physics.md §4.2, §9).
 //!
 //! Set-up: a Table-1 sphere (d = 3 mm) released at rest on a same-material plane tilted by θ
 //! (gravity tilted, see `surface`), μ = 0.5, μ_r = 0.01, e = 0.2, Δt = 2.5 µs, constant
@@ -17,10 +17,10 @@
 //! - at rest with tan θ < μ_r (θ = 0.3°): EPSD (η_r = 0.3) holds the sphere still; CDT cannot
 //!   hold a static rolling equilibrium and chatters with |Δω| ≈ μ_r R F_n Δt/I (§4.2).
 //!
-//! Tolerance (physics.md §9): 1 % on accelerations; threshold within ±0.5° (bisection resolves
+//! Tolerance (docs/physics.md §9): 1 % on accelerations; threshold within ±0.5° (bisection resolves
 //! it to 0.04°, Fast to 0.16°); EPSD: displacement < 1e-3 d over the observation window after a
 //! 0.1 s settling period in which the springs take up the load (their elastic set-up alone is
-//! ≈ 1e-3 d at this angle); CDT: physics.md §9 asks to record the creep, not to match it. Here
+//! ≈ 1e-3 d at this angle); CDT: docs/physics.md §9 asks to record the creep, not to match it. Here
 //! it is bounded by 1 % of the distance a sphere without rolling resistance would roll in the
 //! same window, ½ a_free ((t_s + w)² − t_s²) with a_free = (5/7) g sin θ, t_s = 0.1 s settling
 //! and w the window: 1.47 mm at Fast and 22.0 mm at Full, so bounds of 14.7 µm and 220 µm. The

@@ -1,4 +1,4 @@
-//! A4 — static checks of the two tangential laws (physics.md §3.1–3.3, §9): the engine's pure
+//! A4 — static checks of the two tangential laws (docs/physics.md §3.1–3.3, §9): the engine's pure
 //! functions with the Table-1 sphere–sphere contact (E* = 1.333e8 Pa, G* = 2.857e7 Pa,
 //! R* = 0.75 mm, δ_n = 20 µm, μ = 0.5, so δ_t,max = μ δ_n E*/(4G*) = 11.67 µm), and one run of
 //! the engine with a static sphere–plane contact.
@@ -19,7 +19,7 @@
 //!   displacement u Δt a step;
 //! - rotating the normal by 90° in 900 steps with ξ held preserves |ξ| and keeps ξ·n = 0.
 //!
-//! Tolerance (physics.md §9): 1e-10 relative. In the engine run only round-off remains: ξ is a
+//! Tolerance (docs/physics.md §9): 1e-10 relative. In the engine run only round-off remains: ξ is a
 //! sum of a few hundred increments (≈ 1e-14 relative), δ = R − z loses the digits that R has
 //! beyond δ (≈ 1e-14), and the force chord is a difference of two forces of similar size
 //! (≈ 1e-15); a wrong stiffness (4G* for 8G*, R for R*, the Mindlin–Deresiewicz curve, whose

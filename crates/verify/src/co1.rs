@@ -1,14 +1,14 @@
-//! CO1 — elastic head-on impact of two identical spheres (Chung & Ooi 2011, test 1; physics.md §9).
+//! CO1 — elastic head-on impact of two identical spheres (Chung & Ooi 2011, test 1; docs/physics.md §9).
 //!
 //! Set-up: two spheres of R = 0.010 m, each at 10 m/s towards the other (v_rel = 20 m/s),
 //! e = 1, no friction, no gravity. Materials: glass (E = 4.8e10 Pa, ν = 0.20, ρ = 2800 kg/m³)
 //! and limestone (E = 2.0e10 Pa, ν = 0.25, ρ = 2500 kg/m³).
 //!
-//! Expected (Hertz theory, physics.md §9 table, computed from δ_max = (15 m* v²/(16 E*√R*))^{2/5},
+//! Expected (Hertz theory, docs/physics.md §9 table, computed from δ_max = (15 m* v²/(16 E*√R*))^{2/5},
 //! F_max = 4/3 E*√R* δ_max^{3/2}, t_c = 2.943 δ_max/v): glass 274.1 µm, 10.70 kN, 40.34 µs;
 //! limestone 368.3 µm, 7.108 kN, 54.20 µs. Rebound speed 10 m/s each.
 //!
-//! Tolerance (physics.md §9): 1 % on δ_max, F_max and t_c and 1e-4 relative on the rebound
+//! Tolerance (docs/physics.md §9): 1 % on δ_max, F_max and t_c and 1e-4 relative on the rebound
 //! speed at ≥ 100 steps per contact; the force–overlap curve must follow 4/3 E*√R* δ^{3/2}
 //! within 0.5 % at every step.
 
@@ -28,7 +28,7 @@ const ELASTIC: Interaction = Interaction {
 
 /// Runs CO1 for glass and limestone.
 pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
-    // (name, material, δ_max [m], F_max [N], t_c [s]) from the physics.md §9 table.
+    // (name, material, δ_max [m], F_max [N], t_c [s]) from the docs/physics.md §9 table.
     let cases = [
         (
             "glass",

@@ -1,10 +1,10 @@
-//! CO2 — elastic normal impact of a sphere on a rigid plane (Chung & Ooi 2011, test 2; physics.md §9).
+//! CO2 — elastic normal impact of a sphere on a rigid plane (Chung & Ooi 2011, test 2; docs/physics.md §9).
 //!
 //! Set-up: R = 0.10 m at 0.2 m/s onto a rigid plane (E* = E/(1−ν²)), e = 1, no friction, no
 //! gravity. Materials: Al alloy (E = 7.0e10 Pa, ν = 0.30, ρ = 2699 kg/m³) and Mg alloy
 //! (E = 4.0e10 Pa, ν = 0.35, ρ = 1800 kg/m³).
 //!
-//! Expected (Hertz theory, physics.md §9 table): Al 49.72 µm, 11.37 kN, 731.6 µs;
+//! Expected (Hertz theory, docs/physics.md §9 table): Al 49.72 µm, 11.37 kN, 731.6 µs;
 //! Mg 52.12 µm, 7.233 kN, 767.0 µs; rebound speed 0.2 m/s.
 //!
 //! Tolerance: as CO1 (1 % on δ_max, F_max, t_c; 1e-4 relative on the rebound speed; the

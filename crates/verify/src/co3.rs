@@ -1,4 +1,4 @@
-//! CO3 — restitution reproduction (Chung & Ooi 2011, test 3, plus the paper's e = 0.2; physics.md §2.3, §9).
+//! CO3 — restitution reproduction (Chung & Ooi 2011, test 3, plus the paper's e = 0.2; docs/physics.md §2.3, §9).
 //!
 //! Set-up: normal impact on a rigid plane at 3.9 m/s, R = 2.5 mm, no gravity, no friction,
 //! e_in ∈ {0.2, 0.4, 0.6, 0.8, 1.0}, for Al oxide (E = 3.8e11 Pa, ν = 0.23, ρ = 4000 kg/m³) and
@@ -7,10 +7,10 @@
 //! v_rel ∈ {0.1, 1, 3} m/s.
 //!
 //! Expected: without the force clamp, e_out = e_in for any speed and material (the 2√(5/6)β
-//! dashpot is exact for the Hertz ODE, physics.md §2.3). With the clamp F_n ≥ 0 (optional
+//! dashpot is exact for the Hertz ODE, docs/physics.md §2.3). With the clamp F_n ≥ 0 (optional
 //! mode), e_out follows the §2.3 table (0.253 … 0.902 for e_in = 0.1 … 0.9), checked here on Al oxide.
 //!
-//! Tolerance (physics.md §9 table, by steps actually spent in contact, because the half-step
+//! Tolerance (docs/physics.md §9 table, by steps actually spent in contact, because the half-step
 //! dashpot biases e_out by O(1/steps), §2.3): ≥ 400 steps → 0.002, ≥ 100 → 0.005, fewer → 0.01.
 //! Clamped rows add 0.0005 for the three-decimal rounding of the §2.3 table.
 
@@ -34,7 +34,7 @@ pub const CAST_IRON: Material = Material {
     poisson_ratio: 0.25,
 };
 
-/// The clamped-force restitution table of physics.md §2.3: (e_in, e_out).
+/// The clamped-force restitution table of docs/physics.md §2.3: (e_in, e_out).
 const CLAMPED: [(f64, f64); 9] = [
     (0.1, 0.253),
     (0.2, 0.325),
@@ -47,7 +47,7 @@ const CLAMPED: [(f64, f64); 9] = [
     (0.9, 0.902),
 ];
 
-/// The |e_out − e_in| tolerance of physics.md §9 for a contact resolved by `steps` steps.
+/// The |e_out − e_in| tolerance of docs/physics.md §9 for a contact resolved by `steps` steps.
 pub fn restitution_tolerance(steps: u64) -> f64 {
     if steps >= 400 {
         0.002

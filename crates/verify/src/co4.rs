@@ -1,5 +1,5 @@
 //! CO4 — oblique impact on a rigid plane at constant speed and varying angle
-//! (Chung & Ooi 2011, test 4, after Kharaz et al. 2001; physics.md §9).
+//! (Chung & Ooi 2011, test 4, after Kharaz et al. 2001; docs/physics.md §9).
 //!
 //! Set-up: R = 2.5 mm, V = 3.9 m/s at θ = 5…85° from the normal, no initial spin, rigid plane,
 //! μ = 0.092, e = 0.98 (dashpots in both directions), no gravity, Hertz–Mindlin no-slip (§3.1).
@@ -7,7 +7,7 @@
 //! contact-patch rebound angle θ_r = atan((v_t' + ω'R)/v_n').
 //!
 //! Expected:
-//! - θ ≤ 30° (stick and micro-slip): the physics.md §9 model-reference table (Appendix-B
+//! - θ ≤ 30° (stick and micro-slip): the docs/physics.md §9 model-reference table (Appendix-B
 //!   integrator at ≥ 3000 steps per contact), Al oxide (E = 3.8e11 Pa, ν = 0.23, ρ = 4000) and
 //!   Al alloy (E = 7.0e10 Pa, ν = 0.33, ρ = 2700; e_t and θ_r only).
 //! - θ ≥ 40° (gross sliding, tan θ ≥ 3.5 μ(1+e)): rigid-body analytic values
@@ -17,7 +17,7 @@
 //! - Discriminating check: the corrected Mindlin–Deresiewicz law (§3.3) gives e_t(10°) = 0.596
 //!   and θ_r(10°) = −4.3°, against 0.703 and −0.42° for §3.1, so a mix-up of the laws fails.
 //!
-//! Tolerance (physics.md §9): sliding: 0.5 % on e_t and ω', 0.3° on θ_r; stick/micro-slip:
+//! Tolerance (docs/physics.md §9): sliding: 0.5 % on e_t and ω', 0.3° on θ_r; stick/micro-slip:
 //! 0.02 on e_t, 5 % on ω', 1° on θ_r. The engine's lever R − δ/2 (instead of the reference's R)
 //! changes ω' by ≈ δ_max/(4R) ≈ 0.1 %, inside these margins.
 

@@ -1,5 +1,5 @@
 //! CO5 — oblique impact with constant normal velocity and varying spin
-//! (Chung & Ooi 2011, test 6; physics.md §9).
+//! (Chung & Ooi 2011, test 6; docs/physics.md §9).
 //!
 //! Set-up: R = 0.10 m, v_n = 0.2 m/s, centre tangential velocity 0, initial spin ω_0 such that the
 //! contact point moves at V_t = R ω_0 = v_n tan θ_i; rigid plane; μ = 0.4; e = 0.5 in both
@@ -14,11 +14,11 @@
 //!   regime) only β_t is checked: there tan θ_r = 0.089 is nearly zero, so its 1 % tolerance is
 //!   9e-4 absolute, below the tangential-compliance effect at the regime boundary (≈ 2e-3,
 //!   the same deviation that moves β_t by only 4e-4);
-//! - x ∈ [1, 6]: the model-reference table of physics.md §9 (Appendix-B integrator). The spin is
+//! - x ∈ [1, 6]: the model-reference table of docs/physics.md §9 (Appendix-B integrator). The spin is
 //!   set from the tabulated x itself (tan θ_i = 2.1/x), so each row compares like with like.
 //!   Values for x > 6 are informative only in the spec and are not checked.
 //!
-//! Tolerance (physics.md §9): sliding: 0.01 absolute on β_t, 1 % on tan θ_r; x ∈ [1, 6]: 0.03
+//! Tolerance (docs/physics.md §9): sliding: 0.01 absolute on β_t, 1 % on tan θ_r; x ∈ [1, 6]: 0.03
 //! absolute on β_t against the model-reference.
 
 use dem::{ContactLaws, Interaction, Material};

@@ -1,5 +1,5 @@
 //! CO-T — Thornton-type normalised oblique impacts of a sphere on a rigid plane, no initial spin
-//! (physics.md §9, after Thornton et al.'s Ψ1–Ψ2 regime maps).
+//! (docs/physics.md §9, after Thornton et al.'s Ψ1–Ψ2 regime maps).
 //!
 //! Set-up: V_n = 1 m/s, V_t = Ψ1 μ(1+e) V_n, no gravity, Hertz–Mindlin no-slip. Three series:
 //! e = 1 with ν = 0.30 and with ν = 0.25 (E = 7.0e10 Pa, ρ = 2700 kg/m³, R = 2.5 mm, μ = 0.3; for
@@ -7,10 +7,10 @@
 //! μ = 0.5, e = 0.2). Outputs: Ψ2 = V_t'/(μ(1+e)V_n), with V_t' the contact-point tangential
 //! velocity after impact, and Ω = R|ω'|/(μ(1+e)V_n).
 //!
-//! Expected: the model-reference table of physics.md §9 (Appendix-B integrator). For Ψ1 ≥ 4 these
+//! Expected: the model-reference table of docs/physics.md §9 (Appendix-B integrator). For Ψ1 ≥ 4 these
 //! are the rigid-body sliding line Ψ2 = Ψ1 − 3.5 and the plateau Ω = 2.5.
 //!
-//! Tolerance (physics.md §9): 0.02 absolute on the sliding line and the Ω plateau (Ψ1 ≥ 4),
+//! Tolerance (docs/physics.md §9): 0.02 absolute on the sliding line and the Ω plateau (Ψ1 ≥ 4),
 //! 0.05 elsewhere.
 //!
 //! Poisson separation: the two e = 1 series differ by at most 0.040 (at Ψ1 = 0.5 and 1.0), less
@@ -54,7 +54,7 @@ const OMEGA_TABLE1: [f64; 11] = [
     0.178, 0.356, 0.714, 1.081, 1.453, 1.826, 2.235, 2.499, 2.5, 2.5, 2.5,
 ];
 
-/// The tolerance of physics.md §9 at Ψ1.
+/// The tolerance of docs/physics.md §9 at Ψ1.
 fn tolerance(psi1: f64) -> f64 {
     if psi1 >= 4.0 {
         0.02

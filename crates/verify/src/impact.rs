@@ -6,7 +6,7 @@
 //! linear in time there, because the force vanishes at δ = 0), so the measured duration is not
 //! quantised to Δt. Velocities are read on the first step without overlap: that step applies no
 //! contact force, so they are the post-impact velocities, as in the reference integrator of
-//! physics.md Appendix B.
+//! docs/physics.md Appendix B.
 
 use dem::contact::normal::hertz;
 use dem::material::{effective_youngs_modulus, harmonic};
@@ -253,7 +253,7 @@ impl Impact {
 }
 
 /// Post-impact state of an oblique impact on a rigid plane, in the sign convention of
-/// physics.md Appendix B: motion along +x, spin ω with contact-point slip v_x + ωR.
+/// docs/physics.md Appendix B: motion along +x, spin ω with contact-point slip v_x + ωR.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Oblique {
     /// Centre tangential velocity after impact [m/s].
@@ -302,7 +302,7 @@ pub fn oblique_on_rigid_plane(
 }
 
 /// The three Hertz rows of an elastic impact (CO1, CO2): peak overlap [m], peak normal force
-/// [N] and contact duration [s] against their closed forms, each at 1 % (physics.md §9 CO1).
+/// [N] and contact duration [s] against their closed forms, each at 1 % (docs/physics.md §9 CO1).
 pub fn hertz_rows(
     test: &str,
     name: &str,

@@ -1,6 +1,6 @@
 //! Verification suite of the DEM engine: the single-impact benchmarks of Chung & Ooi (2011),
 //! Thornton's normalised oblique impacts and the analytic sliding/rolling cases of
-//! physics.md §9, each reported as rows of expected and measured values.
+//! docs/physics.md §9, each reported as rows of expected and measured values.
 //!
 //! Every case lives in its own file whose module documentation gives the set-up, the
 //! expected values and their source, and the tolerance with its reason.
@@ -34,7 +34,7 @@ type Case = (
     fn(Resolution) -> Result<Vec<Row>, VerifyError>,
 );
 
-/// Every case of physics.md §9 that this crate implements, in the order of the spec.
+/// Every case of docs/physics.md §9 that this crate implements, in the order of the spec.
 const CASES: [Case; 11] = [
     ("CO1", co1::run),
     ("CO2", co2::run),
@@ -49,7 +49,7 @@ const CASES: [Case; 11] = [
     ("A4", a4::run),
 ];
 
-/// Runs every case at `resolution` and returns all rows, in the order of physics.md §9.
+/// Runs every case at `resolution` and returns all rows, in the order of docs/physics.md §9.
 ///
 /// The cases are independent and run in parallel. An engine error inside a case does not
 /// stop the others: it becomes a single failing row naming the error.

@@ -1,15 +1,15 @@
-//! P1 — binary impacts of the project material, Table 1 of Fan et al. (2023) (physics.md §1.1, §9).
+//! P1 — binary impacts of the project material, Table 1 of Fan et al. (2023) (docs/physics.md §1.1, §9).
 //!
 //! Set-up: d = 3 mm, ρ = 2500 kg/m³, G = 1e8 Pa, ν = 0.25, frictionless, no gravity.
 //!
-//! Expected (physics.md §9, Hertz closed forms and the §2.3 damped ODE):
+//! Expected (docs/physics.md §9, Hertz closed forms and the §2.3 damped ODE):
 //! - head-on sphere–sphere at v_rel = 1 m/s, e = 1: δ_max = 29.02 µm, F_max = 0.7612 N, t_c = 85.41 µs;
 //! - the same with e = 0.2: rebound v_rel' = 0.200 m/s and t_c = 110.8 µs;
 //! - rigid wall at 1 m/s, e = 1: δ_max = 25.26 µm, t_c = 74.35 µs;
 //! - same-material wall at 1 m/s, e = 1: δ_max = 33.34 µm, t_c = 98.11 µs;
 //! - at the production step Δt = 2.5 µs, the sphere–sphere e = 0.2 impact still rebounds at e = 0.2.
 //!
-//! Tolerance (physics.md §9): 1 %, and 0.01 in e at the production Δt (the half-step dashpot
+//! Tolerance (docs/physics.md §9): 1 %, and 0.01 in e at the production Δt (the half-step dashpot
 //! bias of §2.3, ≈ 0.003 at 30–40 steps per contact).
 
 use dem::{ContactLaws, DVec3, Interaction, Material, WallMaterial};
@@ -18,7 +18,7 @@ use crate::impact::{Impact, Target};
 use crate::{Resolution, Row, VerifyError};
 
 const TEST: &str = "P1";
-/// Production time step of the paper's runs [s] (physics.md §6.1).
+/// Production time step of the paper's runs [s] (docs/physics.md §6.1).
 const PRODUCTION_STEP: f64 = 2.5e-6;
 
 fn impact(target: Target, restitution: f64, res: Resolution) -> Impact {

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 /// The time resolution of a verification run.
 ///
 /// `Full` is what `hopperflow verify` runs: 2000 steps per contact for the impact cases
-/// (physics.md §9 asks ≥ 100 and takes its model-reference numbers at ≥ 3000) and the
+/// (docs/physics.md §9 asks ≥ 100 and takes its model-reference numbers at ≥ 3000) and the
 /// production Δt = 2.5 µs for the sliding/rolling cases. `Fast` is for `cargo test`: 1000
 /// steps per contact and shorter observation windows where a case allows it.
 ///

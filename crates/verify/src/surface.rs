@@ -1,7 +1,7 @@
 //! A Table-1 sphere resting on a plane under (possibly tilted) gravity: the shared set-up of the
 //! sliding, rolling and incline cases A1–A3.
 //!
-//! The plane is z = 0 with normal +z, made of the particle material (physics.md §5 default).
+//! The plane is z = 0 with normal +z, made of the particle material (docs/physics.md §5 default).
 //! An incline of angle θ is modelled by tilting gravity instead of the plane,
 //! g = 9.81 (sin θ, 0, −cos θ) m/s², so that x is the downhill direction. The sphere starts
 //! at the equilibrium overlap of its normal load, so no normal bounce disturbs the measurement.
@@ -15,11 +15,11 @@ use dem::{
 
 use crate::VerifyError;
 
-/// Standard gravity [m/s²] (physics.md §6.2).
+/// Standard gravity [m/s²] (docs/physics.md §6.2).
 pub const GRAVITY: f64 = 9.81;
 /// Table-1 particle radius [m].
 pub const RADIUS: f64 = 1.5e-3;
-/// Production time step [s] (physics.md §6.1: 0.097 of the Rayleigh time).
+/// Production time step [s] (docs/physics.md §6.1: 0.097 of the Rayleigh time).
 pub const TIME_STEP: f64 = 2.5e-6;
 
 /// One sphere on the plane.

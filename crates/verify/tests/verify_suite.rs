@@ -1,4 +1,4 @@
-//! Runs every verification case of physics.md §9 at the fast resolution and requires every row
+//! Runs every verification case of docs/physics.md §9 at the fast resolution and requires every row
 //! to pass within the tolerance the spec documents for it (each case's module explains its
 //! tolerance; the fast resolution uses 1000 steps per contact, see `Resolution`).
 

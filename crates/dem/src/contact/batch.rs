@@ -147,7 +147,7 @@ impl Batch {
     }
 
     /// Evaluates every particle–wall contact of the batch for time step `dt` [s], updating
-    /// `xi`. A wall is a body of infinite radius and mass at rest in rotation (physics.md §5):
+    /// `xi`. A wall is a body of infinite radius and mass at rest in rotation (docs/physics.md §5):
     /// R* = R_i, m* = m_i, lever a_j = 0, ω_j = 0 (the caller stores zero there).
     #[inline(never)]
     pub fn resolve_walls(&mut self, dt: f64) {

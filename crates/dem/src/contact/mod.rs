@@ -1,9 +1,9 @@
 //! The contact model: geometry first, then the fixed pipeline
-//! normal → damping → tangential (history, Coulomb cap) → rolling (physics.md §1–4).
+//! normal → damping → tangential (history, Coulomb cap) → rolling (docs/physics.md §1–4).
 //!
 //! Each stage is a pure function in its own file; this module only orders them.
 
-pub mod batch;
+pub(crate) mod batch;
 pub mod damping;
 pub mod geometry;
 pub mod normal;
@@ -21,7 +21,7 @@ pub use tangential::TangentialLaw;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 pub struct ContactLaws {
     /// Clamp the normal force to F_n ≥ 0 (off by default, as in the paper's Eq. 6 and LIGGGHTS;
-    /// switching it on raises the effective restitution, physics.md §2.3).
+    /// switching it on raises the effective restitution, docs/physics.md §2.3).
     pub normal_clamp: bool,
     /// Tangential law (§3).
     pub tangential: TangentialLaw,
@@ -104,7 +104,7 @@ pub struct ContactForce {
 }
 
 impl ContactLaws {
-    /// Evaluates one contact, updating its history (physics.md §1–4, in that order).
+    /// Evaluates one contact, updating its history (docs/physics.md §1–4, in that order).
     #[inline(always)]
     pub fn resolve(
         &self,

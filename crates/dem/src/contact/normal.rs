@@ -1,4 +1,4 @@
-//! Hertz normal contact (paper Eq. 6 elastic part; physics.md §2.1) and its closed forms.
+//! Hertz normal contact (paper Eq. 6 elastic part; docs/physics.md §2.1) and its closed forms.
 
 /// Elastic Hertz force and tangent stiffness for overlap `delta` [m].
 ///
@@ -32,13 +32,13 @@ pub fn hertz_energy(e_star: f64, r_eff: f64, delta: f64) -> f64 {
 }
 
 /// Maximum overlap of an elastic head-on impact at relative speed `v` [m/s]:
-/// δ_max = (15 m* v² / (16 E* √R*))^{2/5} [m] (physics.md §9 CO1).
+/// δ_max = (15 m* v² / (16 E* √R*))^{2/5} [m] (docs/physics.md §9 CO1).
 pub fn max_overlap(e_star: f64, r_eff: f64, m_eff: f64, v: f64) -> f64 {
     (15.0 * m_eff * v * v / (16.0 * e_star * r_eff.sqrt())).powf(0.4)
 }
 
 /// Duration of an elastic Hertz impact at relative speed `v` [m/s]:
-/// t_c = 2.868 (m*² / (R* E*² v))^{1/5} [s] (physics.md §9 CO1; Johnson 1985 §11.4).
+/// t_c = 2.868 (m*² / (R* E*² v))^{1/5} [s] (docs/physics.md §9 CO1; Johnson 1985 §11.4).
 ///
 /// The constant is 2 ∫₀¹ dx/√(1−x^{5/2}) (15/16)^{2/5} = 2.8683; δ_max/v times 2.9432 is the same.
 pub fn hertz_contact_time(e_star: f64, r_eff: f64, m_eff: f64, v: f64) -> f64 {
@@ -70,7 +70,7 @@ mod tests {
 
     #[test]
     fn table1_head_on_impact_matches_closed_form() {
-        // physics.md §1.1: δ_max = 29.0 µm, t_c = 85.4 µs for pp at 1 m/s (3 significant digits).
+        // docs/physics.md §1.1: δ_max = 29.0 µm, t_c = 85.4 µs for pp at 1 m/s (3 significant digits).
         let m = 3.5343e-5;
         let d = max_overlap(1.3333e8, 7.5e-4, m / 2.0, 1.0);
         assert_relative_eq!(d, 29.0e-6, max_relative = 2e-3);

@@ -1,4 +1,4 @@
-//! Rolling resistance (physics.md §4): the paper's Eq. 8 constant directional torque
+//! Rolling resistance (docs/physics.md §4): the paper's Eq. 8 constant directional torque
 //! (default) and the elastic–plastic spring–dashpot law (EPSD, Ai et al. 2011).
 
 use glam::DVec3;

@@ -1,4 +1,4 @@
-//! Tangential contact laws (physics.md §3): Hertz–Mindlin no-slip (default) and the
+//! Tangential contact laws (docs/physics.md §3): Hertz–Mindlin no-slip (default) and the
 //! corrected Mindlin–Deresiewicz law of paper Eq. 7.
 
 use glam::DVec3;
@@ -17,7 +17,7 @@ pub enum TangentialLaw {
 }
 
 /// Rotates the history ξ into the tangent plane of `n`, keeping its length
-/// (LAMMPS granular; Luding 2008 eq. 17; physics.md §3.1 step 1).
+/// (LAMMPS granular; Luding 2008 eq. 17; docs/physics.md §3.1 step 1).
 #[inline]
 pub fn rotate_into_plane(xi: DVec3, n: DVec3) -> DVec3 {
     let len2 = xi.length_squared();
@@ -36,7 +36,7 @@ pub fn rotate_into_plane(xi: DVec3, n: DVec3) -> DVec3 {
 /// Hertz–Mindlin no-slip tangential force on body i [N]; updates the history ξ [m].
 ///
 /// `slip_velocity` is v_t [m/s] at the contact point, `stiffness` S_t [N/m],
-/// `cap` the Coulomb limit μ_s F_ne [N], `dashpot` γ_t [kg/s] (physics.md §3.1 steps 2–5).
+/// `cap` the Coulomb limit μ_s F_ne [N], `dashpot` γ_t [kg/s] (docs/physics.md §3.1 steps 2–5).
 #[inline]
 pub fn mindlin_no_slip(
     xi: &mut DVec3,
@@ -57,7 +57,7 @@ pub fn mindlin_no_slip(
     }
 }
 
-/// Corrected Mindlin–Deresiewicz tangential force on body i [N] (physics.md §3.3).
+/// Corrected Mindlin–Deresiewicz tangential force on body i [N] (docs/physics.md §3.3).
 ///
 /// `cap` is μ_s F_ne [N], `slip_distance` δ_t,max = μ_s δ_n E*/(4G*) [m],
 /// `prefactor` 2C_t = 2√(5/6)|β| [-], `m_eff` m* [kg].
@@ -101,7 +101,7 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    // A4 (physics.md §9): static contact, monotonic ξ; tolerance 1e-10 relative.
+    // A4 (docs/physics.md §9): static contact, monotonic ξ; tolerance 1e-10 relative.
     const E_STAR: f64 = 1.3333e8;
     const G_STAR: f64 = 2.8571e7;
     const R: f64 = 7.5e-4;

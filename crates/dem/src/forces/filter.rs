@@ -90,7 +90,7 @@ pub(super) fn pair_flags<const FAR: bool>(
 }
 
 /// Lists in `hits` (count returned) the indices of the candidates for which `touches` yields
-/// true, in order, and records in `live` which contacts keep their history (physics.md §3.1:
+/// true, in order, and records in `live` which contacts keep their history (docs/physics.md §3.1:
 /// a contact that opens forgets it; see [`note_live`]). Branch-free: every index is stored
 /// and the count advances only for a touching one, because a branch on the outcome is
 /// mispredicted about as often as taken.
@@ -161,7 +161,7 @@ pub(super) fn plane_touches(
 }
 
 /// Pass 2 of the plane and pair filters: the live flags after `touch` ([`live_flags`]); a
-/// contact that opens forgets its history (physics.md §3.1) by losing [`LIVE`], one byte per
+/// contact that opens forgets its history (docs/physics.md §3.1) by losing [`LIVE`], one byte per
 /// candidate instead of rewriting ξ. Vectorised: no count. The flags are bytes for the plane
 /// filter and 32-bit words for the pair filter, whose compaction then overwrites them in
 /// place.

@@ -36,7 +36,7 @@ pub(super) fn pair_loop_with(
         let sum = ri + rj;
         let dist2 = d.length_squared();
         if dist2 >= sum * sum {
-            // Separated: the contact forgets its history (physics.md §3.1).
+            // Separated: the contact forgets its history (docs/physics.md §3.1).
             (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         }

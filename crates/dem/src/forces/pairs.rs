@@ -24,7 +24,7 @@ pub(super) fn batch_force(batch: &Batch, m: usize) -> ContactForce {
 
 /// The paper's laws over structure-of-arrays batches, in two passes.
 ///
-/// 1. A branch-free filter lists the touching candidates and marks which are live (physics.md
+/// 1. A branch-free filter lists the touching candidates and marks which are live (docs/physics.md
 ///    §3.1: a contact that opens forgets its ξ; `HistoryArrays` explains the flags). About
 ///    half the candidates are not touching, and a branch on it is mispredicted about as often.
 /// 2. The touching pairs are gathered [`BATCH`] at a time (ξ, or zero for a contact that was

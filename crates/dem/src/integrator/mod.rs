@@ -1,4 +1,4 @@
-//! Velocity Verlet (physics.md §6.2): the half kicks and the drift, with the reductions the
+//! Velocity Verlet (docs/physics.md §6.2): the half kicks and the drift, with the reductions the
 //! simulation needs from the same pass (largest displacement since the last list build,
 //! finiteness probes).
 //!

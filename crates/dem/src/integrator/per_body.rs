@@ -3,7 +3,7 @@
 
 use super::*;
 
-/// Half kick and drift of every free particle (velocity Verlet, physics.md §6.2), preceded
+/// Half kick and drift of every free particle (velocity Verlet, docs/physics.md §6.2), preceded
 /// when `pending` by the previous step's second half kick, with Δt/2 and Δt [s] in
 /// `(half, dt)`; then every body's force becomes its weight m g (`gravity` g [m/s²]) and
 /// its torque zero, frozen bodies' too (the evaluation starts from them). Returns the largest squared

@@ -1,4 +1,4 @@
-//! Neighbour search: a cell list feeding a Verlet list with a skin (physics.md §6.2).
+//! Neighbour search: a cell list feeding a Verlet list with a skin (docs/physics.md §6.2).
 //!
 //! Candidate pairs are all pairs closer than R_i + R_j + skin, and wall candidates all bodies
 //! closer than R_i + skin to a wall. The lists are rebuilt only when the bodies' motion since
@@ -80,10 +80,6 @@ impl PairList {
     /// Number of candidate pairs.
     pub fn len(&self) -> usize {
         self.i.len()
-    }
-    /// True when empty.
-    pub fn is_empty(&self) -> bool {
-        self.i.is_empty()
     }
 }
 

@@ -1,4 +1,4 @@
-//! The simulation: one owner of the whole state, advanced by velocity Verlet (physics.md §6.2).
+//! The simulation: one owner of the whole state, advanced by velocity Verlet (docs/physics.md §6.2).
 
 use std::ops::Range;
 use std::sync::Arc;
@@ -37,7 +37,7 @@ use step::*;
 /// Settings fixed for a run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SimulationConfig {
-    /// Time step Δt [s]. The paper's base case uses 2.5e-6 s = 0.097 t_R (physics.md §6.1).
+    /// Time step Δt [s]. The paper's base case uses 2.5e-6 s = 0.097 t_R (docs/physics.md §6.1).
     pub time_step: f64,
     /// Gravitational acceleration [m/s²]; z is vertical, so (0, 0, −9.81) on Earth.
     pub gravity: DVec3,
@@ -66,7 +66,7 @@ impl SimulationConfig {
             // 0.25 t_R leaves room for verification runs at coarser steps while refusing the
             // clearly unstable ones; production runs use 0.097.
             max_rayleigh_fraction: 0.25,
-            // Hopper impacts at 3 m/s overlap by ≈ 3 % of the radius (physics.md §1.1); 10 % means
+            // Hopper impacts at 3 m/s overlap by ≈ 3 % of the radius (docs/physics.md §1.1); 10 % means
             // something is wrong.
             max_overlap_fraction: 0.1,
             threads: 1,

@@ -68,7 +68,7 @@ pub(super) enum StepEnd {
 }
 
 impl Simulation {
-    /// Advances one step of velocity Verlet (physics.md §6.2).
+    /// Advances one step of velocity Verlet (docs/physics.md §6.2).
     pub fn step(&mut self) -> Result<(), DemError> {
         self.advance(false, StepEnd::Kick, None).map(|_| ())
     }

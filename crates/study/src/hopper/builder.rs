@@ -1,4 +1,4 @@
-//! The hopper's walls (physics.md §5): side walls, front and back walls, two bottom plates
+//! The hopper's walls (docs/physics.md §5): side walls, front and back walls, two bottom plates
 //! inclined at α from the orifice edges to the side walls, and a gate under the orifice.
 
 use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
@@ -21,7 +21,7 @@ pub struct HopperWalls {
 /// A rectangle in the x–z plane spanning the slab in y, from (x0, z0) to (x1, z1).
 ///
 /// It reaches one slab thickness beyond the front and back walls so that no particle can
-/// meet its y-edges (one contact per primitive is then correct, physics.md §5).
+/// meet its y-edges (one contact per primitive is then correct, docs/physics.md §5).
 fn slab_rectangle(a: (f64, f64), b: (f64, f64), thickness: f64) -> Vec<DVec3> {
     let (y0, y1) = (-thickness, 2.0 * thickness);
     vec![

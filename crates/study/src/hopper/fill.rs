@@ -1,5 +1,5 @@
 //! Filling the hopper: random non-overlapping insertion in the upper part, in batches that
-//! fall under gravity (physics.md §10.8: the paper does not describe its fill).
+//! fall under gravity (docs/physics.md §10.8: the paper does not describe its fill).
 
 use dem::{DVec3, MaterialId, ParticleInit, Simulation};
 use rand::Rng;
@@ -62,7 +62,7 @@ pub fn insert_batch(
         let r = radius(rng);
         let x = rng.gen_range(-half + r..half - r);
         let z = rng.gen_range(band.0..band.1);
-        // Quasi-2D slab: start on the mid-plane (physics.md §5). A thick slab (room for half
+        // Quasi-2D slab: start on the mid-plane (docs/physics.md §5). A thick slab (room for half
         // a diameter of play or more) gets a random depth.
         let y = if geometry.thickness >= 3.0 * r {
             rng.gen_range(r..geometry.thickness - r)

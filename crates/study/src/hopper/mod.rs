@@ -1,4 +1,4 @@
-//! The hopper case: walls, filling, settling and discharge (physics.md §5, §7).
+//! The hopper case: walls, filling, settling and discharge (docs/physics.md §5, §7).
 
 pub mod builder;
 pub mod fill;

@@ -9,7 +9,7 @@ use rand::Rng;
 use super::builder::{build_walls, HopperWalls};
 use crate::config::{self, Case, SizeDistribution};
 
-/// EPSD viscous damping ratio η_r: Ai et al. (2011) suggest 0.3 (physics.md §4.1).
+/// EPSD viscous damping ratio η_r: Ai et al. (2011) suggest 0.3 (docs/physics.md §4.1).
 const EPSD_DAMPING: f64 = 0.3;
 
 /// Verlet skin as a fraction of the largest diameter. 0.1 d keeps candidate pairs close to

@@ -12,7 +12,7 @@
 //!   and h_cut, counting each sphere's exact slice (spherical caps, no centre-counting bias);
 //!   A(h) is the container's inner 2D cross-section area below h; Z is the slab thickness.
 //! - **Mid-plane area fraction** φ_2D = Σ |disc ∩ {floor ≤ z ≤ h_cut}| / A(h_cut), with the
-//!   particles' equatorial discs; φ_B ≈ (2/3)(d/Z) φ_2D in a monolayer (physics.md §7.4),
+//!   particles' equatorial discs; φ_B ≈ (2/3)(d/Z) φ_2D in a monolayer (docs/physics.md §7.4),
 //!   which is how 0.59 (3D) corresponds to ≈ 0.885 (2D).
 
 use serde::{Deserialize, Serialize};

@@ -1,4 +1,4 @@
-//! Outlet crossings: discharge rate W(t) and the crossing velocity profile v(x) (physics.md §7.1–7.2).
+//! Outlet crossings: discharge rate W(t) and the crossing velocity profile v(x) (docs/physics.md §7.1–7.2).
 //!
 //! The paper records "the vertical component v … as the particle passes through the aperture".
 //! Each downward crossing of z = z_o by a particle centre between two consecutive observations
@@ -17,7 +17,7 @@ use super::error::MeasureError;
 use super::frame::{FrameView, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
 
-/// Default width of the time bins of W(t) [s]: physics.md §7 asks for 0.02–0.05 s bins; the
+/// Default width of the time bins of W(t) [s]: docs/physics.md §7 asks for 0.02–0.05 s bins; the
 /// short end keeps the rising and falling phases visible for a silo that empties in < 1 s.
 pub const DEFAULT_DISCHARGE_BIN_WIDTH: f64 = 0.02;
 
@@ -63,7 +63,7 @@ pub struct CrossingRecord {
     /// Downward crossings in time order (inside and outside the orifice span).
     pub events: Vec<CrossingEvent>,
     /// Upward crossings (particles bouncing back through the line); not stored as events, so
-    /// that W counts downward mass as physics.md §7.1 says, but tallied to show they are rare.
+    /// that W counts downward mass as docs/physics.md §7.1 says, but tallied to show they are rare.
     pub upward: CrossingTally,
 }
 
@@ -84,7 +84,7 @@ pub struct ProfileBin {
     pub standard_error: Option<f64>,
 }
 
-/// The crossing velocity profile v(x) over a window (flux-weighted, physics.md §7.2:
+/// The crossing velocity profile v(x) over a window (flux-weighted, docs/physics.md §7.2:
 /// ⟨v⟩_cross = ⟨v²⟩/⟨v⟩, 1–4 % above the snapshot mean).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct VelocityProfile {
@@ -199,7 +199,7 @@ impl CrossingRecord {
     }
 
     /// Window between the moments `lower_mass` and `upper_mass` [kg] have been discharged, e.g.
-    /// 15 % and 70 % of the initial load (physics.md §7, steady window). Check the plateau of
+    /// 15 % and 70 % of the initial load (docs/physics.md §7, steady window). Check the plateau of
     /// [`Self::discharged_mass_series`] before trusting it.
     pub fn window_between_discharged_masses(
         &self,

@@ -1,6 +1,6 @@
 //! Exact area of a disc ∩ an axis-aligned rectangle, and the section radius of a sphere.
 //!
-//! The strip area fraction of physics.md §7.3 needs, per particle and x-bin, the area of the
+//! The strip area fraction of docs/physics.md §7.3 needs, per particle and x-bin, the area of the
 //! bin rectangle covered by the particle's mid-plane disc. The area is the integral over x of
 //! the vertical overlap between the rectangle [z_min, z_max] and the disc chord
 //! [−h(x), h(x)], h(x) = √(ρ² − x²). Between the breakpoints where a rectangle edge meets the

@@ -1,6 +1,6 @@
 //! The read-only snapshot every probe observes, and the time window analyses are taken over.
 //!
-//! Coordinates follow physics.md §1/§7: x horizontal from the hopper axis, y normal to the
+//! Coordinates follow docs/physics.md §1/§7: x horizontal from the hopper axis, y normal to the
 //! front/back walls (the slab direction), z vertical and up; gravity points along −z.
 
 use serde::{Deserialize, Serialize};

@@ -1,10 +1,10 @@
-//! Outlet geometry, the normalised coordinate x* and the x-bins across the orifice (physics.md §7).
+//! Outlet geometry, the normalised coordinate x* and the x-bins across the orifice (docs/physics.md §7).
 
 use serde::{Deserialize, Serialize};
 
 use super::error::MeasureError;
 
-/// Half-width in x* of the central region whose bins define centre values (physics.md §7.2:
+/// Half-width in x* of the central region whose bins define centre values (docs/physics.md §7.2:
 /// v_c is the mean of the bins with |x*| < 0.1).
 pub const CENTRE_HALF_WIDTH: f64 = 0.1;
 
@@ -95,7 +95,7 @@ impl OutletBins {
         })
     }
 
-    /// Bins of width close to `width` [m] (physics.md §7.2 suggests d/2 or D/20): the count is
+    /// Bins of width close to `width` [m] (docs/physics.md §7.2 suggests d/2 or D/20): the count is
     /// round(D/width), at least one, so the bins tile the orifice exactly.
     pub fn with_width(geometry: &OutletGeometry, width: f64) -> Result<Self, MeasureError> {
         if !(width.is_finite() && width > 0.0) {
@@ -140,7 +140,7 @@ impl OutletBins {
         Some((s as usize).min(self.count - 1))
     }
 
-    /// Bins that define centre values: those whose centre has |x*| < 0.1 (physics.md §7.2).
+    /// Bins that define centre values: those whose centre has |x*| < 0.1 (docs/physics.md §7.2).
     /// When the bins are too coarse for any centre to fall there, the bin(s) containing
     /// x* = 0 are used instead (two when x* = 0 is a bin edge).
     pub fn central_bins(&self) -> Vec<usize> {

@@ -1,11 +1,11 @@
-//! Outlet and bulk measurements on particle snapshots (physics.md §7; paper Secs. 2–4).
+//! Outlet and bulk measurements on particle snapshots (docs/physics.md §7; paper Secs. 2–4).
 //!
 //! Probes observe a plain [`FrameView`] and never touch the engine. Each probe stores a
 //! serialisable record (`*Record`) from which the window-dependent results are derived
 //! after the run, once the steady window is known:
 //!
 //! - [`CrossingProbe`] → [`CrossingRecord`]: W(t), the steady-window rate, the crossing
-//!   velocity profile v(x) (physics.md §7.1–7.2).
+//!   velocity profile v(x) (docs/physics.md §7.1–7.2).
 //! - [`StripProbe`] → [`StripRecord`]: φ(x), ⟨φ v⟩(x) and the snapshot v(x) (§7.3–7.4).
 //! - [`OutletSummary`]: v_c, φ_c, φ_max and the flux check W = (2/3) ρ_p d ∫ φ v dx (§7.4).
 //! - [`VelocityFieldProbe`] → [`VelocityFieldRecord`]: coarse-grained velocity maps (Fig. 9).

@@ -1,10 +1,10 @@
 //! Strip area fraction φ(x), the snapshot flux ⟨φ v⟩ and the snapshot v(x) at the outlet
-//! (physics.md §7.2–7.4).
+//! (docs/physics.md §7.2–7.4).
 //!
 //! Per frame, the strip z ∈ [z_o − h/2, z_o + h/2] (h = d by default; d/2 for sensitivity) is
 //! cut into x-bins. In each bin rectangle B the probe sums
 //! - the exact area of B covered by the particles' mid-plane discs, Σ_k |D_k ∩ B|;
-//! - Σ_k |D_k ∩ B| v_z,k, whose average over frames divided by |B| is ⟨φ v⟩ (physics.md §7.4);
+//! - Σ_k |D_k ∩ B| v_z,k, whose average over frames divided by |B| is ⟨φ v⟩ (docs/physics.md §7.4);
 //! - Σ v_z and the count of centres with |z − z_o| < d/2 and x in the bin (snapshot v).
 //!
 //! Disc radius: the mid-plane section √(r² − (y − y_m)²) of each sphere when the slab
@@ -38,7 +38,7 @@ pub struct StripConfig {
 }
 
 impl StripConfig {
-    /// The default strip of physics.md §7.3: h = d, full-radius discs.
+    /// The default strip of docs/physics.md §7.3: h = d, full-radius discs.
     pub fn new(geometry: OutletGeometry, bins: OutletBins) -> Self {
         Self {
             geometry,
@@ -139,7 +139,7 @@ pub struct AreaFractionProfile {
 }
 
 impl AreaFractionProfile {
-    /// φ_c: the mean area fraction of the central bins (|x*| < 0.1, physics.md §7.5).
+    /// φ_c: the mean area fraction of the central bins (|x*| < 0.1, docs/physics.md §7.5).
     pub fn centre_area_fraction(&self) -> Option<f64> {
         mean_of(
             self.bins
@@ -217,7 +217,7 @@ impl StripRecord {
     }
 }
 
-/// Observes frames (every ~1e-3 s, physics.md §7.2) and stores per-bin strip sums.
+/// Observes frames (every ~1e-3 s, docs/physics.md §7.2) and stores per-bin strip sums.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StripProbe {
     record: StripRecord,

@@ -1,4 +1,4 @@
-//! Outlet summary: centre values and the flux check W = (2/3) ρ_p d ∫ φ v dx (physics.md §7.4).
+//! Outlet summary: centre values and the flux check W = (2/3) ρ_p d ∫ φ v dx (docs/physics.md §7.4).
 //!
 //! A sphere of diameter d fills 2/3 of the cylinder of the same projected disc, so a monolayer
 //! of 2D area fraction φ carries (2/3) ρ_p d φ v of mass per unit length per unit time

@@ -1,5 +1,5 @@
 //! What a finished run writes: flow.csv, profiles.csv, field.csv, plots, frames, VTU/PVD,
-//! and the summary (physics.md §7).
+//! and the summary (docs/physics.md §7).
 
 use std::path::{Path, PathBuf};
 
@@ -268,7 +268,7 @@ pub fn finish(
     let options = SteadyWindowOptions {
         start_fraction: case.measure.steady_start_fraction,
         end_fraction: case.measure.steady_end_fraction,
-        // Fractions of the fill (physics.md §7: "15 % to 70 % of the particles
+        // Fractions of the fill (docs/physics.md §7: "15 % to 70 % of the particles
         // discharged"), so that `protocol.stop_fraction` cannot move the window.
         reference_mass: (state.fill_mass > 0.0).then_some(state.fill_mass),
         ..SteadyWindowOptions::default()

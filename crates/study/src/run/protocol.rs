@@ -1,5 +1,5 @@
 //! The run protocol of one hopper case: fill, settle, open the gate, discharge (issue 3,
-//! physics.md §5 and §10.8), as a resumable state machine.
+//! docs/physics.md §5 and §10.8), as a resumable state machine.
 
 use analysis::series::RateSeries;
 use analysis::AnalysisError;
@@ -320,7 +320,7 @@ impl CaseRun {
             }
             Ok(())
         })?;
-        // Delete particles well below the outlet (physics.md §5: about 5 d).
+        // Delete particles well below the outlet (docs/physics.md §5: about 5 d).
         let depth = self.case.protocol.deletion_depth;
         let removed = self
             .sim
