@@ -5,7 +5,7 @@
 //! at the outlet changes over tens of milliseconds), so s/√n understates the error. Against
 //! the spread of three independent fills of each of the paper's 44 cases, the bins' s/√n
 //! were 1.46 (v) and 1.88 (φ) times too small; these block errors are 1.12 and 1.04 times
-//! too small (docs/reproduction.md, sixteenth session). Here the window is cut into
+//! too small (docs/reproduction.md). Here the window is cut into
 //! [`ERROR_BLOCKS`] equal time blocks, and the blocks are treated as the independent
 //! units. The mean is the ratio of totals m = Σ s_b / Σ n_b (the same number as the plain
 //! mean); its error is the delta-method (cluster) estimate
