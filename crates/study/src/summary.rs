@@ -1,6 +1,19 @@
 //! What one hopper run reports: `summary.json` and the rows of `profiles.csv`.
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize};
+
+/// JSON has no NaN: `summary.json` writes a quantity that could not be measured (W of a
+/// clogged case, say) as `null`, and reading turns `null` back into NaN, so that a finished
+/// summary always reads back.
+fn nan_if_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
+}
+
+/// [`nan_if_null`] for a pair.
+fn nan_pair_if_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<[f64; 2], D::Error> {
+    let pair = <[Option<f64>; 2]>::deserialize(deserializer)?;
+    Ok(pair.map(|x| x.unwrap_or(f64::NAN)))
+}
 
 /// Why the discharge stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -31,60 +44,84 @@ pub struct CaseSummary {
     /// Hash of the resolved case file (hex SHA-256), to tie results to inputs.
     pub config_hash: String,
     /// Outlet width D [m].
+    #[serde(deserialize_with = "nan_if_null")]
     pub outlet_width: f64,
     /// Hopper angle α from the vertical [°].
+    #[serde(deserialize_with = "nan_if_null")]
     pub hopper_angle_deg: f64,
     /// Gap s between the left wall and the outlet [m].
+    #[serde(deserialize_with = "nan_if_null")]
     pub outlet_gap: f64,
     /// Dimensionless eccentricity s* = 2s/(L − D) [-].
+    #[serde(deserialize_with = "nan_if_null")]
     pub dimensionless_gap: f64,
     /// Hopper width L [m].
+    #[serde(deserialize_with = "nan_if_null")]
     pub width: f64,
     /// Slab thickness Z [m].
+    #[serde(deserialize_with = "nan_if_null")]
     pub thickness: f64,
     /// Mean particle diameter d [m].
+    #[serde(deserialize_with = "nan_if_null")]
     pub particle_diameter: f64,
     /// Particle density ρ_p [kg/m³].
+    #[serde(deserialize_with = "nan_if_null")]
     pub particle_density: f64,
     /// Particles in the fill.
     pub particles: usize,
     /// Mean discharge rate W over the steady window [kg/s].
+    #[serde(deserialize_with = "nan_if_null")]
     pub discharge_rate: f64,
     /// Standard error of W from block averaging of the binned rate [kg/s].
+    #[serde(deserialize_with = "nan_if_null")]
     pub discharge_rate_error: f64,
     /// Steady window [s, s], measured from the gate opening.
+    #[serde(deserialize_with = "nan_pair_if_null")]
     pub steady_window: [f64; 2],
     /// Whether W(t) showed a plateau in the window (see `analysis::series`).
     pub plateau_found: bool,
     /// W from the snapshot flux (2/3) ρ_p d ∫ ⟨φ v⟩ dx over the window [kg/s] (docs/physics.md §7.4).
+    #[serde(deserialize_with = "nan_if_null")]
     pub flux_check_rate: f64,
     /// W from the crossing v(x) times the strip φ(x) [kg/s].
+    #[serde(deserialize_with = "nan_if_null")]
     pub flux_check_rate_profiles: f64,
     /// Settled bulk volume fraction φ_B (3D) [-].
+    #[serde(deserialize_with = "nan_if_null")]
     pub bulk_volume_fraction: f64,
     /// Settled mid-plane area fraction of the bed [-].
+    #[serde(deserialize_with = "nan_if_null")]
     pub bulk_area_fraction: f64,
     /// Settled bed height above the outlet [m].
+    #[serde(deserialize_with = "nan_if_null")]
     pub bed_height: f64,
     /// Centre velocity v_c (downward, mean of |x*| < 0.1) [m/s].
+    #[serde(deserialize_with = "nan_if_null")]
     pub centre_velocity: f64,
     /// Centre area fraction φ_c [-].
+    #[serde(deserialize_with = "nan_if_null")]
     pub centre_area_fraction: f64,
     /// Largest binned area fraction φ_max [-].
+    #[serde(deserialize_with = "nan_if_null")]
     pub max_area_fraction: f64,
     /// Where φ_max sits, x* [-].
+    #[serde(deserialize_with = "nan_if_null")]
     pub max_area_fraction_position: f64,
     /// Whether the outlet clogged.
     pub clogged: bool,
     /// Why the discharge stopped.
     pub stop_reason: StopReason,
     /// Mass discharged through the outlet [kg].
+    #[serde(deserialize_with = "nan_if_null")]
     pub discharged_mass: f64,
     /// Simulated time from gate opening to stop [s].
+    #[serde(deserialize_with = "nan_if_null")]
     pub discharge_time: f64,
     /// Simulated time of filling and settling [s].
+    #[serde(deserialize_with = "nan_if_null")]
     pub fill_time: f64,
     /// Mean kinetic energy per particle when the gate opened [J].
+    #[serde(deserialize_with = "nan_if_null")]
     pub settled_kinetic_energy: f64,
     /// Whether the settling threshold was reached before the settle time limit.
     pub settled: bool,

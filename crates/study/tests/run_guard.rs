@@ -268,3 +268,26 @@ digits = 3
         "the refused study changed its folder"
     );
 }
+
+#[test]
+fn a_clogged_run_reads_back_as_finished() {
+    // A 3.2 d outlet arches within a tenth of a second; W cannot be measured and
+    // summary.json holds it as null (JSON has no NaN). A resume, and a study, must read
+    // that summary back as the finished case it is, not refuse it or run it again.
+    let case = tiny_hopper::tiny_case(&["geometry.outlet_width=0.0095"]);
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let first = run_case(&case, dir.path(), &RunOptions::default()).expect("runs");
+    let RunOutcome::Finished(first) = first else {
+        panic!("the run finished")
+    };
+    assert!(first.clogged, "the 3.2 d outlet clogs, as this test needs");
+    let text = String::from_utf8(tiny_hopper::read(dir.path(), "summary.json")).expect("utf-8");
+    assert!(text.contains("\"discharge_rate\": null"), "{text}");
+    let again = run_case(&case, dir.path(), &RunOptions::default()).expect("resume");
+    let RunOutcome::Finished(again) = again else {
+        panic!("read back as finished")
+    };
+    assert!(again.discharge_rate.is_nan() && again.clogged);
+    assert_eq!(again.stop_reason, first.stop_reason);
+    assert!(check_run_dir(&case, dir.path()).is_ok());
+}
