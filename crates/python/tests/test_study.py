@@ -60,3 +60,12 @@ def test_load_study_of_an_empty_folder(tmp_path):
 
 def test_builtin_sweeps_are_listed():
     assert "fan2023-quick" in hf.builtin_sweeps()
+
+
+def test_report_is_built_from_the_saved_results(tiny_study):
+    page = tiny_study.report()
+    assert page.name == "report.html" and page.is_file()
+    # The report fits Beverloo over the three widths and lists each case of the study.
+    text = page.read_text()
+    assert "Beverloo" in text
+    assert all(case_id in text for case_id in tiny_study.cases)
