@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
-# The project's test command (README; .ci/run calls it): the Rust tests, then the Slurm
-# tests against a one-node cluster that it starts on this machine and stops again.
+# The project's test command (README; .ci/run calls it): the Rust tests, the Python
+# package's tests (scripts/test-python.sh), then the Slurm tests against a one-node cluster
+# that it starts on this machine and stops again.
+#
+# HOPPERFLOW_SKIP_PYTHON=1 leaves the Python part out (it builds a virtual environment
+# and installs packages from the package index).
 #
 # The Slurm part installs Debian's slurm-wlm and munge where they are missing, so it needs
 # root (as CI has); HOPPERFLOW_SKIP_SLURM=1 leaves it out on a machine without them.
@@ -8,6 +12,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 cargo test --workspace --locked
+
+if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
+    echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
+else
+    scripts/test-python.sh
+fi
 
 if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
     echo "Slurm tests skipped (HOPPERFLOW_SKIP_SLURM=1)"

@@ -1,0 +1,208 @@
+//! Runs a case on a thread of its own with the GIL released, as `hopperflow run` does.
+//!
+//! The calling thread waits for it in short slices without the GIL, and between slices
+//! takes the GIL to hand the latest progress to Python and to check for signals. A
+//! KeyboardInterrupt (Ctrl-C, a notebook's "interrupt") sets the run's stop flag: the run
+//! writes its checkpoint after the current protocol chunk, and the interrupt is raised
+//! again once it has, so that `resume=True` continues the run bit-identically.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use study::run::{
+    read_checkpoint_header, Progress, RunError, RunOptions, RunOutcome, CHECKPOINT_FILE,
+    SUMMARY_FILE,
+};
+
+use crate::case::Case;
+use crate::errors::RunError as PyRunError;
+
+/// Most worker threads accepted: more would only ask the system for threads it then
+/// refuses (results never depend on the count).
+pub const MAX_THREADS: i64 = 1024;
+
+/// How often the waiting thread looks at signals and progress.
+const POLL: Duration = Duration::from_millis(50);
+
+/// The engine's worker threads, checked: 1 to `MAX_THREADS`.
+pub fn checked_threads(threads: i64) -> PyResult<usize> {
+    if !(1..=MAX_THREADS).contains(&threads) {
+        return Err(PyValueError::new_err(format!(
+            "threads = {threads}: must be an integer in 1..={MAX_THREADS} \
+             (worker threads of the engine; results are identical for any value)"
+        )));
+    }
+    Ok(threads as usize)
+}
+
+/// Refuses an output directory that already holds a run, finished or checkpointed, when
+/// neither `resume` nor `restart` says what to do with it (as the command line does).
+fn refuse_occupied(out: &Path) -> PyResult<()> {
+    if out.join(SUMMARY_FILE).exists() {
+        return Err(PyFileExistsError::new_err(format!(
+            "{} already holds a finished run; resume=True reads it back, restart=True runs \
+             the case again, or choose another out",
+            out.display()
+        )));
+    }
+    let checkpoint = out.join(CHECKPOINT_FILE);
+    if checkpoint.exists() {
+        let what = match read_checkpoint_header(&checkpoint) {
+            Ok(h) => format!(
+                "an unfinished run (checkpoint in the {} at t = {:.4} s, config hash {})",
+                h.phase,
+                h.time,
+                &h.config_hash[..h.config_hash.len().min(12)]
+            ),
+            Err(e) => format!("a checkpoint that {e}"),
+        };
+        return Err(PyFileExistsError::new_err(format!(
+            "{} holds {what}; resume=True continues it, restart=True discards it, or choose \
+             another out",
+            out.display()
+        )));
+    }
+    Ok(())
+}
+
+/// The Python exception of a failed run.
+pub fn run_error(e: &RunError) -> PyErr {
+    match e {
+        RunError::OtherInputs { .. }
+        | RunError::BadCheckpoint { .. }
+        | RunError::BadSummary { .. } => PyValueError::new_err(format!(
+            "{e}; restart=True discards what the folder holds and starts the case over"
+        )),
+        _ => PyRunError::new_err(e.to_string()),
+    }
+}
+
+/// The text of a panic payload.
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// Runs `case` into `out`; returns "finished", or raises KeyboardInterrupt after writing a
+/// checkpoint when interrupted. `progress(phase, time, particles, fraction, rate)` is
+/// called with the latest progress a few times a second.
+#[pyfunction]
+#[pyo3(signature = (case, out, threads = 1, resume = false, restart = false, pictures = true, progress = None, chunk_limit = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn run_case(
+    py: Python<'_>,
+    case: PyRef<'_, Case>,
+    out: PathBuf,
+    threads: i64,
+    resume: bool,
+    restart: bool,
+    pictures: bool,
+    progress: Option<Py<PyAny>>,
+    chunk_limit: Option<u64>,
+) -> PyResult<&'static str> {
+    let threads = checked_threads(threads)?;
+    if resume && restart {
+        return Err(PyValueError::new_err(
+            "resume=True and restart=True exclude each other: resume continues what the \
+             folder holds, restart discards it",
+        ));
+    }
+    if !resume && !restart {
+        refuse_occupied(&out)?;
+    }
+    let case = case.case.clone();
+    let stop = Arc::new(AtomicBool::new(false));
+    let latest: Arc<Mutex<Option<Progress>>> = Arc::new(Mutex::new(None));
+    let sink_latest = Arc::clone(&latest);
+    let options = RunOptions {
+        threads,
+        resume: !restart,
+        progress: Some(Arc::new(move |p: &Progress| {
+            *sink_latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(*p);
+        })),
+        pictures,
+        chunk_limit,
+        stop: Some(Arc::clone(&stop)),
+    };
+    let (done_tx, done_rx) = mpsc::channel();
+    // Behind a mutex so that the waiting closure, which runs without the GIL, is `Send`.
+    let done_rx = Mutex::new(done_rx);
+    let worker = std::thread::Builder::new()
+        .name("hopperflow-run".into())
+        .spawn(move || {
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                study::run::run_case(&case, &out, &options)
+            }));
+            let _ = done_tx.send(result);
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start the run's thread: {e}")))?;
+
+    let mut interrupt: Option<PyErr> = None;
+    let result = loop {
+        let received = py.detach(|| {
+            done_rx
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .recv_timeout(POLL)
+        });
+        match received {
+            Ok(result) => break result,
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                break Err(Box::new("the run's thread ended without a result")
+                    as Box<dyn std::any::Any + Send>)
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+        }
+        if interrupt.is_some() {
+            continue;
+        }
+        let report = latest.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let (Some(p), Some(callback)) = (report, &progress) {
+            let call = callback.call1(
+                py,
+                (
+                    p.phase,
+                    p.time,
+                    p.particles,
+                    p.fraction,
+                    p.particle_steps_per_second,
+                ),
+            );
+            if let Err(e) = call {
+                // A failing progress callback stops the run like an interrupt would.
+                stop.store(true, Ordering::SeqCst);
+                interrupt = Some(e);
+                continue;
+            }
+        }
+        if let Err(e) = py.check_signals() {
+            stop.store(true, Ordering::SeqCst);
+            interrupt = Some(e);
+        }
+    };
+    let _ = py.detach(|| worker.join());
+    let outcome = match result {
+        Ok(outcome) => outcome,
+        Err(payload) => {
+            return Err(PyRuntimeError::new_err(format!(
+                "internal error in the run: {}",
+                panic_text(payload.as_ref())
+            )))
+        }
+    };
+    match (outcome, interrupt) {
+        (Ok(RunOutcome::Finished(_)), None) => Ok("finished"),
+        (Ok(RunOutcome::Interrupted), None) => Ok("interrupted"),
+        // The run ended (finished or checkpointed); the interrupt goes on to the caller.
+        (Ok(_), Some(e)) => Err(e),
+        (Err(e), _) => Err(run_error(&e)),
+    }
+}

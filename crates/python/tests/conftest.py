@@ -1,0 +1,48 @@
+"""Fixtures of the Python tests: the tiny test case, the command line to compare with, and
+one run of the tiny case by each, shared by the tests that only read them."""
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parents[2]
+TINY = HERE / "cases" / "tiny.toml"
+TINY_SWEEP = HERE / "cases" / "tiny-sweep.toml"
+
+
+def cli_path() -> Path:
+    """The release CLI (scripts/test-python.sh builds it and names it in HOPPERFLOW_CLI)."""
+    return Path(os.environ.get("HOPPERFLOW_CLI", REPO / "target" / "release" / "hopperflow"))
+
+
+@pytest.fixture(scope="session")
+def cli():
+    path = cli_path()
+    if not path.is_file():
+        pytest.fail(f"{path}: no hopperflow binary; build it with `cargo build --release -p hopperflow`")
+    return path
+
+
+@pytest.fixture(scope="session")
+def tiny():
+    return TINY
+
+
+@pytest.fixture(scope="session")
+def cli_run(cli, tmp_path_factory):
+    """The command line's run of the tiny case (`hopperflow run tiny.toml --out DIR`)."""
+    out = tmp_path_factory.mktemp("cli") / "run"
+    subprocess.run([str(cli), "run", str(TINY), "--out", str(out), "--quiet"], check=True, capture_output=True)
+    return out
+
+
+@pytest.fixture(scope="session")
+def py_run(tmp_path_factory):
+    """The same case run from Python with one thread."""
+    import hopperflow as hf
+
+    out = tmp_path_factory.mktemp("py") / "run"
+    return hf.run(hf.Case.load(str(TINY)), out=out, threads=1, progress=False)

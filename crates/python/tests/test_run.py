@@ -1,0 +1,181 @@
+"""Runs from Python: the same bytes as the command line, any thread count, the tables, and
+interruption with a checkpoint that resumes to the same bits."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import hopperflow as hf
+from conftest import TINY
+
+
+def test_summary_is_byte_identical_to_the_cli(cli_run, py_run):
+    # Determinism is the contract: the Python module runs the same code on the same case.
+    assert (py_run.path / "summary.json").read_bytes() == (cli_run / "summary.json").read_bytes()
+    for name in ["flow.csv", "profiles.csv", "field.csv", "case.toml"]:
+        assert (py_run.path / name).read_bytes() == (cli_run / name).read_bytes(), name
+
+
+def test_two_threads_give_the_same_bits(py_run, tmp_path):
+    two = hf.run(str(TINY), out=tmp_path / "two", threads=2, progress=False)
+    assert (two.path / "summary.json").read_bytes() == (py_run.path / "summary.json").read_bytes()
+
+
+def test_summary_and_tables(py_run):
+    summary = py_run.summary
+    # The tiny hopper discharges: a positive rate with an error smaller than itself.
+    assert summary["discharge_rate"] > 0
+    assert 0 <= summary["discharge_rate_error"] < summary["discharge_rate"]
+    flow = py_run.flow
+    assert list(flow.columns) == ["time", "rate", "cumulative_mass"]
+    # The cumulative mass never decreases.
+    assert np.all(np.diff(flow["cumulative_mass"].to_numpy()) >= 0)
+    assert len(py_run.profiles) > 0 and len(py_run.field) > 0
+
+
+def test_tables_are_numpy_dicts_without_pandas(py_run, monkeypatch):
+    monkeypatch.setenv("HOPPERFLOW_NO_PANDAS", "1")
+    flow = py_run.flow
+    assert isinstance(flow, dict) and flow["time"].dtype == np.float64
+    # The same bits as the CSV text: Python's float() reads the writer's shortest digits.
+    first = (py_run.path / "flow.csv").read_text().splitlines()[1].split(",")
+    assert flow["rate"][0] == float(first[1])
+
+
+def test_tables_the_engine_does_not_write_raise_file_not_found(py_run):
+    with pytest.raises(FileNotFoundError, match="crossings.csv"):
+        py_run.crossings
+    with pytest.raises(FileNotFoundError, match="wall_forces.csv"):
+        py_run.wall_forces
+    with pytest.raises(AttributeError):
+        py_run.not_a_table
+
+
+def test_load_run_and_reprs(py_run, tmp_path):
+    again = hf.load_run(py_run.path)
+    assert again.summary == py_run.summary
+    page = again._repr_html_()
+    # The notebook view shows the rate and the W(t) figure inline.
+    assert "discharge_rate" in page and "data:image/png;base64," in page
+    assert again.case["particles.count"] == 250
+    with pytest.raises(FileNotFoundError):
+        hf.load_run(tmp_path)
+
+
+def test_an_occupied_folder_is_refused_unless_resumed(py_run):
+    with pytest.raises(FileExistsError, match="resume=True"):
+        hf.run(str(TINY), out=py_run.path, progress=False)
+    # resume=True reads the finished run back without running it again.
+    before = (py_run.path / "summary.json").read_bytes()
+    hf.run(str(TINY), out=py_run.path, progress=False, resume=True)
+    assert (py_run.path / "summary.json").read_bytes() == before
+    with pytest.raises(ValueError, match="exclude each other"):
+        hf.run(str(TINY), out=py_run.path, progress=False, resume=True, restart=True)
+
+
+def test_resume_of_other_inputs_is_refused(py_run):
+    case = hf.Case.load(str(TINY))
+    case["seed"] = 12
+    with pytest.raises(ValueError, match="seed"):
+        hf.run(case, out=py_run.path, progress=False, resume=True)
+
+
+@pytest.mark.parametrize("threads, error", [(0, ValueError), (-1, ValueError), (10**6, ValueError), ("2", TypeError)])
+def test_bad_thread_counts(threads, error, tmp_path):
+    with pytest.raises(error, match="threads"):
+        hf.run(str(TINY), out=tmp_path / "t", threads=threads, progress=False)
+    # Nothing was written for refused arguments.
+    assert not (tmp_path / "t").exists()
+
+
+def test_bad_case_argument(tmp_path):
+    with pytest.raises(TypeError, match="case"):
+        hf.run(42, out=tmp_path / "x", progress=False)
+
+
+def test_an_interrupt_leaves_a_checkpoint_that_resumes_to_the_same_bits(cli_run, tmp_path):
+    # A progress callback that raises KeyboardInterrupt takes the path Ctrl-C takes
+    # (the interrupt arrives between two looks at the run), at a point that does not
+    # depend on timing.
+    out = tmp_path / "stopped"
+    calls = []
+
+    def stop_soon(phase, t, particles, fraction, rate):
+        calls.append(phase)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        hf.run(str(TINY), out=out, progress=stop_soon)
+    assert (out / "checkpoint.bin").is_file() and not (out / "summary.json").exists()
+    hf.run(str(TINY), out=out, progress=False, resume=True)
+    assert (out / "summary.json").read_bytes() == (cli_run / "summary.json").read_bytes()
+
+
+def test_ctrl_c_stops_a_run_with_a_checkpoint(tmp_path):
+    # A real SIGINT to a Python process running the paper's base case (minutes long): it
+    # must stop within seconds, raise KeyboardInterrupt and leave a checkpoint.
+    out = tmp_path / "base"
+    script = textwrap.dedent(
+        f"""
+        import sys, hopperflow as hf
+        started = []
+        def progress(*args):
+            if not started:
+                started.append(1)
+                print("running", flush=True)
+        try:
+            hf.run(hf.Case.paper(), out={str(out)!r}, progress=progress)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(0)
+        print("finished", flush=True)
+        """
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "running"
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        rest, _ = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    # A protocol chunk takes milliseconds; 10 s allows for a slow, shared machine.
+    assert time.monotonic() - sent < 10
+    assert rest.strip() == "interrupted" and proc.returncode == 0
+    assert (out / "checkpoint.bin").is_file() and not (out / "summary.json").exists()
+
+
+def test_the_gil_is_released_during_a_run(tmp_path):
+    # A Python thread keeps counting while a run goes on in another: with the GIL held by
+    # the run, it could not count at all until the run ended.
+    import threading
+
+    counts = []
+    done = threading.Event()
+
+    def count():
+        n = 0
+        while not done.is_set():
+            n += 1
+            if n % 1000 == 0:
+                counts.append(time.monotonic())
+
+    worker = threading.Thread(target=count)
+    worker.start()
+    started = time.monotonic()
+    try:
+        hf.run(str(TINY), out=tmp_path / "gil", progress=False)
+    finally:
+        ended = time.monotonic()
+        done.set()
+        worker.join()
+    during = [t for t in counts if started < t < ended]
+    assert len(during) > 100, "the counting thread starved while the run held the GIL"

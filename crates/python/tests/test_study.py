@@ -1,0 +1,71 @@
+"""Studies from Python: a sweep file run case by case, its table, its runs and bad input."""
+
+import pytest
+
+import hopperflow as hf
+from conftest import TINY_SWEEP
+
+
+@pytest.fixture(scope="module")
+def tiny_study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("study") / "tiny"
+    return hf.study(str(TINY_SWEEP), out=out, jobs=2, progress=False)
+
+
+def test_a_study_runs_every_case(tiny_study):
+    results = tiny_study.results
+    assert sorted(results["outlet_width"]) == [0.018, 0.024, 0.030]
+    assert set(tiny_study.cases) == set(results["id"])
+    assert tiny_study.outcome["ran"] == 3 and tiny_study.outcome["failed"] == []
+    for run in tiny_study.cases.values():
+        assert run.summary["discharge_rate"] > 0
+
+
+def test_a_study_resumes_instead_of_rerunning(tiny_study):
+    again = hf.study(str(TINY_SWEEP), out=tiny_study.path, jobs=1, progress=False)
+    assert again.outcome["ran"] == 0 and again.outcome["reused"] == 3
+    loaded = hf.load_study(tiny_study.path)
+    assert list(loaded.results["id"]) == list(tiny_study.results["id"])
+
+
+def test_study_case_runs_match_a_single_run(tiny_study, tmp_path):
+    # A case of a study is the same run as that case alone (with the study's outputs).
+    case_id = sorted(tiny_study.cases)[0]
+    study_run = tiny_study.cases[case_id]
+    alone = hf.run(study_run.case, out=tmp_path / "alone", progress=False, pictures=False)
+    assert alone.summary == study_run.summary
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        ({"sweep": "no-such-sweep"}, ValueError, "neither a built-in sweep"),
+        ({"replicas": 0}, ValueError, "replicas = 0"),
+        ({"jobs": -1}, ValueError, "jobs = -1"),
+        ({"case_threads": 0}, ValueError, "threads = 0"),
+        ({"overrides": {"geometry.outlet_width": float("nan")}}, hf.CaseError, "outlet_width"),
+        ({"overrides": {"geometry.nope": 1}}, hf.CaseError, "unknown key"),
+    ],
+)
+def test_bad_study_arguments(kwargs, error, words, tmp_path):
+    args = {"sweep": str(TINY_SWEEP), "out": tmp_path / "s", "progress": False, **kwargs}
+    with pytest.raises(error, match=words):
+        hf.study(**args)
+
+
+def test_load_study_of_an_empty_folder(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        hf.load_study(tmp_path)
+
+
+def test_builtin_sweeps_are_listed():
+    assert "fan2023-quick" in hf.builtin_sweeps()
+
+
+def test_report_is_built_from_the_saved_results(tiny_study):
+    page = tiny_study.report()
+    assert page.name == "report.html" and page.is_file()
+    # The report fits Beverloo over the three widths and lists each case of the study.
+    text = page.read_text()
+    assert "Beverloo" in text
+    assert all(case_id in text for case_id in tiny_study.cases)

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The Python part of the project's test command (scripts/test.sh runs it): a fresh virtual
+# environment under target/, the abi3 wheel of crates/python built by maturin and
+# installed in it, the release CLI that the tests compare against, then pytest.
+#
+# Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
+# pandas, matplotlib and pytest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+started=$(date +%s)
+venv=target/python-test-venv
+wheels=target/python-wheels
+python3 -m venv --clear "$venv"
+"$venv/bin/python" -m pip install --quiet --upgrade pip
+"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest
+
+rm -rf "$wheels"
+"$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels"
+"$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
+
+# The tests compare runs from Python with the command line's, byte for byte.
+cargo build --release --locked -p hopperflow
+export HOPPERFLOW_CLI="$PWD/target/release/hopperflow"
+
+# Run from outside the source tree, so that `import hopperflow` finds the installed wheel.
+(cd target && "../$venv/bin/python" -m pytest ../crates/python/tests -q -p no:cacheprovider)
+echo "Python part: $(($(date +%s) - started)) s"
