@@ -13,7 +13,9 @@ use clap::Args;
 
 use crate::slurm_cmd::SlurmArgs;
 use indicatif::{ProgressBar, ProgressStyle};
-use study::config::{builtin_sweep, load_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
+use study::config::{
+    builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
+};
 use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyError, StudyEvent, StudyOptions};
 
 #[derive(Args)]
@@ -133,7 +135,7 @@ fn plan(args: &StudyArgs) -> Result<(String, SweepPlan), String> {
         if replicas != plan.replicas {
             // Replicas are expanded by the sweep reader (each with its own seed), so the
             // file is re-read with the count replaced.
-            let text = with_replicas(&text, replicas);
+            let text = sweep_with_replicas(&text, replicas);
             plan = if builtin_sweep(name).is_some() {
                 parse_sweep(&text, name, None, &args.sets)
             } else {
@@ -145,30 +147,6 @@ fn plan(args: &StudyArgs) -> Result<(String, SweepPlan), String> {
         }
     }
     Ok((text, plan))
-}
-
-/// The sweep text with its top-level `replicas = …` line replaced (or added).
-fn with_replicas(text: &str, replicas: u32) -> String {
-    let mut out = String::new();
-    let mut replaced = false;
-    let mut in_table = false;
-    for line in text.lines() {
-        let trimmed = line.trim_start();
-        if trimmed.starts_with('[') {
-            in_table = true;
-        }
-        if !in_table && !replaced && trimmed.starts_with("replicas") && trimmed.contains('=') {
-            out.push_str(&format!("replicas = {replicas}\n"));
-            replaced = true;
-        } else {
-            out.push_str(line);
-            out.push('\n');
-        }
-    }
-    if !replaced {
-        out = format!("replicas = {replicas}\n{out}");
-    }
-    out
 }
 
 pub fn run(args: StudyArgs) -> i32 {

@@ -26,31 +26,6 @@ pub fn builtin_sweeps() -> Vec<&'static str> {
     BUILTIN_SWEEP_NAMES.to_vec()
 }
 
-/// The sweep text with its top-level `replicas = …` line replaced (or added), as the
-/// command line's `--replicas` does it.
-fn with_replicas(text: &str, replicas: u32) -> String {
-    let mut out = String::new();
-    let mut replaced = false;
-    let mut in_table = false;
-    for line in text.lines() {
-        let trimmed = line.trim_start();
-        if trimmed.starts_with('[') {
-            in_table = true;
-        }
-        if !in_table && !replaced && trimmed.starts_with("replicas") && trimmed.contains('=') {
-            out.push_str(&format!("replicas = {replicas}\n"));
-            replaced = true;
-        } else {
-            out.push_str(line);
-            out.push('\n');
-        }
-    }
-    if !replaced {
-        out = format!("replicas = {replicas}\n{out}");
-    }
-    out
-}
-
 /// The sweep text and its plan, for a built-in name or a file.
 fn plan(
     py: Python<'_>,
@@ -75,7 +50,7 @@ fn plan(
     };
     let text = match replicas {
         None => text,
-        Some(r) if (1..=MAX_REPLICAS).contains(&r) => with_replicas(&text, r as u32),
+        Some(r) if (1..=MAX_REPLICAS).contains(&r) => study::config::sweep_with_replicas(&text, r as u32),
         Some(r) => {
             return Err(PyValueError::new_err(format!(
                 "replicas = {r}: must be an integer in 1..={MAX_REPLICAS} (independent fills per grid point)"

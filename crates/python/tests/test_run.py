@@ -48,9 +48,15 @@ def test_tables_are_numpy_dicts_without_pandas(py_run, monkeypatch):
     assert flow["rate"][0] == float(first[1])
 
 
-def test_tables_the_engine_does_not_write_raise_file_not_found(py_run):
-    with pytest.raises(FileNotFoundError, match="crossings.csv"):
-        py_run.crossings
+def test_crossings_are_a_table_and_absent_tables_raise_file_not_found(py_run):
+    crossings = py_run.crossings
+    times = np.asarray(crossings["time_s"])
+    # Every crossing of the outlet line, in time order, each one downward.
+    assert len(times) > 0
+    assert np.all(np.diff(times) >= 0)
+    assert np.all(np.asarray(crossings["velocity_z_m_per_s"]) < 0)
+    # Each crossing is one particle of the case.
+    assert np.asarray(crossings["id"]).max() < 250
     with pytest.raises(FileNotFoundError, match="wall_forces.csv"):
         py_run.wall_forces
     with pytest.raises(AttributeError):

@@ -47,9 +47,8 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: The tables a run may hold, by attribute name. A finished run writes flow.csv,
-#: profiles.csv and field.csv; crossings.csv and wall_forces.csv are read when present
-#: (the engine does not write them yet), and asking for an absent one raises
-#: FileNotFoundError.
+#: profiles.csv, field.csv and crossings.csv; wall_forces.csv is read when present (the
+#: engine does not write it yet), and asking for an absent table raises FileNotFoundError.
 RUN_TABLES = {
     "flow": "flow.csv",
     "profiles": "profiles.csv",

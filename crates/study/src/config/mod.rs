@@ -38,7 +38,7 @@ pub use case::{
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::HopperGeometry;
 pub use particles::{Material, ParticleSpec, SizeDistribution};
-pub use sweep::{load_sweep, parse_sweep, SkippedCase, SweepCase, SweepPlan};
+pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
 pub use template::CASE_TEMPLATE;
 
 use document::parse_document;

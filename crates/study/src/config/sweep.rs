@@ -257,3 +257,28 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
         Err(ConfigErrors { errors })
     }
 }
+
+/// The sweep text with its top-level `replicas = …` line replaced (or added): replicas are
+/// expanded by the sweep reader, each with its own seed, so a new count means a new text.
+pub fn sweep_with_replicas(text: &str, replicas: u32) -> String {
+    let mut out = String::new();
+    let mut replaced = false;
+    let mut in_table = false;
+    for line in text.lines() {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with('[') {
+            in_table = true;
+        }
+        if !in_table && !replaced && trimmed.starts_with("replicas") && trimmed.contains('=') {
+            out.push_str(&format!("replicas = {replicas}\n"));
+            replaced = true;
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    if !replaced {
+        out = format!("replicas = {replicas}\n{out}");
+    }
+    out
+}
