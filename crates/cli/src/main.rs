@@ -40,6 +40,7 @@ enum Command {
 }
 
 fn main() {
+    signals::quiet_broken_pipe();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -32,3 +32,20 @@ pub fn stop_flag() -> Arc<AtomicBool> {
     }
     flag
 }
+
+/// Ends the process quietly, as other command-line tools do, when what it prints goes to a
+/// pipe whose reader has gone (`hopperflow check CASE | head`). Rust ignores SIGPIPE, so a
+/// print would fail and panic instead; this restores the signal's default action (end the
+/// process) through a handler that emulates it. Every output file is written before the
+/// summary lines are printed, so nothing is lost.
+pub fn quiet_broken_pipe() {
+    #[cfg(unix)]
+    {
+        let always = Arc::new(AtomicBool::new(true));
+        if let Err(e) =
+            signal_hook::flag::register_conditional_default(signal_hook::consts::SIGPIPE, always)
+        {
+            tracing::warn!("cannot handle SIGPIPE: {e}");
+        }
+    }
+}

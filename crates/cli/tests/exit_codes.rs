@@ -317,3 +317,27 @@ fn report_refuses_a_folder_that_holds_no_study() {
     }
     assert_eq!(snapshot(scratch.path()), before, "nothing may be written");
 }
+
+#[cfg(unix)]
+#[test]
+fn output_into_a_closed_pipe_ends_quietly_not_in_a_panic() {
+    // `hopperflow init | head -0`: the reader is gone before anything is written. Like any
+    // command-line tool, hopperflow ends on SIGPIPE, silently, instead of panicking on the
+    // failed print (which printed a backtrace and exited with 101).
+    use std::os::unix::process::ExitStatusExt;
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_hopperflow"))
+        .arg("init")
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("the hopperflow binary starts");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        output.status.signal(),
+        Some(13),
+        "ended by SIGPIPE: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

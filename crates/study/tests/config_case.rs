@@ -254,3 +254,19 @@ fn errors_point_at_the_key_in_dotted_inline_and_implicit_tables() {
         assert!(report.contains(fragment), "lacks `{fragment}`:\n{report}");
     }
 }
+
+#[test]
+fn an_outlet_of_exactly_three_diameters_is_accepted_and_less_is_not() {
+    // 3 × 0.003 m rounds to 0.009000000000000001 in binary; the decimal 0.009 the user
+    // writes is the limit itself and must pass, while one part in 10^6 less must not.
+    let at_limit = default_case(&["geometry.outlet_width=0.009".into()]);
+    assert!(
+        at_limit.is_ok(),
+        "{:?}",
+        at_limit.err().map(|e| e.to_string())
+    );
+    let below = default_case(&["geometry.outlet_width=0.008999991".into()]);
+    let message = below.expect_err("below 3 d").to_string();
+    assert!(message.contains("geometry.outlet_width"), "{message}");
+    assert!(message.contains("3 particle diameters"), "{message}");
+}
