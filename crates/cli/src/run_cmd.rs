@@ -7,10 +7,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use study::config::{default_case, load_case, Case, CASE_TEMPLATE};
 use study::output::write_atomic;
-use study::run::{
-    read_checkpoint_header, run_case, Progress, RunError, RunOptions, RunOutcome, CHECKPOINT_FILE,
-    SUMMARY_FILE,
-};
+use study::run::{occupant, run_case, Occupant, Progress, RunError, RunOptions, RunOutcome};
 
 /// Exit code for bad input (a malformed case file or override).
 pub const EXIT_BAD_INPUT: i32 = 2;
@@ -110,31 +107,17 @@ pub fn init(args: InitArgs) -> i32 {
 /// Refuses (exit 2) an output directory that already holds a run, finished or
 /// checkpointed, when neither --resume nor --restart says what to do with it.
 fn refuse_occupied(out: &std::path::Path) -> Option<i32> {
-    if out.join(SUMMARY_FILE).exists() {
-        eprintln!(
+    match occupant(out)? {
+        Occupant::Finished => eprintln!(
             "error: {} already holds a finished run; --resume reads it back, --restart runs the case again, or choose another --out",
             out.display()
-        );
-        return Some(EXIT_BAD_INPUT);
-    }
-    let checkpoint = out.join(CHECKPOINT_FILE);
-    if checkpoint.exists() {
-        let what = match read_checkpoint_header(&checkpoint) {
-            Ok(h) => format!(
-                "an unfinished run (checkpoint in the {} at t = {:.4} s, config hash {})",
-                h.phase,
-                h.time,
-                &h.config_hash[..h.config_hash.len().min(12)]
-            ),
-            Err(e) => format!("a checkpoint that {e}"),
-        };
-        eprintln!(
+        ),
+        Occupant::Checkpoint(what) => eprintln!(
             "error: {} holds {what}; --resume continues it, --restart discards it, or choose another --out",
             out.display()
-        );
-        return Some(EXIT_BAD_INPUT);
+        ),
     }
-    None
+    Some(EXIT_BAD_INPUT)
 }
 
 pub fn run(args: RunArgs) -> i32 {

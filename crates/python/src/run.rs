@@ -14,10 +14,7 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use study::run::{
-    read_checkpoint_header, Progress, RunError, RunOptions, RunOutcome, CHECKPOINT_FILE,
-    SUMMARY_FILE,
-};
+use study::run::{occupant, Occupant, Progress, RunError, RunOptions, RunOutcome};
 
 use crate::case::Case;
 use crate::errors::RunError as PyRunError;
@@ -43,31 +40,19 @@ pub fn checked_threads(threads: i64) -> PyResult<usize> {
 /// Refuses an output directory that already holds a run, finished or checkpointed, when
 /// neither `resume` nor `restart` says what to do with it (as the command line does).
 fn refuse_occupied(out: &Path) -> PyResult<()> {
-    if out.join(SUMMARY_FILE).exists() {
-        return Err(PyFileExistsError::new_err(format!(
+    match occupant(out) {
+        None => Ok(()),
+        Some(Occupant::Finished) => Err(PyFileExistsError::new_err(format!(
             "{} already holds a finished run; resume=True reads it back, restart=True runs \
              the case again, or choose another out",
             out.display()
-        )));
-    }
-    let checkpoint = out.join(CHECKPOINT_FILE);
-    if checkpoint.exists() {
-        let what = match read_checkpoint_header(&checkpoint) {
-            Ok(h) => format!(
-                "an unfinished run (checkpoint in the {} at t = {:.4} s, config hash {})",
-                h.phase,
-                h.time,
-                &h.config_hash[..h.config_hash.len().min(12)]
-            ),
-            Err(e) => format!("a checkpoint that {e}"),
-        };
-        return Err(PyFileExistsError::new_err(format!(
+        ))),
+        Some(Occupant::Checkpoint(what)) => Err(PyFileExistsError::new_err(format!(
             "{} holds {what}; resume=True continues it, restart=True discards it, or choose \
              another out",
             out.display()
-        )));
+        ))),
     }
-    Ok(())
 }
 
 /// The Python exception of a failed run.

@@ -182,28 +182,25 @@ impl Simulation {
         Ok(wall)
     }
 
-    /// Moves a wall rigidly by `offset` [m].
-    pub fn translate_wall(&mut self, id: WallId, offset: DVec3) -> Result<(), DemError> {
-        let wall = self
-            .state
+    /// The wall `id`, if it is present.
+    fn wall_mut(&mut self, id: WallId) -> Result<&mut Wall, DemError> {
+        self.state
             .walls
             .get_mut(id.0 as usize)
             .and_then(Option::as_mut)
-            .ok_or(DemError::UnknownWall(id.0))?;
-        wall.translate(offset);
+            .ok_or(DemError::UnknownWall(id.0))
+    }
+
+    /// Moves a wall rigidly by `offset` [m].
+    pub fn translate_wall(&mut self, id: WallId, offset: DVec3) -> Result<(), DemError> {
+        self.wall_mut(id)?.translate(offset);
         self.state.wall_drift += offset.length();
         Ok(())
     }
 
     /// Sets the velocity a wall shows to the contact law [m/s] (it does not move it).
     pub fn set_wall_velocity(&mut self, id: WallId, velocity: DVec3) -> Result<(), DemError> {
-        let wall = self
-            .state
-            .walls
-            .get_mut(id.0 as usize)
-            .and_then(Option::as_mut)
-            .ok_or(DemError::UnknownWall(id.0))?;
-        wall.velocity = velocity;
+        self.wall_mut(id)?.velocity = velocity;
         Ok(())
     }
 

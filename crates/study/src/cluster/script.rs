@@ -137,9 +137,24 @@ fn common_lines(out: &mut String, options: &SlurmOptions) {
     }
 }
 
+/// A batch script: the shebang, a comment saying what it is, its own `#SBATCH` options,
+/// those both jobs share, then its one command (`exec`, so that Slurm's SIGTERM reaches
+/// hopperflow itself). sbatch reads `#SBATCH` lines only before the first command.
+fn script(comment: &str, sbatch: &[String], options: &SlurmOptions, command: &str) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "#!/bin/bash");
+    let _ = writeln!(out, "# {comment}");
+    for line in sbatch {
+        let _ = writeln!(out, "#SBATCH {line}");
+    }
+    common_lines(&mut out, options);
+    let _ = writeln!(out, "exec {command}");
+    out
+}
+
 /// The array job: task i runs the case on line i (from 0) of `task_list` by `command`
 /// followed by `--task-list LIST --task-index i`. `command` is the hopperflow binary and
-/// the study's arguments; `exec` hands Slurm's SIGTERM straight to it.
+/// the study's arguments.
 pub fn array_script(
     study: &str,
     tasks: usize,
@@ -148,37 +163,32 @@ pub fn array_script(
     command: &[String],
     options: &SlurmOptions,
 ) -> String {
-    let mut out = String::new();
-    let _ = writeln!(out, "#!/bin/bash");
-    let _ = writeln!(
-        out,
-        "# hopperflow study '{study}': one case per array task; each task writes only its case folder."
-    );
-    let _ = writeln!(out, "#SBATCH --job-name={}", job_name(study));
     let throttle = options
         .throttle
         .map(|t| format!("%{t}"))
         .unwrap_or_default();
-    let _ = writeln!(
-        out,
-        "#SBATCH --array=0-{}{throttle}",
-        tasks.saturating_sub(1)
-    );
-    let _ = writeln!(out, "#SBATCH --ntasks=1");
-    let _ = writeln!(out, "#SBATCH --cpus-per-task={}", options.cpus_per_task);
-    let _ = writeln!(out, "#SBATCH --mem={}", options.memory);
-    let _ = writeln!(out, "#SBATCH --time={}", options.time);
-    let _ = writeln!(out, "#SBATCH --output={}/%A_%a.out", logs.display());
-    common_lines(&mut out, options);
     let mut words = command.to_vec();
     words.push("--task-list".into());
     words.push(task_list.display().to_string());
-    let _ = writeln!(
-        out,
-        "exec {} --task-index \"$SLURM_ARRAY_TASK_ID\"",
-        command_line(&words)
-    );
-    out
+    script(
+        &format!(
+            "hopperflow study '{study}': one case per array task; each task writes only its case folder."
+        ),
+        &[
+            format!("--job-name={}", job_name(study)),
+            format!("--array=0-{}{throttle}", tasks.saturating_sub(1)),
+            "--ntasks=1".into(),
+            format!("--cpus-per-task={}", options.cpus_per_task),
+            format!("--mem={}", options.memory),
+            format!("--time={}", options.time),
+            format!("--output={}/%A_%a.out", logs.display()),
+        ],
+        options,
+        &format!(
+            "{} --task-index \"$SLURM_ARRAY_TASK_ID\"",
+            command_line(&words)
+        ),
+    )
 }
 
 /// The report job: once the array has ended (however its tasks ended), `command` followed
@@ -189,23 +199,23 @@ pub fn report_script(
     command: &[String],
     options: &SlurmOptions,
 ) -> String {
-    let mut out = String::new();
-    let _ = writeln!(out, "#!/bin/bash");
-    let _ = writeln!(
-        out,
-        "# hopperflow study '{study}': collects the case folders into results.csv and the report."
-    );
-    let _ = writeln!(out, "#SBATCH --job-name={}-report", job_name(study));
-    let _ = writeln!(out, "#SBATCH --ntasks=1");
-    let _ = writeln!(out, "#SBATCH --cpus-per-task=1");
-    let _ = writeln!(out, "#SBATCH --mem={}", options.memory);
-    let _ = writeln!(out, "#SBATCH --time=1:00:00");
-    let _ = writeln!(out, "#SBATCH --output={}/report_%j.out", logs.display());
-    common_lines(&mut out, options);
     let mut words = command.to_vec();
     words.push("--collect".into());
-    let _ = writeln!(out, "exec {}", command_line(&words));
-    out
+    script(
+        &format!(
+            "hopperflow study '{study}': collects the case folders into results.csv and the report."
+        ),
+        &[
+            format!("--job-name={}-report", job_name(study)),
+            "--ntasks=1".into(),
+            "--cpus-per-task=1".into(),
+            format!("--mem={}", options.memory),
+            "--time=1:00:00".into(),
+            format!("--output={}/report_%j.out", logs.display()),
+        ],
+        options,
+        &command_line(&words),
+    )
 }
 
 /// The jobs' name: `hf-` and the study's name, with anything but letters, digits, `-`, `_`

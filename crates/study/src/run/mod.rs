@@ -39,14 +39,6 @@ pub enum RunError {
     /// Writing an output failed.
     #[error("output: {0}")]
     Output(#[from] OutputError),
-    /// A checkpoint could not be written.
-    #[error("checkpoint {path}: {reason}")]
-    Checkpoint {
-        /// The checkpoint file.
-        path: PathBuf,
-        /// What went wrong.
-        reason: String,
-    },
     /// A checkpoint to resume from cannot be used: truncated, corrupt, foreign or from
     /// another version. Nothing was written.
     #[error("{path} {error}; nothing was changed")]
@@ -259,6 +251,39 @@ fn prior_run(out_dir: &Path, case_text: &str, hash: &str) -> Result<Prior, RunEr
         }
     }
     Ok(Prior::Nothing)
+}
+
+/// What a run directory holds that a new run must not silently overwrite.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Occupant {
+    /// A finished run (`summary.json`).
+    Finished,
+    /// A checkpoint, in words: "an unfinished run (checkpoint in the fill at t = … s, config
+    /// hash …)", or "a checkpoint that is truncated: …" for a damaged one.
+    Checkpoint(String),
+}
+
+/// What `dir` already holds of a run, if anything: what a front end names when it refuses
+/// to start a run there without being told to resume or restart. Reads only.
+pub fn occupant(dir: &Path) -> Option<Occupant> {
+    if dir.join(SUMMARY_FILE).exists() {
+        return Some(Occupant::Finished);
+    }
+    let checkpoint = dir.join(CHECKPOINT_FILE);
+    if !checkpoint.exists() {
+        return None;
+    }
+    Some(Occupant::Checkpoint(
+        match read_checkpoint_header(&checkpoint) {
+            Ok(h) => format!(
+                "an unfinished run (checkpoint in the {} at t = {:.4} s, config hash {})",
+                h.phase,
+                h.time,
+                &h.config_hash[..h.config_hash.len().min(12)]
+            ),
+            Err(e) => format!("a checkpoint that {e}"),
+        },
+    ))
 }
 
 /// Checks, reading only, that `dir` holds nothing that a resumed run of `case` must refuse:

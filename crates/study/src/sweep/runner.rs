@@ -166,6 +166,25 @@ struct Progress {
     first_error: Option<StudyError>,
 }
 
+/// Whether `study.json` in `paths`, if there is one, belongs to `plan` (same sweep name and
+/// config hash); returns whether there is one.
+pub(crate) fn same_study(plan: &SweepPlan, paths: &StudyPaths) -> Result<bool, StudyError> {
+    let Some(old) = StudyManifest::read(&paths.manifest())? else {
+        return Ok(false);
+    };
+    let manifest = StudyManifest::of_plan(plan);
+    if old.name != manifest.name || old.config_hash != manifest.config_hash {
+        return Err(StudyError::DifferentStudy {
+            path: paths.manifest(),
+            found_name: old.name,
+            found_hash: old.config_hash,
+            expected_name: manifest.name,
+            expected_hash: manifest.config_hash,
+        });
+    }
+    Ok(true)
+}
+
 /// Checks, reading only, that `plan` may run into `root`: its case identifiers are unique,
 /// `study.json` (if any) belongs to the same sweep (name and config hash), and no case
 /// folder holds a summary, checkpoint or case file of other inputs or a damaged one
@@ -182,18 +201,7 @@ pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> 
         // Nothing there to continue or to mix with (creating it may still fail).
         return Ok(());
     }
-    let manifest = StudyManifest::of_plan(plan);
-    if let Some(old) = StudyManifest::read(&paths.manifest())? {
-        if old.name != manifest.name || old.config_hash != manifest.config_hash {
-            return Err(StudyError::DifferentStudy {
-                path: paths.manifest(),
-                found_name: old.name,
-                found_hash: old.config_hash,
-                expected_name: manifest.name,
-                expected_hash: manifest.config_hash,
-            });
-        }
-    }
+    same_study(plan, &paths)?;
     for case in &plan.cases {
         crate::run::check_run_dir(&case.case, &paths.case_dir(&case.id)).map_err(|source| {
             StudyError::CaseFolder {

@@ -20,7 +20,8 @@ use super::error::StudyError;
 use super::manifest::{CaseFailure, StudyManifest};
 use super::results::{write_results_table, ResultRow};
 use super::runner::{
-    check_study_dir, finished_summary, keep_summary, panic_message, CaseRunner, StudyPaths,
+    check_study_dir, finished_summary, keep_summary, panic_message, same_study, CaseRunner,
+    StudyPaths,
 };
 use super::simulation::STOPPED;
 use crate::config::SweepPlan;
@@ -137,24 +138,11 @@ pub fn run_task(
             known: plan.cases.len(),
         });
     };
-    let manifest = StudyManifest::of_plan(plan);
-    match StudyManifest::read(&paths.manifest())? {
-        Some(old) if old.name == manifest.name && old.config_hash == manifest.config_hash => {}
-        Some(old) => {
-            return Err(StudyError::DifferentStudy {
-                path: paths.manifest(),
-                found_name: old.name,
-                found_hash: old.config_hash,
-                expected_name: manifest.name,
-                expected_hash: manifest.config_hash,
-            })
-        }
-        None => {
-            return Err(StudyError::Parse {
-                path: paths.manifest(),
-                reason: "no study manifest; the study must be prepared before its tasks run".into(),
-            })
-        }
+    if !same_study(plan, &paths)? {
+        return Err(StudyError::Parse {
+            path: paths.manifest(),
+            reason: "no study manifest; the study must be prepared before its tasks run".into(),
+        });
     }
     let dir = paths.case_dir(id);
     crate::run::check_run_dir(&case.case, &dir).map_err(|source| StudyError::CaseFolder {
