@@ -194,6 +194,18 @@ impl From<HistoryArrays> for Vec<ContactHistory> {
     }
 }
 
+/// One contact of a sphere with a curved or meshed wall, as it is remembered from step to
+/// step: its normal (wall to sphere) and its history. A sphere may touch such a wall in
+/// several places at once (a fold of a mesh); the contacts of the next step take the
+/// histories of the remembered ones whose normals are nearest (docs/physics.md §5.3).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub(crate) struct SurfaceContact {
+    /// Unit normal, wall to sphere [-].
+    pub normal: DVec3,
+    /// ξ and the rolling history.
+    pub history: ContactHistory,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,4 +1,5 @@
-//! hopperflow's DEM engine: Hertz–Mindlin spheres with rolling friction, planar walls,
+//! hopperflow's DEM engine: Hertz–Mindlin spheres with rolling friction, walls of any shape
+//! (planes, polygons, cylinders and cones, triangle meshes), still or moving,
 //! a Verlet neighbour list and velocity-Verlet integration.
 //!
 //! The engine knows nothing of hoppers, files or fits. Its contract is in docs/physics.md §1–6:
@@ -28,6 +29,7 @@ mod watch;
 
 pub use contact::{ContactLaws, RollingLaw, TangentialLaw};
 pub use error::DemError;
+pub use forces::loads::{ElementLoad, SurfaceLoads, WallLoad};
 pub use forces::ContactCount;
 pub use glam::DVec3;
 pub use material::{Interaction, Material, WallMaterial};
@@ -36,7 +38,7 @@ pub use particles::{
 };
 pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, SimulationState};
 pub use timing::PhaseTimes;
-pub use wall::{Wall, WallId, WallShape};
+pub use wall::{Wall, WallId, WallMotion, WallShape};
 pub use watch::Watched;
 
 /// The machinery behind the API, reachable only for the crate's own benchmarks

@@ -51,6 +51,7 @@ pub(crate) fn evaluate_chunk(
         buffers.force.len() == n && buffers.torque.len() == n && bodies.end <= n,
         "the force buffers hold one starting value per body"
     );
+    buffers.loads.resize(input.walls.len(), LoadSum::default());
     let ids = (&pairs.i[..], &pairs.j[..]);
     let own = pair_start(ids.0, bodies.start)..pair_start(ids.0, bodies.end);
     let (tangential, rolling, live) = pairs.history.parts_mut();
@@ -88,6 +89,7 @@ pub(crate) fn evaluate_chunk(
             &mut buffers.wall_touch,
             &mut scratch.batch,
         ),
+        &mut buffers.loads,
         // A wall contact has only the particle's share: F and M_i.
         &mut |i: usize, cf: &ContactForce| acc.add_i(i, cf),
     );
@@ -179,7 +181,7 @@ mod tests {
             let mut whole = Vec::new();
             for _ in 0..2 {
                 start(&mut buffers);
-                let eval = super::super::evaluate(&input, &mut p, &mut w, &mut buffers, None);
+                let eval = super::super::evaluate(&input, &mut p, &mut w, &mut buffers, None, &mut []);
                 assert!(eval.count.particle_particle > 100 && eval.count.particle_wall > 10);
                 whole.extend(bits(&buffers, &p, &w, &eval));
             }

@@ -70,6 +70,7 @@ pub(super) fn wall_loop(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
     (tangential, rolling): (&mut [DVec3], &mut [DVec3]),
+    loads: &mut [LoadSum],
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> (WorstOverlap, usize) {
     let p = input.particles;
@@ -82,6 +83,10 @@ pub(super) fn wall_loop(
             (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
             continue;
         };
+        if wall.resolved_one_by_one() {
+            // The surface pass's (`surfaces`).
+            continue;
+        }
         let x = p.position[i];
         let ri = p.radius[i];
         let (cp, dist) = wall.closest_point(x);
@@ -106,6 +111,7 @@ pub(super) fn wall_loop(
         };
         let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
         (*t, *r) = (h.tangential, h.rolling);
+        add_load(&mut loads[w], &input.quanta, x, &cf);
         sink(i, &cf);
         contacts += 1;
     }

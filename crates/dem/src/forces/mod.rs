@@ -24,8 +24,10 @@ mod compact;
 mod filter;
 mod gather;
 mod general;
+pub(crate) mod loads;
 mod pairs;
 mod parallel;
+pub(crate) mod surfaces;
 #[cfg(test)]
 pub(super) mod tests;
 mod walls;
@@ -34,6 +36,7 @@ use accumulator::*;
 pub(crate) use chunked::{chunk_bounds, evaluate_chunk};
 use filter::*;
 use general::*;
+use loads::{add_load, LoadQuanta, LoadSum};
 use pairs::*;
 use walls::*;
 
@@ -49,6 +52,8 @@ pub(crate) struct KernelInput<'a> {
     /// filled with them once instead of per contact).
     pub uniform_body: Option<(f64, f64)>,
     pub dt: f64,
+    /// The quanta of the walls' fixed-point loads.
+    pub quanta: LoadQuanta,
 }
 
 /// The largest overlap seen, as a fraction of the smaller radius, and where.
@@ -119,6 +124,10 @@ pub(crate) struct ForceBuffers {
     /// Whether each wall candidate touches (1) or not (0), for the split plane filter.
     wall_touch: Vec<u8>,
     wall_probes: Vec<WallProbe>,
+    /// Working arrays of the surface pass.
+    surface: surfaces::SurfaceScratch,
+    /// Each wall's load of the evaluation, in fixed point (by wall index).
+    pub loads: Vec<LoadSum>,
     /// Scratch of the body ranges (several threads only).
     ranges: Vec<parallel::RangeScratch>,
     /// Forces [N] the contacts are added to: during a step's evaluation, the particles'
@@ -189,7 +198,62 @@ fn prefetch<T>(x: &T) {
 /// `buffers.force` and `buffers.torque`, which must hold each body's starting values on
 /// entry: its weight m g and zero torque ([`start`], or the integrator's pass, which writes
 /// them while its cache lines are at hand).
+///
+/// The walls' loads are summed into `buffers.loads`, which [`start_loads`] zeroes, and the
+/// curved and meshed walls' element loads into `elements` (by wall index).
 pub(crate) fn evaluate(
+    input: &KernelInput,
+    pairs: &mut PairList,
+    wall_pairs: &mut WallPairList,
+    buffers: &mut ForceBuffers,
+    pool: Option<&rayon::ThreadPool>,
+    elements: &mut [loads::SurfaceLoads],
+) -> Evaluation {
+    // Zeroed by `start_loads`; sized here for callers that sum over several evaluations.
+    buffers.loads.resize(input.walls.len(), LoadSum::default());
+    let mut eval = planar_contacts(input, pairs, wall_pairs, buffers, pool);
+    if input.walls.iter().flatten().any(Wall::resolved_one_by_one) {
+        let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements);
+        eval.count.particle_wall += contacts;
+        eval.worst_wall = eval.worst_wall.merge(worst);
+    }
+    eval
+}
+
+/// Zeroes the walls' loads before an evaluation of `walls` walls.
+pub(crate) fn start_loads(buffers: &mut ForceBuffers, walls: usize) {
+    buffers.loads.clear();
+    buffers.loads.resize(walls, LoadSum::default());
+}
+
+/// The contacts of the curved, meshed and spinning walls, after all others
+/// ([`surfaces::surface_pass`]).
+fn surface_contacts(
+    input: &KernelInput,
+    wall_pairs: &mut WallPairList,
+    buffers: &mut ForceBuffers,
+    elements: &mut [loads::SurfaceLoads],
+) -> (WorstOverlap, usize) {
+    let len = wall_pairs.particle.len();
+    // A wall that began to spin since the last build has no remembered contacts yet.
+    wall_pairs.surfaces.resize_with(len, Vec::new);
+    surfaces::surface_pass(
+        input,
+        (&wall_pairs.particle, &wall_pairs.wall),
+        &mut wall_pairs.surfaces,
+        &mut buffers.surface,
+        &mut surfaces::SurfaceSinks {
+            force: &mut buffers.force,
+            torque: &mut buffers.torque,
+            loads: &mut buffers.loads,
+            quanta: &input.quanta,
+            elements,
+        },
+    )
+}
+
+/// Every contact but those of the curved, meshed and spinning walls.
+fn planar_contacts(
     input: &KernelInput,
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
@@ -240,10 +304,17 @@ pub(crate) fn evaluate(
                 &mut buffers.wall_probes,
                 &mut buffers.kernel.batch,
             ),
+            &mut buffers.loads,
             sink,
         )
     } else {
-        wall_loop(input, wall_ids, wall_pairs.history.split_mut(), sink)
+        wall_loop(
+            input,
+            wall_ids,
+            wall_pairs.history.split_mut(),
+            &mut buffers.loads,
+            sink,
+        )
     };
     count.particle_wall = wall_contacts;
     Evaluation {

@@ -63,6 +63,8 @@ pub(super) struct RangeScratch {
     /// The incoming pairs (resolved for j's share only), in list order, with copies of their
     /// histories, live flags included, as they were before the pass.
     incoming: PairList,
+    /// The walls' loads from this range's wall contacts, in fixed point.
+    loads: Vec<LoadSum>,
 }
 
 /// What one body range owns for the pass.
@@ -139,6 +141,10 @@ pub(super) fn evaluate(
             .collect()
     });
 
+    // Integer sums: the same total in any order (`loads`).
+    for r in &buffers.ranges {
+        super::loads::merge_loads(&mut buffers.loads, &r.loads);
+    }
     let mut count = ContactCount::default();
     let (mut worst_pair, mut worst_wall) = (WorstOverlap::default(), WorstOverlap::default());
     for r in results {
@@ -151,11 +157,16 @@ pub(super) fn evaluate(
         // Other laws: the walls in one pass after all pairs, in the one-thread order.
         let (force, torque) = (&mut buffers.force, &mut buffers.torque);
         let walls;
-        (worst_wall, walls) =
-            wall_loop(input, wall_ids, wall_pairs.history.split_mut(), |i, cf| {
+        (worst_wall, walls) = wall_loop(
+            input,
+            wall_ids,
+            wall_pairs.history.split_mut(),
+            &mut buffers.loads,
+            |i, cf| {
                 force[i] += cf.force;
                 torque[i] += cf.torque_i;
-            });
+            },
+        );
         count.particle_wall += walls;
     }
     Evaluation {
@@ -339,6 +350,8 @@ fn range_pass(
         walls,
     } = task;
     let hi = lo + force.len();
+    scratch.loads.clear();
+    scratch.loads.resize(input.walls.len(), LoadSum::default());
 
     let mut result = RangeResult::default();
     let mut acc = Accumulator::new(&mut *force, &mut *torque);
@@ -382,6 +395,7 @@ fn range_pass(
         probes,
         walls,
         (&mut scratch.hits, &mut scratch.touch, &mut kernel.batch),
+        &mut scratch.loads,
         &mut sink,
     );
     result
@@ -476,7 +490,7 @@ mod tests {
                     for _ in 0..2 {
                         super::super::start(&jumble.set, jumble.gravity, &mut buffers);
                         let eval =
-                            super::super::evaluate(&input, &mut p, &mut w, &mut buffers, pool);
+                            super::super::evaluate(&input, &mut p, &mut w, &mut buffers, pool, &mut []);
                         assert!(
                             eval.count.particle_particle > 100 && eval.count.particle_wall > 10
                         );

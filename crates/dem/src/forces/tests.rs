@@ -311,6 +311,7 @@ pub(super) fn jumble_input<'a>(jumble: &'a Jumble, laws: &'a ContactLaws) -> Ker
         wall_coeffs: &jumble.wall_coeffs,
         uniform_body: (!jumble.poly).then(|| (jumble.set.radius[0], jumble.set.mass[0])),
         dt: 2.5e-6,
+        quanta: Default::default(),
     }
 }
 
@@ -382,7 +383,7 @@ fn bodies_beyond_the_prefetch_size_get_the_scalar_laws_forces() {
     let mut p2 = pairs.clone();
     let mut buffers = ForceBuffers::default();
     start(&big.set, DVec3::ZERO, &mut buffers);
-    let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None);
+    let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None, &mut []);
     assert!(eval.count.particle_particle > copies * 100);
 
     let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
@@ -398,7 +399,7 @@ fn bodies_beyond_the_prefetch_size_get_the_scalar_laws_forces() {
     let (mut p3, mut w3) = big.lists();
     let mut two = ForceBuffers::default();
     start(&big.set, DVec3::ZERO, &mut two);
-    evaluate(&input, &mut p3, &mut w3, &mut two, Some(&pool));
+    evaluate(&input, &mut p3, &mut w3, &mut two, Some(&pool), &mut []);
     let bits = |v: &[DVec3]| {
         v.iter()
             .map(|x| x.to_array().map(f64::to_bits))
@@ -423,7 +424,7 @@ fn batched_kernels_match_the_scalar_contact_laws() {
         let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
         let mut buffers = ForceBuffers::default();
         start(set, DVec3::ZERO, &mut buffers);
-        let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None);
+        let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None, &mut []);
         assert!(eval.count.particle_particle > 100 && eval.count.particle_wall > 10);
         assert!(
             eval.count.particle_particle < p2.len(),
@@ -435,7 +436,8 @@ fn batched_kernels_match_the_scalar_contact_laws() {
         let worst = pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
         let (mut force, mut torque) = summed(set.len(), contacts);
         let wids = (&w2.particle.clone()[..], &w2.wall.clone()[..]);
-        wall_loop(&input, wids, w2.history.split_mut(), |a, cf| {
+        let mut loads = vec![Default::default(); input.walls.len()];
+        wall_loop(&input, wids, w2.history.split_mut(), &mut loads, |a, cf| {
             force[a] += cf.force;
             torque[a] += cf.torque_i;
         });

@@ -12,6 +12,8 @@ pub(super) enum WallProbe {
     Plane { normal: DVec3, offset: f64 },
     /// Any other shape: the general closest-point test ([`Wall::closest_point`]).
     ClosestPoint,
+    /// A wall this loop leaves to the surface pass ([`Wall::resolved_one_by_one`]).
+    Deferred,
 }
 
 /// The contact of a sphere at `x` with radius `r` [m] with wall `w`, if they overlap: the
@@ -36,7 +38,7 @@ pub(super) fn wall_contact(
             let (cp, dist) = wall.closest_point(x);
             (!(dist >= r)).then(|| (wall.contact_normal(x, cp, dist), r - dist))
         }
-        WallProbe::Absent => None,
+        WallProbe::Absent | WallProbe::Deferred => None,
     }
 }
 
@@ -53,6 +55,7 @@ pub(super) fn batched_wall_loop(
     (pi, pw): (&[u32], &[u32]),
     (history, live): (&mut [DVec3], &mut [u8]),
     (hits, touch, probes, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Vec<WallProbe>, &mut Batch),
+    loads: &mut [LoadSum],
     mut sink: impl FnMut(usize, &ContactForce),
 ) -> (WorstOverlap, usize) {
     wall_probes(input.walls, probes);
@@ -78,7 +81,7 @@ pub(super) fn batched_wall_loop(
             &pi[run.clone()],
             (&mut history[run.clone()], &mut live[run]),
             (&mut hits[..len], &mut touch[..len], batch),
-            &mut worst,
+            (&mut worst, &mut loads[w as usize]),
             &mut sink,
         );
     }
@@ -104,6 +107,7 @@ pub(super) fn wall_probes(walls: &[Option<Wall>], probes: &mut Vec<WallProbe>) {
     probes.clear();
     probes.extend(walls.iter().map(|w| match w {
         None => WallProbe::Absent,
+        Some(w) if w.resolved_one_by_one() => WallProbe::Deferred,
         Some(w) => match w.shape().as_plane() {
             Some((normal, offset)) => WallProbe::Plane { normal, offset },
             None => WallProbe::ClosestPoint,
@@ -152,6 +156,7 @@ pub(super) fn wall_pieces<'a>(
     probes: &[WallProbe],
     pieces: impl IntoIterator<Item = WallPiece<'a>>,
     (hits, touch, batch): (&mut Vec<u32>, &mut Vec<u8>, &mut Batch),
+    loads: &mut [LoadSum],
     sink: &mut impl FnMut(usize, &ContactForce),
 ) -> (WorstOverlap, usize) {
     let mut worst = WorstOverlap::default();
@@ -173,7 +178,7 @@ pub(super) fn wall_pieces<'a>(
             piece.particles,
             (piece.history, piece.live),
             (&mut hits[..len], &mut touch[..len], batch),
-            &mut worst,
+            (&mut worst, &mut loads[piece.wall]),
             sink,
         );
     }
@@ -188,7 +193,7 @@ pub(super) fn wall_run(
     pi: &[u32],
     (history, live): (&mut [DVec3], &mut [u8]),
     (hits, touch, batch): (&mut [u32], &mut [u8], &mut Batch),
-    worst: &mut WorstOverlap,
+    (worst, load): (&mut WorstOverlap, &mut LoadSum),
     sink: &mut impl FnMut(usize, &ContactForce),
 ) -> usize {
     let p = input.particles;
@@ -224,6 +229,7 @@ pub(super) fn wall_run(
             live.fill(0);
             return 0;
         }
+        WallProbe::Deferred => return 0,
     };
     let hits = &hits[..count];
 
@@ -285,7 +291,9 @@ pub(super) fn wall_run(
             let m = m & (BATCH - 1);
             let k = k as usize;
             history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
-            sink(pi[k] as usize, &batch_force(batch, m));
+            let (i, cf) = (pi[k] as usize, batch_force(batch, m));
+            add_load(load, &input.quanta, pos[i], &cf);
+            sink(i, &cf);
         }
     }
     count

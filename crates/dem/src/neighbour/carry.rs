@@ -63,14 +63,17 @@ pub(super) fn carry_moved_pairs(
 }
 
 /// As [`carry_moved_pairs`], for wall candidates (wall, particle), wall-major: each wall's
-/// old run is spread into a table by old body index while the new run reads it.
+/// old run is spread into a table by old body index while the new run reads it. `source`
+/// receives, for each new candidate, its old index or [`NO_SOURCE`].
 pub(super) fn carry_moved_walls(
     history: &mut HistoryArrays,
     (walls, bodies): (&[u32], &[u32]),
     (old_walls, old_bodies): (&[u32], &[u32]),
     old: &HistoryArrays,
     (origin, slot): (&[u32], &mut Vec<u32>),
+    source: &mut Vec<u32>,
 ) {
+    source.clear();
     let size = old_bodies.iter().max().map_or(0, |&x| x as usize + 1);
     slot.clear();
     slot.resize(size, NO_SOURCE);
@@ -89,9 +92,14 @@ pub(super) fn carry_moved_walls(
             }
             current = Some((w, run));
         }
-        let h = match slot.get(origin[a as usize] as usize) {
-            Some(&k) if k != NO_SOURCE => old.get(k as usize),
-            _ => ContactHistory::default(),
+        let from = slot
+            .get(origin[a as usize] as usize)
+            .copied()
+            .unwrap_or(NO_SOURCE);
+        source.push(from);
+        let h = match from {
+            NO_SOURCE => ContactHistory::default(),
+            k => old.get(k as usize),
         };
         history.push(carried(h, false));
     }

@@ -12,7 +12,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactHistory;
-use crate::history::{HistoryArrays, NO_SOURCE};
+use crate::history::{HistoryArrays, SurfaceContact, NO_SOURCE};
 use crate::particles::ParticleSet;
 use crate::wall::Wall;
 
@@ -42,6 +42,9 @@ pub struct WallPairList {
     pub(crate) particle: Vec<u32>,
     pub(crate) wall: Vec<u32>,
     pub(crate) history: HistoryArrays,
+    /// The remembered contacts of each candidate of a curved, meshed or spinning wall
+    /// (`forces::surfaces`), index-aligned with the list; empty while there is no such wall.
+    pub(crate) surfaces: Vec<Vec<SurfaceContact>>,
 }
 
 impl WallPairList {
@@ -72,6 +75,10 @@ impl WallPairList {
             particle: order.iter().map(|&k| self.particle[k]).collect(),
             wall: order.iter().map(|&k| self.wall[k]).collect(),
             history: order.iter().map(|&k| self.history.get(k)).collect(),
+            surfaces: order
+                .iter()
+                .filter_map(|&k| self.surfaces.get(k).cloned())
+                .collect(),
         }
     }
 }
@@ -183,6 +190,22 @@ pub(crate) fn build_lists(
             old_ids,
             old,
             (origin, &mut scratch.first),
+            &mut scratch.fill,
         ),
+    }
+    // The remembered contacts of curved and meshed walls follow their candidates: from the
+    // old entry each new one continues (`scratch.first` or `scratch.fill` above).
+    wall_pairs.surfaces.clear();
+    if walls.iter().flatten().any(Wall::resolved_one_by_one) {
+        let source = match carry {
+            Carry::Same => &scratch.first,
+            Carry::Moved(_) => &scratch.fill,
+        };
+        let old = &old_walls.surfaces;
+        wall_pairs.surfaces.extend(
+            source
+                .iter()
+                .map(|&c| old.get(c as usize).cloned().unwrap_or_default()),
+        );
     }
 }

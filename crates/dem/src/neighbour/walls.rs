@@ -33,7 +33,7 @@ pub(super) fn wall_candidates(
             if wall.certainly_beyond(pos[i], rad[i] + skin) {
                 continue;
             }
-            if wall.closest_point(pos[i]).1 < rad[i] + skin {
+            if wall.distance_within(pos[i], rad[i] + skin) < rad[i] + skin {
                 out.push(i as u32);
             }
         }

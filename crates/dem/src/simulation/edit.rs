@@ -164,6 +164,7 @@ impl Simulation {
 
     /// Adds a wall; returns its handle.
     pub fn add_wall(&mut self, wall: Wall) -> WallId {
+        self.state.surface_loads.push(Self::fresh_surface_loads(&wall));
         self.state.walls.push(Some(wall));
         self.state.needs_rebuild = true;
         self.prepared = false;
@@ -183,7 +184,7 @@ impl Simulation {
     }
 
     /// The wall `id`, if it is present.
-    fn wall_mut(&mut self, id: WallId) -> Result<&mut Wall, DemError> {
+    pub(super) fn wall_mut(&mut self, id: WallId) -> Result<&mut Wall, DemError> {
         self.state
             .walls
             .get_mut(id.0 as usize)
@@ -265,6 +266,11 @@ impl Simulation {
         }
         self.uniform_body = uniform_body(&s.particles);
         self.uniform_free = uniform_free_body(&s.particles);
+        let p = &s.particles;
+        let g = s.config.gravity.length().max(1.0);
+        let lightest = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
+        let smallest = p.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        self.load_quanta = LoadQuanta::new(lightest * g, smallest);
         self.prepared = true;
         Ok(())
     }

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
+use crate::forces::loads::{LoadQuanta, SurfaceLoads, WallLoad};
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
 use crate::integrator::{
     displacement_box_diagonal, kick, kick_drift, kick_drift_flat_tracked, kick_drift_range,
@@ -28,6 +29,7 @@ mod guards;
 mod rebuild;
 mod run;
 mod step;
+mod walls;
 
 pub use edit::RemovedParticle;
 pub use energy::Energy;
@@ -97,6 +99,8 @@ pub struct SimulationState {
     needs_rebuild: bool,
     indices_changed: bool,
     contacts: ContactCount,
+    /// The element loads of each wall (by wall index) summed over the current window.
+    surface_loads: Vec<SurfaceLoads>,
 }
 
 impl SimulationState {
@@ -136,6 +140,11 @@ pub struct Simulation {
     reach_bound: ReachBound,
     /// The list builds' working arrays, kept for their memory ([`ListScratch`]).
     list_scratch: ListScratch,
+    /// The quanta of the walls' fixed-point loads, set with the coefficients.
+    load_quanta: LoadQuanta,
+    /// Each wall's load in the last step (by wall index); not part of the state: a restored
+    /// simulation has zero loads until its first step.
+    wall_loads: Vec<WallLoad>,
     /// The error that stopped a step after it had begun to move bodies: every later step is
     /// refused with [`DemError::AfterFailure`], since the state is no longer one instant's.
     /// Not part of the state: a simulation restored from a checkpoint starts without it.
@@ -205,6 +214,7 @@ impl Simulation {
             needs_rebuild: true,
             indices_changed: false,
             contacts: ContactCount::default(),
+            surface_loads: Vec::new(),
         };
         Self::from_state(state, config.threads)
     }
@@ -227,6 +237,8 @@ impl Simulation {
             spare_lists: Default::default(),
             reach_bound: ReachBound::default(),
             list_scratch: ListScratch::default(),
+            load_quanta: LoadQuanta::default(),
+            wall_loads: Vec::new(),
             failure: None,
         })
     }

@@ -51,6 +51,12 @@ impl Plane {
         self.point += offset;
     }
 
+    /// Turns the plane by `rotation` about the world point `centre` [m].
+    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: glam::DQuat) {
+        self.point = centre + rotation * (self.point - centre);
+        self.normal = (rotation * self.normal).normalize();
+    }
+
     /// Closest point of the plane to `x` and the distance to it, signed along the normal
     /// (negative behind the plane).
     #[inline(always)]

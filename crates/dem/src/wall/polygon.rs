@@ -81,6 +81,17 @@ impl Polygon {
         self.vertices.iter_mut().for_each(|v| *v += offset);
     }
 
+    /// Turns the polygon by `rotation` about the world point `centre` [m].
+    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: glam::DQuat) {
+        for v in &mut self.vertices {
+            *v = centre + rotation * (*v - centre);
+        }
+        self.normal = rotation * self.normal;
+        for e in &mut self.edge_normals {
+            *e = rotation * *e;
+        }
+    }
+
     /// Closest point of the polygon to `x` and the Euclidean distance to it: the foot of
     /// the perpendicular when it falls inside, otherwise the closest point of the nearest
     /// edge or corner.

@@ -1,0 +1,163 @@
+//! The contacts of curved and meshed walls, and of spinning walls, one at a time through
+//! `ContactLaws::resolve` (docs/physics.md §5.2–5.4): after every other contact, on one
+//! thread, in list order, so the sums are the same bits at any thread count.
+//!
+//! A sphere may touch such a wall in several places (a mesh's fold); each contact keeps
+//! its own history, carried from step to step by its normal: a contact takes the history
+//! of the remembered contact whose normal is nearest to its own, if that one is within
+//! [`SAME_CONTACT_COS`]. So a sphere sliding across the triangles of a flat or gently
+//! curved mesh keeps its tangential spring from one triangle to the next.
+
+use super::loads::{add_load, LoadQuanta, LoadSum, SurfaceLoads};
+use super::*;
+use crate::contact::geometry::{sphere_wall, Sphere};
+use crate::history::SurfaceContact;
+use crate::wall::{MeshContact, MeshScratch, WallShape};
+
+/// Cosine of the largest angle between the normals of a remembered contact and a new one
+/// that continue each other (60°). A sliding contact's normal turns by far less in one
+/// step; two simultaneous contacts of a fold differ by more.
+const SAME_CONTACT_COS: f64 = 0.5;
+
+/// Working arrays of the pass, reused from step to step.
+#[derive(Debug, Default)]
+pub(crate) struct SurfaceScratch {
+    mesh: MeshScratch,
+    contacts: Vec<MeshContact>,
+    previous: Vec<SurfaceContact>,
+    taken: Vec<bool>,
+}
+
+/// Where the pass writes: the bodies' forces and torques, each wall's load in fixed point,
+/// and the element loads of each curved or meshed wall (by wall index; empty where none).
+pub(crate) struct SurfaceSinks<'a> {
+    pub force: &'a mut [DVec3],
+    pub torque: &'a mut [DVec3],
+    pub loads: &'a mut [LoadSum],
+    pub quanta: &'a LoadQuanta,
+    pub elements: &'a mut [SurfaceLoads],
+}
+
+/// Resolves every candidate of the walls that [`Wall::resolved_one_by_one`] names, from the
+/// wall-major list (`pi`, `pw`), with their remembered contacts `slots` (index-aligned with
+/// the list); returns the worst overlap and the number of contacts.
+pub(crate) fn surface_pass(
+    input: &KernelInput,
+    (pi, pw): (&[u32], &[u32]),
+    slots: &mut [Vec<SurfaceContact>],
+    scratch: &mut SurfaceScratch,
+    sinks: &mut SurfaceSinks,
+) -> (WorstOverlap, usize) {
+    let mut worst = WorstOverlap::default();
+    let mut count = 0;
+    let p = input.particles;
+    for (w, run) in walls::wall_runs(pw) {
+        let w = w as usize;
+        let Some(wall) = input.walls[w].as_ref().filter(|w| w.resolved_one_by_one()) else {
+            continue;
+        };
+        let mut sum = LoadSum::default();
+        let bands = sinks.elements.get(w).map_or(1, |e| e.elements.len().max(1));
+        for k in run {
+            let i = pi[k] as usize;
+            let (x, r) = (p.position[i], p.radius[i]);
+            touching(wall, x, r, bands, scratch);
+            let slot = &mut slots[k];
+            if scratch.contacts.is_empty() {
+                slot.clear();
+                continue;
+            }
+            scratch.previous.clear();
+            scratch.previous.extend_from_slice(slot);
+            scratch.taken.clear();
+            scratch.taken.resize(slot.len(), false);
+            slot.clear();
+            let sphere = Sphere {
+                radius: r,
+                mass: p.mass[i],
+                inertia: p.inertia[i],
+            };
+            let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
+            let bi = BodyMotion {
+                velocity: p.velocity[i],
+                omega: p.omega[i],
+            };
+            for contact in &scratch.contacts {
+                let g = sphere_wall(contact.normal, contact.distance, &sphere);
+                worst.see(g.overlap / r, k);
+                let mut h = continued(contact.normal, &scratch.previous, &mut scratch.taken);
+                let bw = BodyMotion {
+                    velocity: wall.velocity_at(contact.point),
+                    omega: wall.angular_velocity,
+                };
+                let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
+                sinks.force[i] += cf.force;
+                sinks.torque[i] += cf.torque_i;
+                add_load(&mut sum, sinks.quanta, x, &cf);
+                if let Some(loads) = sinks.elements.get_mut(w) {
+                    loads.book(contact.triangle as usize, contact.normal, cf.force, input.dt);
+                }
+                slot.push(SurfaceContact {
+                    normal: contact.normal,
+                    history: h,
+                });
+                count += 1;
+            }
+        }
+        super::loads::merge_loads(&mut sinks.loads[w..=w], &[sum]);
+    }
+    (worst, count)
+}
+
+/// The contacts of a sphere at `x` with radius `r` [m] with `wall`, into
+/// `scratch.contacts`; for a frustum, `triangle` holds the contact's band, of `bands` equal
+/// lengths along the axis.
+fn touching(wall: &Wall, x: DVec3, r: f64, bands: usize, scratch: &mut SurfaceScratch) {
+    let out = &mut scratch.contacts;
+    match wall.shape() {
+        WallShape::Mesh(m) => m.contacts(x, r, &mut scratch.mesh, out),
+        WallShape::Frustum(f) => {
+            out.clear();
+            let (point, distance, t) = f.closest_point(x);
+            if distance < r {
+                out.push(MeshContact {
+                    point,
+                    normal: wall.contact_normal(x, point, distance),
+                    distance,
+                    triangle: ((t * bands as f64) as usize).min(bands - 1) as u32,
+                });
+            }
+        }
+        WallShape::Plane(_) | WallShape::Polygon(_) => {
+            out.clear();
+            let (point, distance) = wall.closest_point(x);
+            if distance < r {
+                out.push(MeshContact {
+                    point,
+                    normal: wall.contact_normal(x, point, distance),
+                    distance,
+                    triangle: 0,
+                });
+            }
+        }
+    }
+}
+
+/// The history a contact of normal `normal` continues: that of the nearest remembered
+/// contact not yet taken, if within [`SAME_CONTACT_COS`]; otherwise none.
+fn continued(normal: DVec3, previous: &[SurfaceContact], taken: &mut [bool]) -> ContactHistory {
+    let best = previous
+        .iter()
+        .enumerate()
+        .filter(|(m, _)| !taken[*m])
+        .map(|(m, c)| (m, c.normal.dot(normal)))
+        .filter(|&(_, cos)| cos >= SAME_CONTACT_COS)
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    match best {
+        Some((m, _)) => {
+            taken[m] = true;
+            previous[m].history
+        }
+        None => ContactHistory::default(),
+    }
+}

@@ -1,0 +1,334 @@
+//! The triangle-mesh wall: a surface of triangles, two-sided, in a pose of its own
+//! (docs/physics.md §5.3).
+//!
+//! A sphere near several triangles gets one contact per part of the surface it touches, not
+//! one per triangle. Each triangle reports the feature that holds its closest point (face,
+//! edge or corner); the mesh, whose triangles share welded corners and edges, then keeps:
+//! - every face contact;
+//! - an edge contact only where no triangle having that edge has a face contact, and once
+//!   however many triangles report it;
+//! - a corner contact only where no face or kept edge at that corner has a contact, and once.
+//!
+//! On a flat or convex region this leaves exactly one contact, the one an analytic plane or
+//! a rounded edge would give; in a concave fold (a floor meeting a side) it leaves one per
+//! face touched, as a sphere resting in the fold needs.
+
+use glam::{DQuat, DVec3};
+
+use super::mesh_index::TriangleGrid;
+use super::triangle::{area2_and_normal, closest_point, Feature};
+use super::WallError;
+
+/// Smallest accepted ratio of a triangle's doubled area to the square of its longest edge:
+/// below it the triangle is a sliver or a segment whose normal is round-off.
+const MIN_ASPECT: f64 = 1e-10;
+
+/// One triangle as the contact test needs it, in the mesh's own frame.
+#[derive(Debug, Clone, PartialEq)]
+struct Facet {
+    /// Corners [m].
+    corners: [DVec3; 3],
+    /// Unit normal by the right-hand rule [-].
+    normal: DVec3,
+    /// Welded corner ids.
+    vertex: [u32; 3],
+    /// Edge ids, edge k from corner k to corner k + 1.
+    edge: [u32; 3],
+}
+
+/// A contact of a sphere with a mesh: where, along which normal and with which triangle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshContact {
+    /// The closest point of the surface, in the world [m].
+    pub point: DVec3,
+    /// Unit normal from the surface to the sphere's centre, in the world [-].
+    pub normal: DVec3,
+    /// Distance from the sphere's centre to `point` [m].
+    pub distance: f64,
+    /// The triangle that holds the point (the lowest-numbered one where several share it),
+    /// which its loads are booked to.
+    pub triangle: u32,
+}
+
+/// A wall of triangles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    facets: Vec<Facet>,
+    /// Welded corners, in the mesh's frame [m].
+    vertices: Vec<DVec3>,
+    /// The two corner ids of each edge.
+    edges: Vec<[u32; 2]>,
+    grid: TriangleGrid,
+    /// Bounds of the mesh in its own frame [m].
+    bounds: (DVec3, DVec3),
+    /// Pose: a point b of the mesh's frame is at `rotation * b + translation` in the world.
+    rotation: DQuat,
+    /// Translation of the pose [m].
+    translation: DVec3,
+}
+
+/// The triangles of a contact query before the claims, reused between queries.
+#[derive(Debug, Default, Clone)]
+pub struct MeshScratch {
+    found: Vec<(Feature, u32, u32, DVec3, f64)>,
+    claimed_edges: Vec<u32>,
+    claimed_vertices: Vec<u32>,
+}
+
+impl Mesh {
+    /// A mesh of `triangles` [m], checked: at least one, finite corners, none degenerate.
+    /// Corners with identical coordinates are welded, so that triangles sharing them share
+    /// edges and corners.
+    pub(super) fn new(triangles: &[[DVec3; 3]]) -> Result<Self, WallError> {
+        if triangles.is_empty() {
+            return Err(WallError::EmptyMesh);
+        }
+        let mut weld = std::collections::HashMap::new();
+        let mut vertices = Vec::new();
+        let mut edge_ids = std::collections::HashMap::new();
+        let mut edges = Vec::new();
+        let mut facets = Vec::with_capacity(triangles.len());
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(v) = tri.iter().find(|v| !v.is_finite()) {
+                return Err(WallError::BadTriangle {
+                    triangle: t,
+                    reason: format!("corner {v} is not finite"),
+                });
+            }
+            let (area2, normal) = area2_and_normal(*tri);
+            let longest = (0..3)
+                .map(|k| (tri[(k + 1) % 3] - tri[k]).length_squared())
+                .fold(0.0, f64::max);
+            if !(area2 > MIN_ASPECT * longest) {
+                return Err(WallError::BadTriangle {
+                    triangle: t,
+                    reason: format!(
+                        "degenerate: doubled area {area2:e} m² against longest edge² {longest:e} m² \
+                         (at least {MIN_ASPECT:e} of it is needed)"
+                    ),
+                });
+            }
+            let vertex = tri.map(|v| {
+                let key = v.to_array().map(f64::to_bits);
+                *weld.entry(key).or_insert_with(|| {
+                    vertices.push(v);
+                    vertices.len() as u32 - 1
+                })
+            });
+            let edge = [0, 1, 2].map(|k| {
+                let (a, b) = (vertex[k], vertex[(k + 1) % 3]);
+                *edge_ids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    edges.push([a.min(b), a.max(b)]);
+                    edges.len() as u32 - 1
+                })
+            });
+            facets.push(Facet {
+                corners: *tri,
+                normal,
+                vertex,
+                edge,
+            });
+        }
+        let boxes: Vec<(DVec3, DVec3)> = triangles
+            .iter()
+            .map(|t| (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2])))
+            .collect();
+        let lo = boxes.iter().fold(DVec3::INFINITY, |a, b| a.min(b.0));
+        let hi = boxes.iter().fold(DVec3::NEG_INFINITY, |a, b| a.max(b.1));
+        Ok(Self {
+            grid: TriangleGrid::new(&boxes, (lo, hi)),
+            facets,
+            vertices,
+            edges,
+            bounds: (lo, hi),
+            rotation: DQuat::IDENTITY,
+            translation: DVec3::ZERO,
+        })
+    }
+
+    /// Number of triangles.
+    pub fn len(&self) -> usize {
+        self.facets.len()
+    }
+
+    /// True when the mesh has no triangles (never, for a constructed mesh).
+    pub fn is_empty(&self) -> bool {
+        self.facets.is_empty()
+    }
+
+    /// Triangle `t`'s corners in the world [m].
+    pub fn triangle(&self, t: usize) -> [DVec3; 3] {
+        self.facets[t].corners.map(|c| self.to_world(c))
+    }
+
+    /// Triangle `t`'s unit normal in the world (right-hand rule on its corners) [-].
+    pub fn triangle_normal(&self, t: usize) -> DVec3 {
+        self.rotation * self.facets[t].normal
+    }
+
+    /// Area of triangle `t` [m²].
+    pub fn triangle_area(&self, t: usize) -> f64 {
+        0.5 * area2_and_normal(self.facets[t].corners).0
+    }
+
+    /// The pose: rotation and translation [m] from the mesh's frame to the world.
+    pub fn pose(&self) -> (DQuat, DVec3) {
+        (self.rotation, self.translation)
+    }
+
+    /// The mesh's triangles in its own frame, as given, with its pose: what a checkpoint
+    /// stores.
+    pub(super) fn parts(&self) -> (Vec<[DVec3; 3]>, DQuat, DVec3) {
+        (
+            self.facets.iter().map(|f| f.corners).collect(),
+            self.rotation,
+            self.translation,
+        )
+    }
+
+    /// Sets the pose (checkpoints).
+    pub(super) fn set_pose(&mut self, rotation: DQuat, translation: DVec3) {
+        self.rotation = rotation;
+        self.translation = translation;
+    }
+
+    #[inline]
+    fn to_world(&self, b: DVec3) -> DVec3 {
+        self.rotation * b + self.translation
+    }
+
+    #[inline]
+    fn to_body(&self, x: DVec3) -> DVec3 {
+        self.rotation.inverse() * (x - self.translation)
+    }
+
+    /// Moves the mesh by `offset` [m].
+    pub(super) fn translate(&mut self, offset: DVec3) {
+        self.translation += offset;
+    }
+
+    /// Turns the mesh by `rotation` about the world point `centre` [m].
+    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
+        self.translation = centre + rotation * (self.translation - centre);
+        self.rotation = (rotation * self.rotation).normalize();
+    }
+
+    /// True when `x` is certainly farther than `reach` [m] from the mesh: outside its
+    /// bounding box grown by `reach`.
+    #[inline]
+    pub(super) fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
+        let b = self.to_body(x);
+        let gap = (self.bounds.0 - b).max(b - self.bounds.1).max(DVec3::ZERO);
+        !(gap.length_squared() < reach * reach)
+    }
+
+    /// Distance from `x` to the nearest point of the mesh within `reach` [m], or `reach`
+    /// when none is nearer.
+    pub(super) fn distance_within(&self, x: DVec3, reach: f64) -> f64 {
+        let b = self.to_body(x);
+        let mut best = reach * reach;
+        self.grid.near(b, reach, |t| {
+            let (p, _) = closest_point(b, self.facets[t as usize].corners);
+            best = best.min((b - p).length_squared());
+        });
+        best.sqrt()
+    }
+
+    /// The contacts of a sphere at `x` with radius `r` [m], after the claims of the module's
+    /// rule, into `out` in a fixed order (faces, then edges, then corners, each by
+    /// triangle or feature id).
+    pub fn contacts(
+        &self,
+        x: DVec3,
+        r: f64,
+        scratch: &mut MeshScratch,
+        out: &mut Vec<MeshContact>,
+    ) {
+        out.clear();
+        let b = self.to_body(x);
+        let r2 = r * r;
+        let found = &mut scratch.found;
+        found.clear();
+        self.grid.near(b, r, |t| {
+            let facet = &self.facets[t as usize];
+            // The plane's distance bounds the triangle's from below: most triangles beside
+            // a sphere are out of reach of its plane section, and are left after one dot.
+            let h = (b - facet.corners[0]).dot(facet.normal);
+            if h * h >= r2 {
+                return;
+            }
+            let (p, feature) = closest_point(b, facet.corners);
+            let d2 = (b - p).length_squared();
+            if d2 < r2 {
+                // The feature's id on the whole mesh: the triangle, the edge or the corner.
+                let id = match feature {
+                    Feature::Face => t,
+                    Feature::Edge(k) => facet.edge[k as usize],
+                    Feature::Corner(k) => facet.vertex[k as usize],
+                };
+                found.push((feature_class(feature), id, t, p, d2));
+            }
+        });
+        if found.is_empty() {
+            return;
+        }
+        found.sort_unstable_by(|a, b| (a.0, a.1, a.2).cmp(&(b.0, b.1, b.2)));
+        let (edges, vertices) = (&mut scratch.claimed_edges, &mut scratch.claimed_vertices);
+        edges.clear();
+        vertices.clear();
+        let mut last: Option<(Feature, u32)> = None;
+        for &(class, id, t, p, d2) in found.iter() {
+            // Several triangles report one edge or corner: it counts once.
+            if last == Some((class, id)) {
+                continue;
+            }
+            last = Some((class, id));
+            let keep = match class {
+                Feature::Face => {
+                    let f = &self.facets[t as usize];
+                    edges.extend_from_slice(&f.edge);
+                    vertices.extend_from_slice(&f.vertex);
+                    true
+                }
+                Feature::Edge(_) => {
+                    let free = !edges.contains(&id);
+                    if free {
+                        vertices.extend_from_slice(&self.edges[id as usize]);
+                    }
+                    free
+                }
+                Feature::Corner(_) => !vertices.contains(&id),
+            };
+            if keep {
+                let distance = d2.sqrt();
+                let normal_b = if distance > 0.0 {
+                    (b - p) / distance
+                } else {
+                    self.facets[t as usize].normal
+                };
+                out.push(MeshContact {
+                    point: self.to_world(p),
+                    normal: self.rotation * normal_b,
+                    distance,
+                    triangle: t,
+                });
+            }
+        }
+    }
+
+    /// Welded corners in the mesh's frame [m] (tests).
+    #[cfg(test)]
+    pub(super) fn vertex_count(&self) -> usize {
+        self.vertices.len()
+    }
+}
+
+/// The feature's class alone, which orders faces before edges before corners.
+#[inline]
+fn feature_class(f: Feature) -> Feature {
+    match f {
+        Feature::Face => Feature::Face,
+        Feature::Edge(_) => Feature::Edge(0),
+        Feature::Corner(_) => Feature::Corner(0),
+    }
+}
