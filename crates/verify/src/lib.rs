@@ -1,6 +1,7 @@
 //! Verification suite of the DEM engine: the single-impact benchmarks of Chung & Ooi (2011),
-//! Thornton's normalised oblique impacts and the analytic sliding/rolling cases of
-//! docs/physics.md §9, each reported as rows of expected and measured values.
+//! Thornton's normalised oblique impacts, the analytic sliding/rolling cases and the walls of
+//! any shape (W1–W6) of docs/physics.md §9, each reported as rows of expected and measured
+//! values.
 //!
 //! Every case lives in its own file whose module documentation gives the set-up, the
 //! expected values and their source, and the tolerance with its reason.
@@ -17,10 +18,17 @@ pub mod co5;
 pub mod cot;
 mod error;
 pub mod impact;
+mod meshes;
 pub mod p1;
 mod resolution;
 mod row;
 mod surface;
+pub mod w1;
+pub mod w2;
+pub mod w3;
+pub mod w4;
+pub mod w5;
+pub mod w6;
 
 pub use error::VerifyError;
 pub use resolution::Resolution;
@@ -35,7 +43,7 @@ type Case = (
 );
 
 /// Every case of docs/physics.md §9 that this crate implements, in the order of the spec.
-const CASES: [Case; 11] = [
+const CASES: [Case; 17] = [
     ("CO1", co1::run),
     ("CO2", co2::run),
     ("CO3", co3::run),
@@ -47,6 +55,12 @@ const CASES: [Case; 11] = [
     ("A2", a2::run),
     ("A3", a3::run),
     ("A4", a4::run),
+    ("W1", w1::run),
+    ("W2", w2::run),
+    ("W3", w3::run),
+    ("W4", w4::run),
+    ("W5", w5::run),
+    ("W6", w6::run),
 ];
 
 /// Runs every case at `resolution` and returns all rows, in the order of docs/physics.md §9.

@@ -51,6 +51,18 @@ fn every_case_reports_exactly_its_rows() {
         // no-slip curve, cap, engine-run slope and ξ growth; Mindlin–Deresiewicz curve, cap,
         // finite-difference slope, k_t(0); rotated |ξ| and ξ·n.
         ("A4", 10),
+        // 4 places at rest × (motion gap, contact count), rolling × (gap, count).
+        ("W1", 10),
+        // 3 drops (edge, corner, face diagonal) × (rebound gap, contact count).
+        ("W2", 6),
+        // cylinder and cone × inside and outside.
+        ("W3", 4),
+        // energy drift, spheres inside.
+        ("W4", 2),
+        // plane and mesh conveyor × (contact-point speed, centre speed).
+        ("W5", 4),
+        // per-triangle sum against the total, normal force against the weight.
+        ("W6", 2),
     ];
     let rows = run_all(Resolution::Fast);
     for (case, n) in expected {

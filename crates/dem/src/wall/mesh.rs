@@ -2,16 +2,19 @@
 //! (docs/physics.md §5.3).
 //!
 //! A sphere near several triangles gets one contact per part of the surface it touches, not
-//! one per triangle. Each triangle reports the feature that holds its closest point (face,
-//! edge or corner); the mesh, whose triangles share welded corners and edges, then keeps:
-//! - every face contact;
-//! - an edge contact only where no triangle having that edge has a face contact, and once
-//!   however many triangles report it;
-//! - a corner contact only where no face or kept edge at that corner has a contact, and once.
+//! one per triangle. Each triangle within reach reports the feature that holds its closest
+//! point: its face, an edge or a corner. Triangles share welded edges and corners, and:
+//! - a face contact always counts;
+//! - an edge or corner contact counts once, and only where every triangle having that edge
+//!   or corner reports it: then the sphere's centre lies in the feature's own region of
+//!   space (its Voronoi region), off every face around it. A coplanar neighbour's edge seen
+//!   past the face the sphere sits on, or an edge of the face it sits on, does not count.
 //!
 //! On a flat or convex region this leaves exactly one contact, the one an analytic plane or
 //! a rounded edge would give; in a concave fold (a floor meeting a side) it leaves one per
-//! face touched, as a sphere resting in the fold needs.
+//! face touched, as a sphere resting in the fold needs. Should round-off leave no feature
+//! standing while some triangle is within reach (a centre exactly over a corner, seen as an
+//! edge by one triangle), the nearest one counts, so a touching sphere always has a contact.
 
 use glam::{DQuat, DVec3};
 
@@ -56,8 +59,10 @@ pub struct Mesh {
     facets: Vec<Facet>,
     /// Welded corners, in the mesh's frame [m].
     vertices: Vec<DVec3>,
-    /// The two corner ids of each edge.
-    edges: Vec<[u32; 2]>,
+    /// Triangles having each edge.
+    edge_faces: Vec<u32>,
+    /// Triangles having each corner.
+    vertex_faces: Vec<u32>,
     grid: TriangleGrid,
     /// Bounds of the mesh in its own frame [m].
     bounds: (DVec3, DVec3),
@@ -71,8 +76,6 @@ pub struct Mesh {
 #[derive(Debug, Default, Clone)]
 pub struct MeshScratch {
     found: Vec<(Feature, u32, u32, DVec3, f64)>,
-    claimed_edges: Vec<u32>,
-    claimed_vertices: Vec<u32>,
 }
 
 impl Mesh {
@@ -86,7 +89,8 @@ impl Mesh {
         let mut weld = std::collections::HashMap::new();
         let mut vertices = Vec::new();
         let mut edge_ids = std::collections::HashMap::new();
-        let mut edges = Vec::new();
+        let mut edge_faces: Vec<u32> = Vec::new();
+        let mut vertex_faces: Vec<u32> = Vec::new();
         let mut facets = Vec::with_capacity(triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
             if let Some(v) = tri.iter().find(|v| !v.is_finite()) {
@@ -110,17 +114,22 @@ impl Mesh {
             }
             let vertex = tri.map(|v| {
                 let key = v.to_array().map(f64::to_bits);
-                *weld.entry(key).or_insert_with(|| {
+                let id = *weld.entry(key).or_insert_with(|| {
                     vertices.push(v);
+                    vertex_faces.push(0);
                     vertices.len() as u32 - 1
-                })
+                });
+                vertex_faces[id as usize] += 1;
+                id
             });
             let edge = [0, 1, 2].map(|k| {
                 let (a, b) = (vertex[k], vertex[(k + 1) % 3]);
-                *edge_ids.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    edges.push([a.min(b), a.max(b)]);
-                    edges.len() as u32 - 1
-                })
+                let id = *edge_ids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    edge_faces.push(0);
+                    edge_faces.len() as u32 - 1
+                });
+                edge_faces[id as usize] += 1;
+                id
             });
             facets.push(Facet {
                 corners: *tri,
@@ -139,7 +148,8 @@ impl Mesh {
             grid: TriangleGrid::new(&boxes, (lo, hi)),
             facets,
             vertices,
-            edges,
+            edge_faces,
+            vertex_faces,
             bounds: (lo, hi),
             rotation: DQuat::IDENTITY,
             translation: DVec3::ZERO,
@@ -273,46 +283,49 @@ impl Mesh {
             return;
         }
         found.sort_unstable_by(|a, b| (a.0, a.1, a.2).cmp(&(b.0, b.1, b.2)));
-        let (edges, vertices) = (&mut scratch.claimed_edges, &mut scratch.claimed_vertices);
-        edges.clear();
-        vertices.clear();
-        let mut last: Option<(Feature, u32)> = None;
-        for &(class, id, t, p, d2) in found.iter() {
-            // Several triangles report one edge or corner: it counts once.
-            if last == Some((class, id)) {
-                continue;
-            }
-            last = Some((class, id));
-            let keep = match class {
-                Feature::Face => {
-                    let f = &self.facets[t as usize];
-                    edges.extend_from_slice(&f.edge);
-                    vertices.extend_from_slice(&f.vertex);
-                    true
-                }
-                Feature::Edge(_) => {
-                    let free = !edges.contains(&id);
-                    if free {
-                        vertices.extend_from_slice(&self.edges[id as usize]);
-                    }
-                    free
-                }
-                Feature::Corner(_) => !vertices.contains(&id),
+        // Runs of one feature: a face counts; an edge or corner when every triangle having
+        // it reported it.
+        let mut k = 0;
+        while k < found.len() {
+            let (class, id, t, p, d2) = found[k];
+            let run = found[k..]
+                .iter()
+                .take_while(|f| (f.0, f.1) == (class, id))
+                .count();
+            let sharing = match class {
+                Feature::Face => 1,
+                Feature::Edge(_) => self.edge_faces[id as usize],
+                Feature::Corner(_) => self.vertex_faces[id as usize],
             };
-            if keep {
-                let distance = d2.sqrt();
-                let normal_b = if distance > 0.0 {
-                    (b - p) / distance
-                } else {
-                    self.facets[t as usize].normal
-                };
-                out.push(MeshContact {
-                    point: self.to_world(p),
-                    normal: self.rotation * normal_b,
-                    distance,
-                    triangle: t,
-                });
+            if run as u32 == sharing {
+                out.push(self.contact(b, t, p, d2));
             }
+            k += run;
+        }
+        if out.is_empty() {
+            let &(_, _, t, p, d2) = found
+                .iter()
+                .min_by(|a, b| a.4.total_cmp(&b.4))
+                .expect("some triangle within reach");
+            out.push(self.contact(b, t, p, d2));
+        }
+    }
+
+    /// The contact of a sphere whose centre is `b` (mesh frame) with closest point `p` of
+    /// triangle `t` at squared distance `d2`, in the world.
+    #[inline]
+    fn contact(&self, b: DVec3, t: u32, p: DVec3, d2: f64) -> MeshContact {
+        let distance = d2.sqrt();
+        let normal_b = if distance > 0.0 {
+            (b - p) / distance
+        } else {
+            self.facets[t as usize].normal
+        };
+        MeshContact {
+            point: self.to_world(p),
+            normal: self.rotation * normal_b,
+            distance,
+            triangle: t,
         }
     }
 

@@ -1,0 +1,111 @@
+//! The triangle meshes and the one-sphere set-up the wall cases share (W1–W7).
+
+use dem::{
+    DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallId,
+    WallMaterial,
+};
+
+use crate::VerifyError;
+
+/// Table-1 particle radius [m].
+pub const RADIUS: f64 = 1.5e-3;
+/// Production time step [s] (docs/physics.md §6.1).
+pub const TIME_STEP: f64 = 2.5e-6;
+
+/// The square [−half, half]² of the plane z = `z` cut into n × n squares, each split into two
+/// triangles along alternating diagonals, so that corners are shared by four or eight
+/// triangles and the edges run along x, y and both diagonals; normals +z.
+pub fn floor(half: f64, n: usize, z: f64) -> Vec<[DVec3; 3]> {
+    let a = 2.0 * half / n as f64;
+    let at = |i: usize, j: usize| DVec3::new(-half + i as f64 * a, -half + j as f64 * a, z);
+    let mut out = Vec::with_capacity(2 * n * n);
+    for i in 0..n {
+        for j in 0..n {
+            let (p, q, r, s) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if (i + j) % 2 == 0 {
+                out.push([p, q, r]);
+                out.push([p, r, s]);
+            } else {
+                out.push([p, q, s]);
+                out.push([q, r, s]);
+            }
+        }
+    }
+    out
+}
+
+/// The closed axis-aligned box `lo..hi` as 12 triangles, normals outwards.
+pub fn cube(lo: DVec3, hi: DVec3) -> Vec<[DVec3; 3]> {
+    let c = |i: usize| {
+        DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    // Each face as a quad of corner indices, counter-clockwise seen from outside.
+    let faces = [
+        [0, 2, 3, 1], // z = lo
+        [4, 5, 7, 6], // z = hi
+        [0, 1, 5, 4], // y = lo
+        [2, 6, 7, 3], // y = hi
+        [0, 4, 6, 2], // x = lo
+        [1, 3, 7, 5], // x = hi
+    ];
+    faces
+        .iter()
+        .flat_map(|f| [[c(f[0]), c(f[1]), c(f[2])], [c(f[0]), c(f[2]), c(f[3])]])
+        .collect()
+}
+
+/// A simulation of one Table-1 sphere (index 0) at `position` with `velocity` and `spin`
+/// and the walls `walls`, all with `interaction`; gravity `gravity` [m/s²].
+pub fn one_sphere(
+    walls: Vec<Wall>,
+    interaction: Interaction,
+    gravity: DVec3,
+    (position, velocity, spin): (DVec3, DVec3, DVec3),
+) -> Result<(Simulation, Vec<WallId>), VerifyError> {
+    let mut config = SimulationConfig::new(TIME_STEP);
+    config.gravity = gravity;
+    config.resort_every = 0;
+    let mut sim = Simulation::new(config)?;
+    let id = sim.add_material(Material::fan2023(), interaction)?;
+    let ids = walls.into_iter().map(|w| sim.add_wall(w)).collect();
+    sim.add_particle(ParticleInit {
+        position,
+        velocity,
+        angular_velocity: spin,
+        radius: RADIUS,
+        material: id,
+        flags: 0,
+    })?;
+    Ok((sim, ids))
+}
+
+/// A rigid-walled mesh of `triangles` with `interaction`.
+pub fn mesh_wall(triangles: &[[DVec3; 3]], interaction: Interaction) -> Result<Wall, VerifyError> {
+    Ok(Wall::mesh(triangles, WallMaterial::Rigid, interaction)?)
+}
+
+/// The rigid plane z = 0 with normal +z and `interaction`.
+pub fn plane_wall(interaction: Interaction) -> Result<Wall, VerifyError> {
+    Ok(Wall::plane(DVec3::ZERO, DVec3::Z, WallMaterial::Rigid, interaction)?)
+}
+
+/// Position, velocity and spin of sphere 0.
+pub fn motion(sim: &Simulation) -> (DVec3, DVec3, DVec3) {
+    let p = sim.particles();
+    (p.positions()[0], p.velocities()[0], p.angular_velocities()[0])
+}
+
+/// The largest of |a − b| over the three vectors of two motions, relative to `scale`.
+pub fn motion_gap(a: (DVec3, DVec3, DVec3), b: (DVec3, DVec3, DVec3), scale: [f64; 3]) -> f64 {
+    [
+        a.0.distance(b.0) / scale[0],
+        a.1.distance(b.1) / scale[1],
+        a.2.distance(b.2) / scale[2],
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}
