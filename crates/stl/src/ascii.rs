@@ -191,14 +191,18 @@ impl<'a> Parser<'a, '_> {
         }
     }
 
-    /// Exactly three numbers, each with its token; a fourth number is an error.
+    /// Exactly three numbers, each with its token; a fourth on the same line is an error.
     fn numbers(&mut self, item: Item) -> Result<[(f64, Token<'a>); 3], StlError> {
         let mut numbers = [(0.0, Token { text: "", line: 0 }); 3];
         for (found, slot) in numbers.iter_mut().enumerate() {
             let token = self.next_or_end("a number")?;
             *slot = (self.number(token, item, found)?, token);
         }
-        if let Some(extra) = self.tokens.peek().filter(|t| t.number().is_some()) {
+        // A number on the same line as the third is a fourth; one on a later line is left to
+        // the caller, whose message ("expected `vertex`…") fits a missing keyword better.
+        let last_line = numbers[2].1.line;
+        let extra = self.tokens.peek();
+        if let Some(extra) = extra.filter(|t| t.line == last_line && t.number().is_some()) {
             return Err(StlError::ExtraNumber {
                 file: self.file.into(),
                 line: extra.line,

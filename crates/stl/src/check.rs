@@ -50,7 +50,8 @@ pub(crate) enum Defect {
     },
     /// `area / L²` is below [`DEGENERACY_RATIO`]; `longest_edge` is L.
     Degenerate { area_ratio: f64, longest_edge: f64 },
-    /// The longest edge squared or the area is not finite in double precision.
+    /// An edge whose components are beyond the double range (coordinates of opposite sign
+    /// near ±1.8e308).
     EdgeOverflow,
 }
 
@@ -112,7 +113,7 @@ impl std::fmt::Display for Defect {
                  allowed: area / L² ≥ {DEGENERACY_RATIO:e}"
             ),
             Defect::EdgeOverflow => {
-                write!(f, "the longest edge squared overflows double precision")
+                write!(f, "an edge is beyond the double range")
             }
         }
     }
@@ -130,27 +131,27 @@ pub(crate) fn defect(v: &Triangle) -> Option<Defect> {
             });
         }
     }
-    let longest_squared = longest_edge_squared(v);
-    let area = area(v);
-    if !(longest_squared.is_finite() && area.is_finite()) {
+    // Edges divided by their largest component, so that squares and cross products stay
+    // finite for any finite edge; only an edge beyond the double range itself overflows.
+    let edges = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
+    let unit = edges
+        .iter()
+        .map(|e| e.abs().max_element())
+        .fold(0.0, f64::max);
+    if !unit.is_finite() {
         return Some(Defect::EdgeOverflow);
     }
+    let scaled = edges.map(|e| e / unit);
+    let longest_squared = scaled
+        .iter()
+        .map(|e| e.length_squared())
+        .fold(0.0, f64::max);
+    let area = 0.5 * scaled[0].cross(scaled[2]).length();
     let area_ratio = area / longest_squared;
     (area_ratio < DEGENERACY_RATIO).then(|| Defect::Degenerate {
         area_ratio,
-        longest_edge: longest_squared.sqrt(),
+        longest_edge: unit * longest_squared.sqrt(),
     })
-}
-
-/// The square of the longest of the three edges.
-fn longest_edge_squared(v: &Triangle) -> f64 {
-    let edges = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
-    edges.iter().map(|e| e.length_squared()).fold(0.0, f64::max)
-}
-
-/// The triangle's area, half the length of the cross product of two edges.
-fn area(v: &Triangle) -> f64 {
-    0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length()
 }
 
 /// The vertices in metres, or an error naming the first vertex the transform makes non-finite.
@@ -187,10 +188,25 @@ mod tests {
     use super::*;
 
     #[test]
-    fn area_ratio_of_a_right_triangle() {
-        // Legs 1 and 1: area 1/2, longest edge √2, so area / L² = 1/4 exactly.
-        let v = [DVec3::ZERO, DVec3::X, DVec3::Y];
-        assert_eq!(area(&v) / longest_edge_squared(&v), 0.25);
+    fn area_ratio_of_a_right_triangle_at_any_size() {
+        // Legs a and a: area a²/2, longest edge a·√2, so area / L² = 1/4 at every size, even
+        // where a² itself overflows (1e200) or underflows (1e-200).
+        for a in [1.0, 1e200, 1e-200] {
+            let v = [DVec3::ZERO, a * DVec3::X, a * DVec3::Y];
+            assert_eq!(defect(&v), None);
+            let sliver = [DVec3::ZERO, a * DVec3::X, a * DVec3::new(0.5, 1e-13, 0.0)];
+            match defect(&sliver) {
+                Some(Defect::Degenerate {
+                    area_ratio,
+                    longest_edge,
+                }) => {
+                    // 1e-13 / 2, up to the rounding of the scaled cross product.
+                    assert!((area_ratio / 5e-14 - 1.0).abs() < 1e-12, "{area_ratio}");
+                    assert_eq!(longest_edge, a);
+                }
+                other => panic!("size {a}: {other:?}"),
+            }
+        }
     }
 
     #[test]

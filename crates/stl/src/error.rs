@@ -248,11 +248,12 @@ pub enum StlError {
         /// The longest edge [file units].
         longest_edge: f64,
     },
-    /// A triangle whose edges are too long for their squares to be finite in double precision.
+    /// A triangle with an edge beyond the double range (vertices of opposite sign near
+    /// ±1.8e308), whose shape cannot be measured.
     #[error(
-        "{file}, triangle {triangle} (counting from 1), {location}: its edges are too long to \
-         measure in double precision (longest edge squared overflows); allowed: edges shorter \
-         than 1e154 file units"
+        "{file}, triangle {triangle} (counting from 1), {location}: an edge is beyond the double \
+         range, so its shape cannot be measured; allowed: coordinate differences below 1.8e308 \
+         file units"
     )]
     EdgeOverflow {
         /// The file.

@@ -15,13 +15,14 @@ const SHAPE: &str = "axis_aligned_box";
 pub fn axis_aligned_box(min: DVec3, max: DVec3) -> Result<Vec<Triangle>, ShapeError> {
     finite_point(SHAPE, "min", min)?;
     finite_point(SHAPE, "max", max)?;
-    for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
+    let extents = ["max.x − min.x", "max.y − min.y", "max.z − min.z"];
+    for (i, parameter) in extents.into_iter().enumerate() {
         if min[i] >= max[i] {
             return Err(ShapeError::Length {
                 shape: SHAPE,
-                parameter: axis,
+                parameter,
                 value: max[i] - min[i],
-                allowed: "> 0 (extent max − min along this axis)",
+                allowed: "> 0",
             });
         }
     }

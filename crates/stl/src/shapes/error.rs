@@ -57,7 +57,7 @@ pub enum ShapeError {
         units: usize,
     },
     /// Arguments that make a triangle the reader would reject (e.g. parallel edge vectors).
-    #[error("{shape}: triangle {triangle} (counting from 1) would be unusable: {reason} [m]")]
+    #[error("{shape}: triangle {triangle} (counting from 1) would be unusable: {reason} (coordinates in m)")]
     Degenerate {
         /// The builder.
         shape: &'static str,

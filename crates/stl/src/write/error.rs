@@ -57,7 +57,8 @@ pub enum WriteError {
     /// A triangle the reader would reject once stored at the format's precision (e.g. two
     /// vertices that differ by less than 32-bit rounding in a binary file).
     #[error(
-        "triangle {triangle} (counting from 1) would be unreadable as {format:?} STL: {reason} [m]"
+        "triangle {triangle} (counting from 1) would be unreadable as {format:?} STL: {reason} \
+         (coordinates in m)"
     )]
     Unreadable {
         /// The triangle, counted from 1.
