@@ -56,7 +56,17 @@
 //!   `area/L² ≈ 0.433`). The criterion depends only on the triangle's shape, not its size or
 //!   position, so it is applied to the coordinates as written in the file, which the message
 //!   quotes; below it the normal computed from the vertices is dominated by rounding;
+//! - a triangle with an edge beyond the double range (vertices of opposite sign near
+//!   ±1.8e308), whose shape cannot be measured;
 //! - a vertex that is no longer finite after the transform (an overflowing scale).
+//!
+//! # Writing and building
+//!
+//! [`write_ascii`] prints the shortest decimals that read back to the same `f64`;
+//! [`write_binary`] rounds to `f32` (relative error ≤ 2⁻²⁴ ≈ 6e-8). Both refuse, before
+//! writing, what the reader would reject, including triangles that `f32` rounding collapses.
+//! [`shapes`] builds a floor of many triangles, a closed box and the sides of a cylinder and a
+//! cone frustum, for engine tests and simple walls.
 
 // Units are written in brackets, e.g. `[m]`, as the project style asks; rustdoc would
 // otherwise read them as links.
