@@ -8,8 +8,8 @@ use approx::assert_relative_eq;
 use dem::material::{mixed_friction, mixed_restitution, MODULUS_TOLERANCE};
 use dem::{
     DVec3, DemError, Interaction, Material, MaterialEntry, MaterialId, MaterialTable,
-    MaterialTableError, PairEntry, ParticleInit, Simulation, SimulationConfig, Wall, WallId,
-    WallMaterial, FLAG_ROTATION_LOCKED,
+    MaterialTableError, PairEntry, ParticleInit, Simulation, SimulationConfig, SimulationState,
+    Wall, WallId, WallMaterial, FLAG_ROTATION_LOCKED,
 };
 
 /// Relative room for round-off when a value computed in a few floating-point operations is
@@ -710,6 +710,12 @@ fn wall_interactions_are_set_per_material_and_refused_for_unknown_handles() {
         Some(own),
         "refusals change nothing"
     );
+    // A checkpoint keeps the per-material interaction.
+    let bytes = postcard::to_allocvec(sim.state()).expect("state serialises");
+    let state: SimulationState = postcard::from_bytes(&bytes).expect("state deserialises");
+    let restored = Simulation::from_state(state, 1).expect("state restores");
+    assert_eq!(restored.wall_interaction(wall, b), Some(slippery));
+    assert_eq!(restored.wall_interaction(wall, a), Some(own));
     // A removed wall's handle is refused too.
     sim.remove_wall(wall).expect("the wall exists");
     assert_eq!(

@@ -1,6 +1,7 @@
 //! Changes to the system between steps: materials and their interactions, particles added
-//! and removed, walls added, moved and removed; and the preparation (mixed coefficients,
-//! the Δt check) that runs before the next step whenever one of them changed the set-up.
+//! and removed, walls added, moved and removed and their interactions per particle material;
+//! and the preparation (mixed coefficients, the Δt check) that runs before the next step
+//! whenever one of them changed the set-up.
 
 use super::*;
 
@@ -33,6 +34,8 @@ pub(super) fn check_interaction(i: &Interaction) -> Result<(), DemError> {
     }
 }
 
+/// Refuses a material with a density or Young's modulus that is not positive and finite, or
+/// a Poisson's ratio outside (−1, 0.5).
 pub(super) fn check_material(material: &Material) -> Result<(), DemError> {
     let fault = if !(material.density > 0.0 && material.density.is_finite()) {
         Some((
