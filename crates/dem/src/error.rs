@@ -2,6 +2,8 @@
 
 use glam::DVec3;
 
+use crate::material::MaterialTableError;
+
 /// Why the engine refused a set-up or stopped a run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DemError {
@@ -64,6 +66,9 @@ pub enum DemError {
     /// A particle or setting is not physical.
     #[error("invalid input: {0}")]
     InvalidInput(String),
+    /// A material table that cannot be installed; the inner error names the key.
+    #[error("material table: {0}")]
+    MaterialTable(#[from] MaterialTableError),
     /// A wall handle that does not exist.
     #[error("no wall with id {0}")]
     UnknownWall(u32),

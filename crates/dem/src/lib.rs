@@ -32,11 +32,16 @@ pub use error::DemError;
 pub use forces::loads::{ElementLoad, SurfaceLoads, WallLoad};
 pub use forces::ContactCount;
 pub use glam::DVec3;
-pub use material::{Interaction, Material, WallMaterial};
+pub use material::{
+    Interaction, Material, MaterialEntry, MaterialTable, MaterialTableError, PairEntry,
+    WallMaterial,
+};
 pub use particles::{
     MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
 };
-pub use simulation::{Energy, RemovedParticle, Simulation, SimulationConfig, SimulationState};
+pub use simulation::{
+    Energy, MaterialIds, RemovedParticle, Simulation, SimulationConfig, SimulationState,
+};
 pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallMotion, WallShape};
 pub use watch::Watched;

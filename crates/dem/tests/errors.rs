@@ -285,8 +285,8 @@ fn a_sphere_pressed_into_a_wall_stops_the_run_naming_the_wall() {
         .expect("valid plane")
     };
     // A far-away floor below everything, then the floor under the test sphere.
-    sim.add_wall(plane(-1.0));
-    let floor = sim.add_wall(plane(0.0));
+    sim.add_wall(plane(-1.0)).expect("valid wall");
+    let floor = sim.add_wall(plane(0.0)).expect("valid wall");
     assert_eq!(floor, WallId(1));
     let tag = sim
         .add_particle(ParticleInit::at_rest(
@@ -638,8 +638,8 @@ fn handles_of_walls_that_do_not_exist_are_refused_with_their_id() {
         )
         .expect("valid plane")
     };
-    let kept = sim.add_wall(plane());
-    let gate = sim.add_wall(plane());
+    let kept = sim.add_wall(plane()).expect("valid wall");
+    let gate = sim.add_wall(plane()).expect("valid wall");
     sim.remove_wall(gate).expect("the gate exists");
     let kept_before = sim.wall(kept).cloned();
     for id in [WallId(7), gate] {

@@ -130,7 +130,7 @@ fn a_layer_moving_onto_a_wall_is_listed_before_it_lands() {
             Interaction::fan2023(),
         )
         .expect("valid plane");
-        sim.add_wall(floor);
+        sim.add_wall(floor).expect("valid wall");
         layer(&mut sim, material, RADIUS + GAP, -SPEED);
         sim
     };

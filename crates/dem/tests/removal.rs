@@ -35,12 +35,16 @@ fn settled_pile() -> (Simulation, u64) {
         )
         .expect("valid plane")
     };
-    sim.add_wall(wall(DVec3::ZERO, DVec3::Z));
+    sim.add_wall(wall(DVec3::ZERO, DVec3::Z))
+        .expect("valid wall");
     // A downhill stop, so the pile rests against it rather than sliding away.
-    sim.add_wall(wall(DVec3::new(0.012, 0.0, 0.0), -DVec3::X));
+    sim.add_wall(wall(DVec3::new(0.012, 0.0, 0.0), -DVec3::X))
+        .expect("valid wall");
     // Side walls keep the three rows from spreading sideways.
-    sim.add_wall(wall(DVec3::new(0.0, -1.7e-3, 0.0), DVec3::Y));
-    sim.add_wall(wall(DVec3::new(0.0, 8.5e-3, 0.0), -DVec3::Y));
+    sim.add_wall(wall(DVec3::new(0.0, -1.7e-3, 0.0), DVec3::Y))
+        .expect("valid wall");
+    sim.add_wall(wall(DVec3::new(0.0, 8.5e-3, 0.0), -DVec3::Y))
+        .expect("valid wall");
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
     for k in 0..60 {
         let (i, j, l) = (k % 4, (k / 4) % 3, k / 12);
@@ -108,10 +112,18 @@ fn the_pile_depends_on_its_contact_history() {
         )
         .expect("valid plane")
     };
-    fresh.add_wall(wall(DVec3::ZERO, DVec3::Z));
-    fresh.add_wall(wall(DVec3::new(0.012, 0.0, 0.0), -DVec3::X));
-    fresh.add_wall(wall(DVec3::new(0.0, -1.7e-3, 0.0), DVec3::Y));
-    fresh.add_wall(wall(DVec3::new(0.0, 8.5e-3, 0.0), -DVec3::Y));
+    fresh
+        .add_wall(wall(DVec3::ZERO, DVec3::Z))
+        .expect("valid wall");
+    fresh
+        .add_wall(wall(DVec3::new(0.012, 0.0, 0.0), -DVec3::X))
+        .expect("valid wall");
+    fresh
+        .add_wall(wall(DVec3::new(0.0, -1.7e-3, 0.0), DVec3::Y))
+        .expect("valid wall");
+    fresh
+        .add_wall(wall(DVec3::new(0.0, 8.5e-3, 0.0), -DVec3::Y))
+        .expect("valid wall");
     let p = sim.particles();
     let mut order: Vec<usize> = (0..p.len()).collect();
     order.sort_by_key(|&k| p.tags()[k]);

@@ -254,7 +254,7 @@ impl Simulation {
             interaction,
         )
         .map_err(|e| PyValueError::new_err(format!("plane: {e}")))?;
-        Ok(self.sim.add_wall(wall).0)
+        Ok(self.sim.add_wall(wall).map_err(|e| engine_error(&e))?.0)
     }
 
     /// Adds a convex planar polygon wall (vertices in order) of the case's wall material.
@@ -266,7 +266,7 @@ impl Simulation {
             .collect::<PyResult<Vec<_>>>()?;
         let wall = Wall::polygon(vertices, material, interaction)
             .map_err(|e| PyValueError::new_err(format!("polygon: {e}")))?;
-        Ok(self.sim.add_wall(wall).0)
+        Ok(self.sim.add_wall(wall).map_err(|e| engine_error(&e))?.0)
     }
 
     /// Removes a wall (the gate, say).

@@ -99,7 +99,7 @@ pub fn held_contact(
         DVec3::Z,
         WallMaterial::Elastic(material),
         interaction,
-    )?);
+    )?)?;
     sim.add_particle(ParticleInit {
         position: DVec3::new(0.0, 0.0, radius - overlap),
         velocity: DVec3::ZERO,

@@ -144,7 +144,7 @@ impl Impact {
                     DVec3::Z,
                     wall_material,
                     self.interaction,
-                )?);
+                )?)?;
                 let init = ParticleInit {
                     position: DVec3::new(0.0, 0.0, self.radius + gap),
                     velocity: self.velocity,

@@ -71,7 +71,10 @@ pub fn one_sphere(
     config.resort_every = 0;
     let mut sim = Simulation::new(config)?;
     let id = sim.add_material(Material::fan2023(), interaction)?;
-    let ids = walls.into_iter().map(|w| sim.add_wall(w)).collect();
+    let ids = walls
+        .into_iter()
+        .map(|w| sim.add_wall(w))
+        .collect::<Result<_, _>>()?;
     sim.add_particle(ParticleInit {
         position,
         velocity,
@@ -90,13 +93,22 @@ pub fn mesh_wall(triangles: &[[DVec3; 3]], interaction: Interaction) -> Result<W
 
 /// The rigid plane z = 0 with normal +z and `interaction`.
 pub fn plane_wall(interaction: Interaction) -> Result<Wall, VerifyError> {
-    Ok(Wall::plane(DVec3::ZERO, DVec3::Z, WallMaterial::Rigid, interaction)?)
+    Ok(Wall::plane(
+        DVec3::ZERO,
+        DVec3::Z,
+        WallMaterial::Rigid,
+        interaction,
+    )?)
 }
 
 /// Position, velocity and spin of sphere 0.
 pub fn motion(sim: &Simulation) -> (DVec3, DVec3, DVec3) {
     let p = sim.particles();
-    (p.positions()[0], p.velocities()[0], p.angular_velocities()[0])
+    (
+        p.positions()[0],
+        p.velocities()[0],
+        p.angular_velocities()[0],
+    )
 }
 
 /// The largest of |a − b| over the three vectors of two motions, relative to `scale`.

@@ -52,7 +52,7 @@ impl Surface {
             DVec3::Z,
             WallMaterial::Elastic(material),
             self.interaction,
-        )?);
+        )?)?;
         // Equilibrium overlap: (4/3) E* √R δ^{3/2} = m g cos θ.
         let e_star = effective_youngs_modulus(&material, Some(&material));
         let mass = material.density * 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3);

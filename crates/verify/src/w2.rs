@@ -71,7 +71,11 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     for (place, x, y) in [
         ("a top edge", 0.5 * side, 0.0),
         ("a top corner", 0.0, 0.0),
-        ("the shared diagonal of the top face", 0.3 * side, 0.3 * side),
+        (
+            "the shared diagonal of the top face",
+            0.3 * side,
+            0.3 * side,
+        ),
     ] {
         let (v, most) = drop(
             vec![mesh_wall(&box_tris, interaction)?],

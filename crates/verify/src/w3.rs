@@ -35,7 +35,12 @@ const TOLERANCE: f64 = 1e-9;
 fn impact(wall: Wall, start: DVec3, direction: DVec3) -> Result<DVec3, VerifyError> {
     let interaction = no_rolling();
     let v = SPEED * direction;
-    let (mut sim, _) = one_sphere(vec![wall], interaction, DVec3::ZERO, (start, v, DVec3::ZERO))?;
+    let (mut sim, _) = one_sphere(
+        vec![wall],
+        interaction,
+        DVec3::ZERO,
+        (start, v, DVec3::ZERO),
+    )?;
     let mut touched = false;
     for _ in 0..400_000 {
         sim.step()?;
@@ -89,8 +94,20 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     let cone_point = DVec3::new(0.75 * r, 0.0, 0.5 * r);
     let cyl_point = DVec3::new(r, 0.0, r);
     let cases = [
-        ("cylinder, from inside", cylinder()?, cyl_point, DVec3::X, -1.0),
-        ("cylinder, from outside", cylinder()?, cyl_point, DVec3::X, 1.0),
+        (
+            "cylinder, from inside",
+            cylinder()?,
+            cyl_point,
+            DVec3::X,
+            -1.0,
+        ),
+        (
+            "cylinder, from outside",
+            cylinder()?,
+            cyl_point,
+            DVec3::X,
+            1.0,
+        ),
         ("cone, from inside", cone()?, cone_point, cone_normal, -1.0),
         ("cone, from outside", cone()?, cone_point, cone_normal, 1.0),
     ];

@@ -30,7 +30,7 @@ pub fn run(res: Resolution) -> Result<Vec<Row>, VerifyError> {
     let mut sim = Simulation::new(config)?;
     let m = sim.add_material(Material::fan2023(), elastic)?;
     let side = 12.0 * RADIUS;
-    sim.add_wall(mesh_wall(&cube(DVec3::ZERO, DVec3::splat(side)), elastic)?);
+    sim.add_wall(mesh_wall(&cube(DVec3::ZERO, DVec3::splat(side)), elastic)?)?;
     for k in 0..8 {
         let corner = DVec3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64);
         let position = DVec3::splat(3.0 * RADIUS) + corner * 6.0 * RADIUS;

@@ -24,7 +24,11 @@ const TOLERANCE: f64 = 1e-3;
 fn conveyor(wall: Wall) -> Result<(f64, f64), VerifyError> {
     let interaction = no_rolling();
     let g = DVec3::new(0.0, 0.0, -9.81);
-    let start = (DVec3::new(0.0, 0.0, RADIUS - 1e-7), DVec3::ZERO, DVec3::ZERO);
+    let start = (
+        DVec3::new(0.0, 0.0, RADIUS - 1e-7),
+        DVec3::ZERO,
+        DVec3::ZERO,
+    );
     let (mut sim, ids) = one_sphere(vec![wall], interaction, g, start)?;
     sim.set_wall_motion(
         ids[0],
@@ -55,7 +59,10 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     let mut rows = Vec::new();
     for (what, wall) in [
         ("plane", plane_wall(interaction)?),
-        ("mesh", mesh_wall(&floor(10.0 * RADIUS, 20, 0.0), interaction)?),
+        (
+            "mesh",
+            mesh_wall(&floor(10.0 * RADIUS, 20, 0.0), interaction)?,
+        ),
     ] {
         let (centre, contact) = conveyor(wall)?;
         rows.push(Row::absolute(

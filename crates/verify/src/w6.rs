@@ -13,7 +13,9 @@
 //! of 2⁻³² of a sphere's weight, the triangles in floating point); 1 % for the weight (the
 //! settling bed's residual motion).
 
-use dem::{DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallMaterial};
+use dem::{
+    DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallMaterial,
+};
 
 use crate::meshes::{floor, mesh_wall, RADIUS, TIME_STEP};
 use crate::{Resolution, Row, VerifyError};
@@ -33,14 +35,14 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     let mut sim = Simulation::new(config)?;
     let m = sim.add_material(Material::fan2023(), interaction)?;
     let half = 6.0 * RADIUS;
-    let floor_id = sim.add_wall(mesh_wall(&floor(half, 12, 0.0), interaction)?);
+    let floor_id = sim.add_wall(mesh_wall(&floor(half, 12, 0.0), interaction)?)?;
     for (point, normal) in [
         (DVec3::new(-half, 0.0, 0.0), DVec3::X),
         (DVec3::new(half, 0.0, 0.0), -DVec3::X),
         (DVec3::new(0.0, -half, 0.0), DVec3::Y),
         (DVec3::new(0.0, half, 0.0), -DVec3::Y),
     ] {
-        sim.add_wall(Wall::plane(point, normal, WallMaterial::Rigid, slippery)?);
+        sim.add_wall(Wall::plane(point, normal, WallMaterial::Rigid, slippery)?)?;
     }
     for k in 0..64 {
         let (i, j, l) = (k % 4, (k / 4) % 4, k / 16);

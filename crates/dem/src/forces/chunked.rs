@@ -181,7 +181,8 @@ mod tests {
             let mut whole = Vec::new();
             for _ in 0..2 {
                 start(&mut buffers);
-                let eval = super::super::evaluate(&input, &mut p, &mut w, &mut buffers, None, &mut []);
+                let eval =
+                    super::super::evaluate(&input, &mut p, &mut w, &mut buffers, None, &mut []);
                 assert!(eval.count.particle_particle > 100 && eval.count.particle_wall > 10);
                 whole.extend(bits(&buffers, &p, &w, &eval));
             }

@@ -71,14 +71,10 @@ pub(crate) fn add_load(sum: &mut LoadSum, q: &LoadQuanta, x: DVec3, cf: &Contact
     let m = x.cross(f) + cf.torque_i;
     let (a, b) = q.inverse;
     // `as i64` rounds towards zero and saturates; contact loads stay far below 2⁶³ quanta.
-    for (s, v) in sum.iter_mut().zip([
-        f.x * a,
-        f.y * a,
-        f.z * a,
-        m.x * b,
-        m.y * b,
-        m.z * b,
-    ]) {
+    for (s, v) in sum
+        .iter_mut()
+        .zip([f.x * a, f.y * a, f.z * a, m.x * b, m.y * b, m.z * b])
+    {
         *s -= (v as i64) as i128;
     }
 }

@@ -489,8 +489,14 @@ mod tests {
                     let mut all = Vec::new();
                     for _ in 0..2 {
                         super::super::start(&jumble.set, jumble.gravity, &mut buffers);
-                        let eval =
-                            super::super::evaluate(&input, &mut p, &mut w, &mut buffers, pool, &mut []);
+                        let eval = super::super::evaluate(
+                            &input,
+                            &mut p,
+                            &mut w,
+                            &mut buffers,
+                            pool,
+                            &mut [],
+                        );
                         assert!(
                             eval.count.particle_particle > 100 && eval.count.particle_wall > 10
                         );

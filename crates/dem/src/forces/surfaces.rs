@@ -95,7 +95,12 @@ pub(crate) fn surface_pass(
                 sinks.torque[i] += cf.torque_i;
                 add_load(&mut sum, sinks.quanta, x, &cf);
                 if let Some(loads) = sinks.elements.get_mut(w) {
-                    loads.book(contact.triangle as usize, contact.normal, cf.force, input.dt);
+                    loads.book(
+                        contact.triangle as usize,
+                        contact.normal,
+                        cf.force,
+                        input.dt,
+                    );
                 }
                 slot.push(SurfaceContact {
                     normal: contact.normal,

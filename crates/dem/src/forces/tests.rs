@@ -383,7 +383,14 @@ fn bodies_beyond_the_prefetch_size_get_the_scalar_laws_forces() {
     let mut p2 = pairs.clone();
     let mut buffers = ForceBuffers::default();
     start(&big.set, DVec3::ZERO, &mut buffers);
-    let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None, &mut []);
+    let eval = evaluate(
+        &input,
+        &mut pairs,
+        &mut wall_pairs,
+        &mut buffers,
+        None,
+        &mut [],
+    );
     assert!(eval.count.particle_particle > copies * 100);
 
     let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
@@ -424,7 +431,14 @@ fn batched_kernels_match_the_scalar_contact_laws() {
         let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
         let mut buffers = ForceBuffers::default();
         start(set, DVec3::ZERO, &mut buffers);
-        let eval = evaluate(&input, &mut pairs, &mut wall_pairs, &mut buffers, None, &mut []);
+        let eval = evaluate(
+            &input,
+            &mut pairs,
+            &mut wall_pairs,
+            &mut buffers,
+            None,
+            &mut [],
+        );
         assert!(eval.count.particle_particle > 100 && eval.count.particle_wall > 10);
         assert!(
             eval.count.particle_particle < p2.len(),

@@ -1,6 +1,7 @@
 //! Changes to the system between steps: materials and their interactions, particles added
-//! and removed, walls added, moved and removed; and the preparation (mixed coefficients,
-//! the Δt check) that runs before the next step whenever one of them changed the set-up.
+//! and removed, walls added, moved and removed and their interactions per particle material;
+//! and the preparation (mixed coefficients, the Δt check) that runs before the next step
+//! whenever one of them changed the set-up.
 
 use super::*;
 
@@ -33,6 +34,50 @@ pub(super) fn check_interaction(i: &Interaction) -> Result<(), DemError> {
     }
 }
 
+/// Refuses a material with a density or Young's modulus that is not positive and finite, or
+/// a Poisson's ratio outside (−1, 0.5).
+pub(super) fn check_material(material: &Material) -> Result<(), DemError> {
+    let fault = if !(material.density > 0.0 && material.density.is_finite()) {
+        Some((
+            "density",
+            material.density,
+            "must be positive and finite [kg/m³]",
+        ))
+    } else if !(material.youngs_modulus > 0.0 && material.youngs_modulus.is_finite()) {
+        Some((
+            "Young's modulus",
+            material.youngs_modulus,
+            "must be positive and finite [Pa]",
+        ))
+    } else if !(material.poisson_ratio > -1.0 && material.poisson_ratio < 0.5) {
+        Some((
+            "Poisson ratio",
+            material.poisson_ratio,
+            "must be in (-1, 0.5)",
+        ))
+    } else {
+        None
+    };
+    match fault {
+        Some((what, value, range)) => Err(DemError::InvalidInput(format!(
+            "unphysical material: {what} {value} {range}; got {material:?}"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Refuses a material id beyond the `registered` materials.
+fn check_material_id(id: MaterialId, registered: usize) -> Result<(), DemError> {
+    if (id.0 as usize) < registered {
+        Ok(())
+    } else {
+        Err(DemError::InvalidInput(format!(
+            "unknown material {}: {registered} material(s) are registered",
+            id.0
+        )))
+    }
+}
+
 impl Simulation {
     /// Registers a material and how it interacts with itself.
     pub fn add_material(
@@ -40,32 +85,7 @@ impl Simulation {
         material: Material,
         self_interaction: Interaction,
     ) -> Result<MaterialId, DemError> {
-        let fault = if !(material.density > 0.0 && material.density.is_finite()) {
-            Some((
-                "density",
-                material.density,
-                "must be positive and finite [kg/m³]",
-            ))
-        } else if !(material.youngs_modulus > 0.0 && material.youngs_modulus.is_finite()) {
-            Some((
-                "Young's modulus",
-                material.youngs_modulus,
-                "must be positive and finite [Pa]",
-            ))
-        } else if !(material.poisson_ratio > -1.0 && material.poisson_ratio < 0.5) {
-            Some((
-                "Poisson ratio",
-                material.poisson_ratio,
-                "must be in (-1, 0.5)",
-            ))
-        } else {
-            None
-        };
-        if let Some((what, value, range)) = fault {
-            return Err(DemError::InvalidInput(format!(
-                "unphysical material: {what} {value} {range}; got {material:?}"
-            )));
-        }
+        check_material(&material)?;
         check_interaction(&self_interaction)?;
         let s = &mut self.state;
         let old = s.materials.len();
@@ -92,12 +112,8 @@ impl Simulation {
     ) -> Result<(), DemError> {
         check_interaction(&interaction)?;
         let n = self.state.materials.len();
-        if let Some(unknown) = [a, b].into_iter().find(|m| m.0 as usize >= n) {
-            return Err(DemError::InvalidInput(format!(
-                "unknown material {}: {n} material(s) are registered",
-                unknown.0
-            )));
-        }
+        check_material_id(a, n)?;
+        check_material_id(b, n)?;
         self.state.interactions[a.0 as usize * n + b.0 as usize] = Some(interaction);
         self.state.interactions[b.0 as usize * n + a.0 as usize] = Some(interaction);
         self.prepared = false;
@@ -106,13 +122,8 @@ impl Simulation {
 
     /// Adds a particle; its initial force is its weight.
     pub fn add_particle(&mut self, init: ParticleInit) -> Result<ParticleTag, DemError> {
-        let Some(mat) = self.state.materials.get(init.material.0 as usize) else {
-            return Err(DemError::InvalidInput(format!(
-                "unknown material {}: {} material(s) are registered",
-                init.material.0,
-                self.state.materials.len()
-            )));
-        };
+        check_material_id(init.material, self.state.materials.len())?;
+        let mat = &self.state.materials[init.material.0 as usize];
         if !(init.radius > 0.0 && init.radius.is_finite())
             || !init.position.is_finite()
             || !init.velocity.is_finite()
@@ -162,13 +173,62 @@ impl Simulation {
         removed
     }
 
-    /// Adds a wall; returns its handle.
-    pub fn add_wall(&mut self, wall: Wall) -> WallId {
-        self.state.surface_loads.push(Self::fresh_surface_loads(&wall));
+    /// Adds a wall; returns its handle. Its interaction and, for an elastic wall, its
+    /// material are checked as a particle material's are.
+    pub fn add_wall(&mut self, wall: Wall) -> Result<WallId, DemError> {
+        check_interaction(&wall.interaction)?;
+        if let WallMaterial::Elastic(material) = &wall.material {
+            check_material(material)?;
+        }
+        self.state
+            .surface_loads
+            .push(Self::fresh_surface_loads(&wall));
         self.state.walls.push(Some(wall));
+        self.state.wall_interactions.push(Vec::new());
         self.state.needs_rebuild = true;
         self.prepared = false;
-        WallId(self.state.walls.len() as u32 - 1)
+        Ok(WallId(self.state.walls.len() as u32 - 1))
+    }
+
+    /// Sets how wall `wall` meets particles of `material`, in place of the wall's own
+    /// interaction (a wall meets M1 and M2 spheres with different friction, say).
+    pub fn set_wall_interaction(
+        &mut self,
+        wall: WallId,
+        material: MaterialId,
+        interaction: Interaction,
+    ) -> Result<(), DemError> {
+        check_interaction(&interaction)?;
+        self.wall_mut(wall)?;
+        check_material_id(material, self.state.materials.len())?;
+        let row = &mut self.state.wall_interactions[wall.0 as usize];
+        let m = material.0 as usize;
+        if row.len() <= m {
+            row.resize(m + 1, None);
+        }
+        row[m] = Some(interaction);
+        self.prepared = false;
+        Ok(())
+    }
+
+    /// The interaction with which wall `wall` meets particles of `material`: the one set for
+    /// that material, or else the wall's own; `None` for a wall or material that does not
+    /// exist.
+    pub fn wall_interaction(&self, wall: WallId, material: MaterialId) -> Option<Interaction> {
+        let w = self.wall(wall)?;
+        if material.0 as usize >= self.state.materials.len() {
+            return None;
+        }
+        Some(self.wall_interaction_of(wall.0 as usize, w, material.0 as usize))
+    }
+
+    /// The interaction of wall index `w` (the wall `wall`) with material index `m`.
+    fn wall_interaction_of(&self, w: usize, wall: &Wall, m: usize) -> Interaction {
+        self.state.wall_interactions[w]
+            .get(m)
+            .copied()
+            .flatten()
+            .unwrap_or(wall.interaction)
     }
 
     /// Removes a wall (a hopper's gate, say).
@@ -179,6 +239,7 @@ impl Simulation {
             .get_mut(id.0 as usize)
             .ok_or(DemError::UnknownWall(id.0))?;
         let wall = slot.take().ok_or(DemError::UnknownWall(id.0))?;
+        self.state.wall_interactions[id.0 as usize].clear();
         self.state.needs_rebuild = true;
         Ok(wall)
     }
@@ -244,15 +305,21 @@ impl Simulation {
                 }
             }
         }
-        self.wall_coeffs.clear();
-        for w in &s.walls {
-            for m in &s.materials {
-                self.wall_coeffs.push(match w {
-                    Some(w) => PairCoefficients::with_wall(m, &w.material, &w.interaction),
-                    None => PairCoefficients::new(m, None, &Interaction::fan2023()),
+        let mut wall_coeffs = std::mem::take(&mut self.wall_coeffs);
+        wall_coeffs.clear();
+        for (w, wall) in s.walls.iter().enumerate() {
+            for (m, material) in s.materials.iter().enumerate() {
+                wall_coeffs.push(match wall {
+                    Some(wall) => PairCoefficients::with_wall(
+                        material,
+                        &wall.material,
+                        &self.wall_interaction_of(w, wall, m),
+                    ),
+                    None => PairCoefficients::new(material, None, &Interaction::fan2023()),
                 });
             }
         }
+        self.wall_coeffs = wall_coeffs;
         if let Some(t_r) = self.rayleigh_time() {
             let fraction = s.config.time_step / t_r;
             if fraction > s.config.max_rayleigh_fraction {

@@ -14,7 +14,7 @@ use crate::integrator::{
     displacement_box_diagonal, kick, kick_drift, kick_drift_flat_tracked, kick_drift_range,
     largest_displacement, merge_drift, uniform_free_body, NOTHING_MOVED,
 };
-use crate::material::{harmonic, Interaction, Material, PairCoefficients};
+use crate::material::{harmonic, Interaction, Material, PairCoefficients, WallMaterial};
 use crate::neighbour::{build_lists, Carry, CellGrid, ListScratch, PairList, WallPairList};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::reach::ReachBound;
@@ -26,6 +26,7 @@ use crate::watch::Watched;
 mod edit;
 mod energy;
 mod guards;
+mod material_table;
 mod rebuild;
 mod run;
 mod step;
@@ -34,6 +35,7 @@ mod walls;
 pub use edit::RemovedParticle;
 pub use energy::Energy;
 use guards::*;
+pub use material_table::MaterialIds;
 use step::*;
 
 /// Settings fixed for a run.
@@ -86,6 +88,10 @@ pub struct SimulationState {
     interactions: Vec<Option<Interaction>>,
     particles: ParticleSet,
     walls: Vec<Option<Wall>>,
+    /// Per wall (parallel to `walls`), its interaction with each particle material, indexed
+    /// by material id, where one was set; a material without one meets the wall with the
+    /// wall's own interaction.
+    wall_interactions: Vec<Vec<Option<Interaction>>>,
     pairs: PairList,
     wall_pairs: WallPairList,
     /// Positions at the last list build [m].
@@ -203,6 +209,7 @@ impl Simulation {
             interactions: Vec::new(),
             particles: ParticleSet::default(),
             walls: Vec::new(),
+            wall_interactions: Vec::new(),
             pairs: PairList::default(),
             wall_pairs: WallPairList::default(),
             reference: Vec::new(),

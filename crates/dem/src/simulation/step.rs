@@ -289,7 +289,14 @@ impl Simulation {
         }
         let elements = &mut s.surface_loads;
         let eval = match bodies {
-            None => forces::evaluate(&input, pairs, walls, buffers, self.pool.as_deref(), elements),
+            None => forces::evaluate(
+                &input,
+                pairs,
+                walls,
+                buffers,
+                self.pool.as_deref(),
+                elements,
+            ),
             Some(bodies) => forces::evaluate_chunk(&input, pairs, walls, buffers, bodies),
         };
         std::mem::swap(&mut s.particles.force, &mut self.buffers.force);

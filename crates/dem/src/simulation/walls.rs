@@ -43,7 +43,11 @@ impl Simulation {
     /// particles exerted on it [N, N m].
     pub fn wall_load(&self, id: WallId) -> Result<WallLoad, DemError> {
         self.wall(id).ok_or(DemError::UnknownWall(id.0))?;
-        Ok(self.wall_loads.get(id.0 as usize).copied().unwrap_or_default())
+        Ok(self
+            .wall_loads
+            .get(id.0 as usize)
+            .copied()
+            .unwrap_or_default())
     }
 
     /// Sets the number of bands of equal length along a cylinder's or cone's axis its

@@ -44,7 +44,10 @@ impl Frustum {
             return Err(bad("base point [m] must be finite", base.to_string()));
         }
         if !(len.is_finite() && len > 0.0) {
-            return Err(bad("axis must be a finite non-zero vector", axis.to_string()));
+            return Err(bad(
+                "axis must be a finite non-zero vector",
+                axis.to_string(),
+            ));
         }
         if !(length > 0.0) || (length.is_infinite() && radii[0] != radii[1]) {
             return Err(bad(
@@ -216,7 +219,10 @@ mod tests {
         let c = Frustum::new(DVec3::ZERO, DVec3::Z, 2.0, [1.0, 1.0]).unwrap();
         let (p, d, _) = c.closest_point(DVec3::new(0.75, 0.0, 1.0));
         assert_eq!((p, d), (DVec3::new(1.0, 0.0, 1.0), 0.25));
-        assert_eq!(c.contact_normal(DVec3::new(0.75, 0.0, 1.0), p, d), -DVec3::X);
+        assert_eq!(
+            c.contact_normal(DVec3::new(0.75, 0.0, 1.0), p, d),
+            -DVec3::X
+        );
         let (p, d, _) = c.closest_point(DVec3::new(0.0, 1.5, 0.5));
         assert_eq!((p, d), (DVec3::new(0.0, 1.0, 0.5), 0.5));
         let inf = Frustum::new(DVec3::ZERO, DVec3::Z, f64::INFINITY, [1.0, 1.0]).unwrap();

@@ -282,7 +282,7 @@ impl Mesh {
         if found.is_empty() {
             return;
         }
-        found.sort_unstable_by(|a, b| (a.0, a.1, a.2).cmp(&(b.0, b.1, b.2)));
+        found.sort_unstable_by_key(|f| (f.0, f.1, f.2));
         // Runs of one feature: a face counts; an edge or corner when every triangle having
         // it reported it.
         let mut k = 0;

@@ -34,10 +34,17 @@ impl TriangleGrid {
     /// triangle's larger extent.
     pub(super) fn new(bounds: &[(DVec3, DVec3)], (lo, hi): (DVec3, DVec3)) -> Self {
         let n = bounds.len();
-        let mut sizes: Vec<f64> = bounds.iter().map(|(a, b)| (*b - *a).max_element()).collect();
+        let mut sizes: Vec<f64> = bounds
+            .iter()
+            .map(|(a, b)| (*b - *a).max_element())
+            .collect();
         sizes.sort_by(f64::total_cmp);
         let span = (hi - lo).max(DVec3::splat(1e-12));
-        let mut cell = sizes.get(n / 2).copied().unwrap_or(1.0).max(span.max_element() * 1e-6);
+        let mut cell = sizes
+            .get(n / 2)
+            .copied()
+            .unwrap_or(1.0)
+            .max(span.max_element() * 1e-6);
         let cells = |c: f64| ((span / c).floor() + DVec3::ONE).to_array();
         while cells(cell).iter().product::<f64>() > CELLS_PER_TRIANGLE * n as f64 + 64.0 {
             cell *= 1.25;
@@ -48,7 +55,8 @@ impl TriangleGrid {
             [0, 1, 2].map(|a| (c[a].max(0.0) as usize).min(dims[a] - 1) as u32)
         };
         let range: Vec<[[u32; 3]; 2]> = bounds.iter().map(|(a, b)| [at(*a), at(*b)]).collect();
-        let index = |[i, j, k]: [u32; 3]| (i as usize) + dims[0] * (j as usize + dims[1] * k as usize);
+        let index =
+            |[i, j, k]: [u32; 3]| (i as usize) + dims[0] * (j as usize + dims[1] * k as usize);
         let total = dims.iter().product::<usize>();
         let mut start = vec![0u32; total + 1];
         let each = |r: &[[u32; 3]; 2], f: &mut dyn FnMut(usize)| {

@@ -144,7 +144,9 @@ impl WallMotion {
             ("centre [m]", self.centre),
         ] {
             if !v.is_finite() {
-                return Err(WallError::BadMotion(format!("{what} must be finite, got {v}")));
+                return Err(WallError::BadMotion(format!(
+                    "{what} must be finite, got {v}"
+                )));
             }
         }
         Ok(())

@@ -134,3 +134,168 @@ fn the_plane_test_never_rejects_a_point_within_reach_of_a_polygon() {
     .unwrap();
     assert!(!plane.certainly_beyond(DVec3::new(0.0, 0.0, 9.0), 1.0));
 }
+
+/// The square [0, 1]² of the plane z = 0 as n × n squares of two triangles each.
+fn tiles(n: usize) -> Vec<[DVec3; 3]> {
+    let a = 1.0 / n as f64;
+    let at = |i: usize, j: usize| DVec3::new(i as f64 * a, j as f64 * a, 0.0);
+    (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .flat_map(|(i, j)| {
+            [
+                [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
+                [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
+            ]
+        })
+        .collect()
+}
+
+fn mesh_of(triangles: &[[DVec3; 3]]) -> Mesh {
+    Mesh::new(triangles).unwrap()
+}
+
+#[test]
+fn a_mesh_welds_shared_corners() {
+    // 4 × 4 squares: 5 × 5 grid points, whatever the 32 triangles repeat.
+    let m = mesh_of(&tiles(4));
+    assert_eq!((m.len(), m.vertex_count()), (32, 25));
+}
+
+#[test]
+fn bad_meshes_are_refused_naming_the_triangle() {
+    assert_eq!(Mesh::new(&[]).unwrap_err(), WallError::EmptyMesh);
+    let mut t = tiles(2);
+    t[5][1] = DVec3::new(f64::NAN, 0.0, 0.0);
+    let e = Mesh::new(&t).unwrap_err().to_string();
+    assert!(e.contains("triangle 5") && e.contains("not finite"), "{e}");
+    let mut t = tiles(2);
+    t[3] = [DVec3::ZERO, DVec3::X, 2.0 * DVec3::X];
+    let e = Mesh::new(&t).unwrap_err().to_string();
+    assert!(e.contains("triangle 3") && e.contains("degenerate"), "{e}");
+}
+
+#[test]
+fn a_flat_mesh_gives_one_contact_anywhere_and_a_fold_one_per_face() {
+    // Over a fine flat mesh: a single contact, along +z, at the plane's distance, at faces,
+    // edges and corners alike (exact coordinates in binary fractions).
+    let m = mesh_of(&tiles(8));
+    let (mut scratch, mut out) = (MeshScratch::default(), Vec::new());
+    for (x, y) in [
+        (0.3, 0.2),
+        (0.25, 0.1),
+        (0.25, 0.25),
+        (0.375, 0.5),
+        (0.31, 0.31),
+    ] {
+        m.contacts(DVec3::new(x, y, 0.2), 0.25, &mut scratch, &mut out);
+        assert_eq!(out.len(), 1, "at ({x}, {y})");
+        assert_relative_eq!(out[0].distance, 0.2, epsilon = GEOM_TOL);
+        assert_relative_eq!(out[0].normal.distance(DVec3::Z), 0.0, epsilon = GEOM_TOL);
+    }
+    // A floor meeting a wall x = 0 (a concave fold): a sphere in the corner touches both.
+    let mut fold = tiles(2);
+    fold.extend(
+        tiles(2)
+            .iter()
+            .map(|t| t.map(|v| DVec3::new(0.0, v.y, v.x))),
+    );
+    let m = mesh_of(&fold);
+    m.contacts(DVec3::new(0.1, 0.5, 0.1), 0.15, &mut scratch, &mut out);
+    let mut normals: Vec<DVec3> = out.iter().map(|c| c.normal).collect();
+    normals.sort_by(|a, b| a.x.total_cmp(&b.x));
+    assert_eq!(normals.len(), 2);
+    assert_relative_eq!(normals[0].distance(DVec3::Z), 0.0, epsilon = GEOM_TOL);
+    assert_relative_eq!(normals[1].distance(DVec3::X), 0.0, epsilon = GEOM_TOL);
+    // The same fold seen from outside (a convex ridge): the sphere beyond the edge touches
+    // the edge alone, along the line from the edge to its centre.
+    m.contacts(DVec3::new(-0.1, 0.5, -0.1), 0.15, &mut scratch, &mut out);
+    assert_eq!(out.len(), 1);
+    let diagonal = DVec3::new(-1.0, 0.0, -1.0).normalize();
+    assert_relative_eq!(out[0].normal.distance(diagonal), 0.0, epsilon = GEOM_TOL);
+}
+
+#[test]
+fn the_index_finds_what_a_search_of_every_triangle_finds() {
+    // Distances from random points (a fixed generator) to a mesh of 512 triangles, by the
+    // index and by every triangle: equal wherever the nearest lies within reach.
+    let m = mesh_of(&tiles(16));
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..500 {
+        let x = DVec3::new(1.4 * next() - 0.2, 1.4 * next() - 0.2, 0.4 * next() - 0.2);
+        let reach = 0.05 + 0.1 * next();
+        let exact = (0..m.len())
+            .map(|t| {
+                let (p, _) = super::triangle::closest_point(x, m.triangle(t));
+                p.distance(x)
+            })
+            .fold(f64::INFINITY, f64::min);
+        let indexed = m.distance_within(x, reach);
+        if exact < reach {
+            assert_relative_eq!(indexed, exact, epsilon = GEOM_TOL);
+        } else {
+            assert!(indexed >= reach - GEOM_TOL);
+        }
+    }
+}
+
+#[test]
+fn a_turned_and_moved_mesh_answers_in_the_world() {
+    // Turned a quarter turn about x (z goes to +y) and moved up by 2: the floor z = 0
+    // becomes the wall y = 0 over z ∈ [1, 2]; a point 0.1 in front of it touches along +y.
+    let mut m = mesh_of(&tiles(4));
+    m.rotate_about(
+        DVec3::ZERO,
+        glam::DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2),
+    );
+    m.translate(DVec3::new(0.0, 0.0, 2.0));
+    let (mut scratch, mut out) = (MeshScratch::default(), Vec::new());
+    m.contacts(DVec3::new(0.5, 0.1, 1.5), 0.2, &mut scratch, &mut out);
+    assert_eq!(out.len(), 1);
+    assert_relative_eq!(out[0].distance, 0.1, epsilon = 1e-12);
+    assert_relative_eq!(
+        out[0].point.distance(DVec3::new(0.5, 0.0, 1.5)),
+        0.0,
+        epsilon = 1e-12
+    );
+    assert_relative_eq!(out[0].normal.distance(DVec3::Y), 0.0, epsilon = 1e-12);
+}
+
+#[test]
+fn walls_survive_a_checkpoint_round_trip_with_their_motion() {
+    // Every shape and a motion: the stored form must give back an equal wall.
+    let i = Interaction::fan2023();
+    let mut mesh = Wall::mesh(&tiles(3), WallMaterial::Rigid, i).unwrap();
+    mesh.set_motion(WallMotion {
+        velocity: DVec3::X,
+        angular_velocity: DVec3::new(0.0, 0.0, 2.0),
+        centre: DVec3::Y,
+        displaced: true,
+    })
+    .unwrap();
+    mesh.translate(DVec3::splat(0.25));
+    let walls = [
+        mesh,
+        Wall::cylinder(DVec3::ZERO, DVec3::Z, 2.0, 0.5, WallMaterial::Rigid, i).unwrap(),
+        Wall::frustum(
+            DVec3::ZERO,
+            DVec3::X,
+            1.0,
+            [0.5, 0.2],
+            WallMaterial::Rigid,
+            i,
+        )
+        .unwrap(),
+        square(),
+    ];
+    for w in walls {
+        let bytes = postcard::to_allocvec(&w).unwrap();
+        let back: Wall = postcard::from_bytes(&bytes).unwrap();
+        assert_eq!(back, w);
+    }
+}

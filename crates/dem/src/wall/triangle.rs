@@ -84,10 +84,26 @@ mod tests {
     fn each_region_gives_its_feature_and_point() {
         // Exact coordinates: every case lands on representable numbers.
         let cases = [
-            (DVec3::new(0.25, 0.25, 1.0), DVec3::new(0.25, 0.25, 0.0), Feature::Face),
-            (DVec3::new(0.5, -1.0, 0.5), DVec3::new(0.5, 0.0, 0.0), Feature::Edge(0)),
-            (DVec3::new(1.0, 1.0, 0.0), DVec3::new(0.5, 0.5, 0.0), Feature::Edge(1)),
-            (DVec3::new(-1.0, 0.5, 0.0), DVec3::new(0.0, 0.5, 0.0), Feature::Edge(2)),
+            (
+                DVec3::new(0.25, 0.25, 1.0),
+                DVec3::new(0.25, 0.25, 0.0),
+                Feature::Face,
+            ),
+            (
+                DVec3::new(0.5, -1.0, 0.5),
+                DVec3::new(0.5, 0.0, 0.0),
+                Feature::Edge(0),
+            ),
+            (
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.5, 0.5, 0.0),
+                Feature::Edge(1),
+            ),
+            (
+                DVec3::new(-1.0, 0.5, 0.0),
+                DVec3::new(0.0, 0.5, 0.0),
+                Feature::Edge(2),
+            ),
             (DVec3::new(-1.0, -1.0, 2.0), DVec3::ZERO, Feature::Corner(0)),
             (DVec3::new(3.0, -0.5, 0.0), DVec3::X, Feature::Corner(1)),
             (DVec3::new(-0.5, 3.0, -1.0), DVec3::Y, Feature::Corner(2)),

@@ -58,7 +58,7 @@ impl Gas {
                     self.interaction,
                 )
                 .expect("valid plane");
-                sim.add_wall(wall);
+                sim.add_wall(wall).expect("valid wall");
             }
         }
         self.fill(&mut sim, id);

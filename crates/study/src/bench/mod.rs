@@ -177,7 +177,7 @@ pub fn dense_packing(count: usize, threads: usize) -> Result<(Simulation, Option
                 Interaction::fan2023(),
             )
             .map_err(|e| DemError::InvalidInput(e.to_string()))?;
-            sim.add_wall(wall);
+            sim.add_wall(wall)?;
         }
     }
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);

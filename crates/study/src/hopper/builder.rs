@@ -70,27 +70,27 @@ pub fn build_walls(
         Wall::polygon(v, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()))
     };
     let segs = outline(geometry);
-    let left = sim.add_wall(wall(slab_rectangle(segs[0][0], segs[0][1], z))?);
-    let right = sim.add_wall(wall(slab_rectangle(segs[1][0], segs[1][1], z))?);
+    let left = sim.add_wall(wall(slab_rectangle(segs[0][0], segs[0][1], z))?)?;
+    let right = sim.add_wall(wall(slab_rectangle(segs[1][0], segs[1][1], z))?)?;
     let plane = |p: DVec3, n: DVec3| {
         Wall::plane(p, n, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()))
     };
-    let front = sim.add_wall(plane(DVec3::ZERO, DVec3::Y)?);
-    let back = sim.add_wall(plane(DVec3::new(0.0, z, 0.0), -DVec3::Y)?);
+    let front = sim.add_wall(plane(DVec3::ZERO, DVec3::Y)?)?;
+    let back = sim.add_wall(plane(DVec3::new(0.0, z, 0.0), -DVec3::Y)?)?;
     let (run_l, run_r) = geometry.plate_runs();
     let mut plates = [None, None];
     let mut k = 2;
     if run_l > 0.0 {
-        plates[0] = Some(sim.add_wall(wall(slab_rectangle(segs[k][0], segs[k][1], z))?));
+        plates[0] = Some(sim.add_wall(wall(slab_rectangle(segs[k][0], segs[k][1], z))?)?);
         k += 1;
     }
     if run_r > 0.0 {
-        plates[1] = Some(sim.add_wall(wall(slab_rectangle(segs[k][0], segs[k][1], z))?));
+        plates[1] = Some(sim.add_wall(wall(slab_rectangle(segs[k][0], segs[k][1], z))?)?);
     }
     // The gate spans exactly the orifice at the outlet plane. Overlapping the plates would
     // give particles resting on the overlap two floor contacts.
     let (xl, xr) = geometry.outlet_edges();
-    let gate = sim.add_wall(wall(slab_rectangle((xl, 0.0), (xr, 0.0), z))?);
+    let gate = sim.add_wall(wall(slab_rectangle((xl, 0.0), (xr, 0.0), z))?)?;
     Ok(HopperWalls {
         sides: [left, right],
         faces: [front, back],

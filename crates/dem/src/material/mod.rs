@@ -1,6 +1,15 @@
-//! Materials, interaction coefficients and the pair mixing rules (docs/physics.md §1).
+//! Materials, interaction coefficients and the pair mixing rules (docs/physics.md §1); the
+//! named pair table and its mixing rules for unlisted pairs (§1.2) are in the files beside.
+
+mod mixing;
+mod table;
+mod table_error;
 
 use serde::{Deserialize, Serialize};
+
+pub use mixing::{mixed_friction, mixed_interaction, mixed_restitution};
+pub use table::{MaterialEntry, MaterialTable, PairEntry};
+pub use table_error::{MaterialTableError, MODULUS_TOLERANCE};
 
 /// An isotropic elastic solid.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
