@@ -26,10 +26,13 @@ const _: () = assert!(BATCH.is_multiple_of(VECTOR));
 
 /// One batch of touching pairs: inputs gathered by the caller, outputs filled by [`Batch::resolve`].
 /// All vectors are components x, y, z. Pair "i–j" follows `ContactGeometry`: n points from j to i.
+///
+/// Laid out in declaration order from a 64-byte boundary, the count last, so that every
+/// lane array starts on a cache line: vector loads of a lane array then never straddle two
+/// lines, wherever the allocator puts the batch.
 #[derive(Clone, Debug)]
+#[repr(C, align(64))]
 pub struct Batch {
-    /// Contacts filled in [-].
-    pub len: usize,
     /// Centre offset x_i − x_j [m].
     pub d: [[f64; BATCH]; 3],
     /// Squared centre distance [m²] (pairs only).
@@ -58,6 +61,8 @@ pub struct Batch {
     pub overlap_fraction: [f64; BATCH],
     /// Intermediate values of the kernel's passes.
     stages: Stages,
+    /// Contacts filled in [-].
+    pub len: usize,
 }
 
 impl Default for Batch {

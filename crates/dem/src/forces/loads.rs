@@ -7,14 +7,30 @@
 //! as an integer. Integer addition does not depend on its order, so the totals are the
 //! same bits whether one thread walks the contacts or several threads each walk a range of
 //! bodies, which floating-point sums would not be.
+//!
+//! Range: one contact's share is clamped to ±2⁵⁰ quanta (2¹⁸ of the lightest weight for a
+//! force), and a wall's sum holds ±2⁶³ quanta (2³¹ of the lightest weight): far above any
+//! load a bed of spheres puts on a wall. The torque's quantum is the force's times a length
+//! four times the particles' farthest distance from the origin at set-up, so that a
+//! torque's share is in range wherever its force's is.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::contact::batch::{Batch, BATCH};
 use crate::contact::ContactForce;
 
 /// Binary orders of magnitude between the lightest particle's weight and the force quantum.
 const QUANTUM_BITS: i32 = 32;
+
+/// 1.5 · 2⁵²: added to a number of magnitude below 2⁵¹, it leaves that number rounded to an
+/// integer in the low bits of the sum's mantissa, which the subtraction of its own bits
+/// reads out as an integer: one addition in place of a conversion instruction and its
+/// overflow checks.
+const ROUNDING: f64 = 6_755_399_441_055_744.0;
+
+/// Largest share of one contact in quanta, within the rounding trick's exact range.
+const LARGEST_SHARE: f64 = (1u64 << 50) as f64;
 
 /// The total load on one wall in one step.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -41,9 +57,9 @@ impl Default for LoadQuanta {
 
 impl LoadQuanta {
     /// Quanta for particles whose lightest weight is `weight` [N] (the mass times the
-    /// gravity, or times 1 m/s² without gravity) and smallest radius `radius` [m]: powers of
-    /// two, so the scaling itself is exact.
-    pub(crate) fn new(weight: f64, radius: f64) -> Self {
+    /// gravity, or times 1 m/s² without gravity) and whose farthest point from the origin is
+    /// `reach` [m] away: powers of two, so the scaling itself is exact.
+    pub(crate) fn new(weight: f64, reach: f64) -> Self {
         let pow2 = |x: f64| {
             if x.is_finite() && x > 0.0 {
                 2f64.powi(x.log2().floor() as i32)
@@ -52,7 +68,7 @@ impl LoadQuanta {
             }
         };
         let force = pow2(weight) * 2f64.powi(-QUANTUM_BITS);
-        let torque = force * pow2(radius);
+        let torque = force * pow2(reach) * 8.0;
         Self {
             quantum: (force, torque),
             inverse: (1.0 / force, 1.0 / torque),
@@ -61,7 +77,7 @@ impl LoadQuanta {
 }
 
 /// A wall's load in fixed point: force then torque, in quanta.
-pub(crate) type LoadSum = [i128; 6];
+pub(crate) type LoadSum = [i64; 6];
 
 /// Adds to `sum` the load on a wall of the contact `cf` with the particle at `x` [m]:
 /// force −F, torque about the origin −(x × F + M_i), the reaction of what the particle got.
@@ -70,12 +86,50 @@ pub(crate) fn add_load(sum: &mut LoadSum, q: &LoadQuanta, x: DVec3, cf: &Contact
     let f = cf.force;
     let m = x.cross(f) + cf.torque_i;
     let (a, b) = q.inverse;
-    // `as i64` rounds towards zero and saturates; contact loads stay far below 2⁶³ quanta.
     for (s, v) in sum
         .iter_mut()
         .zip([f.x * a, f.y * a, f.z * a, m.x * b, m.y * b, m.z * b])
     {
-        *s -= (v as i64) as i128;
+        *s = s.wrapping_sub(quanta(v));
+    }
+}
+
+/// `v` rounded to the nearest integer (ties to even), clamped to ±[`LARGEST_SHARE`]; NaN
+/// gives some integer (a NaN stops the run at the step's check anyway).
+#[inline(always)]
+fn quanta(v: f64) -> i64 {
+    let v = v.clamp(-LARGEST_SHARE, LARGEST_SHARE);
+    ((v + ROUNDING).to_bits() as i64).wrapping_sub(ROUNDING.to_bits() as i64)
+}
+
+/// [`add_load`] for the first `len` contacts of a resolved batch, whose particles' centres
+/// are `centres` [m] (by axis, lane): the same integers, summed lane by lane in a loop the
+/// compiler vectorises.
+#[inline(always)]
+pub(crate) fn add_batch_loads(
+    sum: &mut LoadSum,
+    q: &LoadQuanta,
+    batch: &Batch,
+    centres: &[[f64; BATCH]; 3],
+    len: usize,
+) {
+    let (a, b) = q.inverse;
+    let (f, t, x) = (&batch.force, &batch.torque_i, centres);
+    let mut acc = [0i64; 6];
+    for m in 0..len.min(BATCH) {
+        // x × F + M_i, by components.
+        let moment = [
+            x[1][m] * f[2][m] - x[2][m] * f[1][m] + t[0][m],
+            x[2][m] * f[0][m] - x[0][m] * f[2][m] + t[1][m],
+            x[0][m] * f[1][m] - x[1][m] * f[0][m] + t[2][m],
+        ];
+        for k in 0..3 {
+            acc[k] = acc[k].wrapping_add(quanta(f[k][m] * a));
+            acc[3 + k] = acc[3 + k].wrapping_add(quanta(moment[k] * b));
+        }
+    }
+    for (s, v) in sum.iter_mut().zip(acc) {
+        *s = s.wrapping_sub(v);
     }
 }
 
@@ -93,8 +147,62 @@ pub(crate) fn load_of(sum: &LoadSum, q: &LoadQuanta) -> WallLoad {
 pub(crate) fn merge_loads(a: &mut [LoadSum], b: &[LoadSum]) {
     for (x, y) in a.iter_mut().zip(b) {
         for (u, v) in x.iter_mut().zip(y) {
-            *u += v;
+            *u = u.wrapping_add(*v);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shares_round_to_the_nearest_quantum_and_sum_in_any_order() {
+        // The rounding trick against the definition on integers and halves (ties to even),
+        // and the clamp; then the same contacts summed in two orders give the same bits.
+        for (v, q) in [
+            (0.0, 0),
+            (2.4, 2),
+            (-2.6, -3),
+            (2.5, 2),
+            (3.5, 4),
+            (-1e300, -(1 << 50)),
+        ] {
+            assert_eq!(quanta(v), q, "{v}");
+        }
+        let quanta = LoadQuanta::new(1e-4, 0.1);
+        let contacts: Vec<(DVec3, ContactForce)> = (0..50)
+            .map(|k| {
+                let k = k as f64;
+                let force = DVec3::new((k * 0.7).sin(), (k * 1.3).cos(), 1.0 + k) * 1e-3;
+                let torque_i = DVec3::new(k, -k, 0.5) * 1e-7;
+                let x = DVec3::new(0.01 * k, -0.02, 0.05);
+                (
+                    x,
+                    ContactForce {
+                        force,
+                        torque_i,
+                        torque_j: DVec3::ZERO,
+                    },
+                )
+            })
+            .collect();
+        let mut forward = LoadSum::default();
+        contacts
+            .iter()
+            .for_each(|(x, c)| add_load(&mut forward, &quanta, *x, c));
+        let mut halves = [LoadSum::default(), LoadSum::default()];
+        for (k, (x, c)) in contacts.iter().enumerate().rev() {
+            add_load(&mut halves[k % 2], &quanta, *x, c);
+        }
+        let mut merged = halves[0];
+        merge_loads(std::slice::from_mut(&mut merged), &halves[1..]);
+        assert_eq!(merged, forward);
+        // And the sum is the loads' total to within half a quantum per contact.
+        let load = load_of(&forward, &quanta);
+        let exact: DVec3 = contacts.iter().map(|(_, c)| -c.force).sum();
+        let bound = 50.0 * quanta.quantum.0;
+        assert!((load.force - exact).abs().max_element() <= bound);
     }
 }
 

@@ -16,7 +16,7 @@ use crate::history::{settle, LIVE, WAS_LIVE};
 use crate::material::PairCoefficients;
 use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
-use crate::wall::Wall;
+use crate::wall::{Wall, WallShape};
 
 mod accumulator;
 mod chunked;
@@ -36,7 +36,7 @@ use accumulator::*;
 pub(crate) use chunked::{chunk_bounds, evaluate_chunk};
 use filter::*;
 use general::*;
-use loads::{add_load, LoadQuanta, LoadSum};
+use loads::{add_batch_loads, add_load, LoadQuanta, LoadSum};
 use pairs::*;
 use walls::*;
 
@@ -211,7 +211,10 @@ pub(crate) fn evaluate(
 ) -> Evaluation {
     // Zeroed by `start_loads`; sized here for callers that sum over several evaluations.
     buffers.loads.resize(input.walls.len(), LoadSum::default());
-    let mut eval = planar_contacts(input, pairs, wall_pairs, buffers, pool);
+    let mut eval = match pool {
+        Some(pool) => parallel::evaluate(input, pairs, wall_pairs, buffers, pool),
+        None => planar_contacts(input, pairs, wall_pairs, buffers),
+    };
     if input.walls.iter().flatten().any(Wall::resolved_one_by_one) {
         let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements);
         eval.count.particle_wall += contacts;
@@ -252,22 +255,19 @@ fn surface_contacts(
     )
 }
 
-/// Every contact but those of the curved, meshed and spinning walls.
+/// Every contact but those of the curved, meshed and spinning walls, on this thread.
+#[inline(never)]
 fn planar_contacts(
     input: &KernelInput,
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
     buffers: &mut ForceBuffers,
-    pool: Option<&rayon::ThreadPool>,
 ) -> Evaluation {
     let n = input.particles.len();
     assert!(
         buffers.force.len() == n && buffers.torque.len() == n,
         "the force buffers hold one starting value per body"
     );
-    if let Some(pool) = pool {
-        return parallel::evaluate(input, pairs, wall_pairs, buffers, pool);
-    }
     let mut count = ContactCount::default();
     let ids = (&pairs.i[..], &pairs.j[..]);
 

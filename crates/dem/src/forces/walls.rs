@@ -10,7 +10,7 @@ pub(super) enum WallProbe {
     Absent,
     /// An infinite plane: signed distance x·n − offset [m], unit normal n towards the particles.
     Plane { normal: DVec3, offset: f64 },
-    /// Any other shape: the general closest-point test ([`Wall::closest_point`]).
+    /// A polygon: its closest-point test.
     ClosestPoint,
     /// A wall this loop leaves to the surface pass ([`Wall::resolved_one_by_one`]).
     Deferred,
@@ -33,10 +33,13 @@ pub(super) fn wall_contact(
             (!(s >= r)).then_some((normal, r - s))
         }
         WallProbe::ClosestPoint => {
-            // Only walls present in the simulation get this probe.
-            let wall = input.walls[w].as_ref().expect("probe of a present wall");
-            let (cp, dist) = wall.closest_point(x);
-            (!(dist >= r)).then(|| (wall.contact_normal(x, cp, dist), r - dist))
+            // Only polygons present in the simulation get this probe; the polygon's own test,
+            // so that no other shape's code is inlined into their loop.
+            let Some(WallShape::Polygon(polygon)) = input.walls[w].as_ref().map(Wall::shape) else {
+                return None;
+            };
+            let (cp, dist) = polygon.closest_point(x);
+            (!(dist >= r)).then(|| (polygon.contact_normal(x, cp, dist), r - dist))
         }
         WallProbe::Absent | WallProbe::Deferred => None,
     }
@@ -240,6 +243,8 @@ pub(super) fn wall_run(
     if let Some(c) = uniform {
         batch.fill_coefficients(c);
     }
+    // Whether the wall's load is summed (`Wall::sums_load`).
+    let sums_load = input.walls[w].as_ref().is_some_and(|w| w.sums_load);
     let plane = match wall.probe {
         WallProbe::Plane { normal, offset } => {
             for (row, v) in batch.d.iter_mut().zip(normal.to_array()) {
@@ -250,6 +255,8 @@ pub(super) fn wall_run(
         _ => None,
     };
     let coefficients = uniform.is_none().then_some(w);
+    // The centres of a batch's particles, for the torques on the wall.
+    let mut centres = [[0.0; BATCH]; 3];
     for group in hits.chunks(BATCH) {
         let source = WallSource {
             input,
@@ -291,9 +298,16 @@ pub(super) fn wall_run(
             let m = m & (BATCH - 1);
             let k = k as usize;
             history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
-            let (i, cf) = (pi[k] as usize, batch_force(batch, m));
-            add_load(load, &input.quanta, pos[i], &cf);
-            sink(i, &cf);
+            let i = pi[k] as usize;
+            if sums_load {
+                for (a, v) in pos[i].to_array().into_iter().enumerate() {
+                    centres[a][m] = v;
+                }
+            }
+            sink(i, &batch_force(batch, m));
+        }
+        if sums_load {
+            add_batch_loads(load, &input.quanta, batch, &centres, group.len());
         }
     }
     count

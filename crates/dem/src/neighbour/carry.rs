@@ -64,16 +64,18 @@ pub(super) fn carry_moved_pairs(
 
 /// As [`carry_moved_pairs`], for wall candidates (wall, particle), wall-major: each wall's
 /// old run is spread into a table by old body index while the new run reads it. `source`
-/// receives, for each new candidate, its old index or [`NO_SOURCE`].
+/// receives, where asked for, each new candidate's old index or [`NO_SOURCE`].
 pub(super) fn carry_moved_walls(
     history: &mut HistoryArrays,
     (walls, bodies): (&[u32], &[u32]),
     (old_walls, old_bodies): (&[u32], &[u32]),
     old: &HistoryArrays,
     (origin, slot): (&[u32], &mut Vec<u32>),
-    source: &mut Vec<u32>,
+    mut source: Option<&mut Vec<u32>>,
 ) {
-    source.clear();
+    if let Some(source) = source.as_deref_mut() {
+        source.clear();
+    }
     let size = old_bodies.iter().max().map_or(0, |&x| x as usize + 1);
     slot.clear();
     slot.resize(size, NO_SOURCE);
@@ -96,7 +98,9 @@ pub(super) fn carry_moved_walls(
             .get(origin[a as usize] as usize)
             .copied()
             .unwrap_or(NO_SOURCE);
-        source.push(from);
+        if let Some(source) = source.as_deref_mut() {
+            source.push(from);
+        }
         let h = match from {
             NO_SOURCE => ContactHistory::default(),
             k => old.get(k as usize),

@@ -178,6 +178,7 @@ pub(crate) fn build_lists(
     }
     let ids = (&wall_pairs.wall[..], &wall_pairs.particle[..]);
     let old_ids = (&old_walls.wall[..], &old_walls.particle[..]);
+    let surfaces = walls.iter().flatten().any(Wall::resolved_one_by_one);
     let old = &old_walls.history;
     match carry {
         Carry::Same => {
@@ -190,13 +191,13 @@ pub(crate) fn build_lists(
             old_ids,
             old,
             (origin, &mut scratch.first),
-            &mut scratch.fill,
+            surfaces.then_some(&mut scratch.fill),
         ),
     }
     // The remembered contacts of curved and meshed walls follow their candidates: from the
     // old entry each new one continues (`scratch.first` or `scratch.fill` above).
     wall_pairs.surfaces.clear();
-    if walls.iter().flatten().any(Wall::resolved_one_by_one) {
+    if surfaces {
         let source = match carry {
             Carry::Same => &scratch.first,
             Carry::Moved(_) => &scratch.fill,

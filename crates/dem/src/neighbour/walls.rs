@@ -1,6 +1,7 @@
 //! The particle–wall candidates of one wall: every body closer than R_i + skin to it.
 
 use super::*;
+use crate::wall::WallShape;
 
 /// Appends to `out`, in index order, the bodies (positions `pos`, radii `rad`) closer than
 /// R_i + `skin` [m] to `wall` and not wholly behind it.
@@ -28,12 +29,19 @@ pub(super) fn wall_candidates(
             count += usize::from((dist < rad[i] + skin) & (dist > -rad[i]));
         }
         out.truncate(before + count);
+    } else if let WallShape::Polygon(p) = wall.shape() {
+        // The polygon's own tests, the common bounded wall, without a dispatch per body.
+        for i in 0..n {
+            let reach = rad[i] + skin;
+            if !p.certainly_beyond(pos[i], reach) && p.closest_point(pos[i]).1 < reach {
+                out.push(i as u32);
+            }
+        }
     } else {
         for i in 0..n {
-            if wall.certainly_beyond(pos[i], rad[i] + skin) {
-                continue;
-            }
-            if wall.distance_within(pos[i], rad[i] + skin) < rad[i] + skin {
+            let reach = rad[i] + skin;
+            if !wall.certainly_beyond(pos[i], reach) && wall.distance_within(pos[i], reach) < reach
+            {
                 out.push(i as u32);
             }
         }

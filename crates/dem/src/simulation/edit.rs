@@ -336,8 +336,13 @@ impl Simulation {
         let p = &s.particles;
         let g = s.config.gravity.length().max(1.0);
         let lightest = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
-        let smallest = p.radius.iter().copied().fold(f64::INFINITY, f64::min);
-        self.load_quanta = LoadQuanta::new(lightest * g, smallest);
+        let reach = p
+            .position
+            .iter()
+            .zip(&p.radius)
+            .map(|(x, r)| x.length() + r)
+            .fold(0.0, f64::max);
+        self.load_quanta = LoadQuanta::new(lightest * g, reach);
         self.prepared = true;
         Ok(())
     }

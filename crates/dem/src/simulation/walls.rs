@@ -40,7 +40,8 @@ impl Simulation {
     }
 
     /// The load on a wall in the last step: the force and the torque about the origin the
-    /// particles exerted on it [N, N m].
+    /// particles exerted on it [N, N m]; zero for a wall that does not sum its load
+    /// ([`Wall::sums_load`]).
     pub fn wall_load(&self, id: WallId) -> Result<WallLoad, DemError> {
         self.wall(id).ok_or(DemError::UnknownWall(id.0))?;
         Ok(self

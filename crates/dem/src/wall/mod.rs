@@ -167,6 +167,10 @@ pub struct Wall {
     pub centre: DVec3,
     /// Whether each step displaces the wall by its motion ([`WallMotion::displaced`]).
     pub displaced: bool,
+    /// Whether the wall's total load is summed every step (`Simulation::wall_load`); on by
+    /// default. It costs about 1.5 ns a contact (docs/performance.md), which a wall that
+    /// every particle touches and no output reads (the faces of a quasi-2D slab) can spare.
+    pub sums_load: bool,
     /// The wall's material.
     pub material: WallMaterial,
     /// Friction, rolling friction and restitution against particles.
@@ -255,6 +259,7 @@ impl Wall {
             angular_velocity: DVec3::ZERO,
             centre: DVec3::ZERO,
             displaced: false,
+            sums_load: true,
             material,
             interaction,
         }
@@ -437,6 +442,7 @@ mod record {
     pub(super) struct WallRecord {
         shape: ShapeRecord,
         motion: WallMotion,
+        sums_load: bool,
         material: WallMaterial,
         interaction: Interaction,
     }
@@ -467,6 +473,7 @@ mod record {
             Self {
                 shape,
                 motion,
+                sums_load: w.sums_load,
                 material: w.material,
                 interaction: w.interaction,
             }
@@ -501,6 +508,7 @@ mod record {
             };
             let mut w = Wall::of(shape, r.material, r.interaction);
             w.set_motion(r.motion)?;
+            w.sums_load = r.sums_load;
             Ok(w)
         }
     }

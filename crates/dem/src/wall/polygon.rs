@@ -96,7 +96,7 @@ impl Polygon {
     /// the perpendicular when it falls inside, otherwise the closest point of the nearest
     /// edge or corner.
     #[inline(always)]
-    pub(super) fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
+    pub(crate) fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
         let vertices = &self.vertices;
         let h = (x - vertices[0]).dot(self.normal);
         let q = x - h * self.normal;
@@ -122,14 +122,14 @@ impl Polygon {
     /// True when `x` is certainly farther than `reach` [m] from the polygon, by its distance
     /// from the polygon's plane alone, which never exceeds the distance to the polygon.
     #[inline(always)]
-    pub(super) fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
+    pub(crate) fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
         (x - self.vertices[0]).dot(self.normal).abs() >= reach
     }
 
     /// Contact normal (polygon to particle) for a particle at `x` whose closest point is `p`
     /// at distance `dist`: along x − p, or the plane's normal when x lies in the polygon.
     #[inline(always)]
-    pub(super) fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
+    pub(crate) fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
         if dist > 0.0 {
             (x - p) / dist
         } else {

@@ -75,8 +75,16 @@ pub fn build_walls(
     let plane = |p: DVec3, n: DVec3| {
         Wall::plane(p, n, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()))
     };
-    let front = sim.add_wall(plane(DVec3::ZERO, DVec3::Y)?)?;
-    let back = sim.add_wall(plane(DVec3::new(0.0, z, 0.0), -DVec3::Y)?)?;
+    // The faces touch nearly every particle of a quasi-2D slab and no output reads their
+    // load: it is not summed (`Wall::sums_load`).
+    let face = |p: DVec3, n: DVec3| {
+        plane(p, n).map(|mut w| {
+            w.sums_load = false;
+            w
+        })
+    };
+    let front = sim.add_wall(face(DVec3::ZERO, DVec3::Y)?)?;
+    let back = sim.add_wall(face(DVec3::new(0.0, z, 0.0), -DVec3::Y)?)?;
     let (run_l, run_r) = geometry.plate_runs();
     let mut plates = [None, None];
     let mut k = 2;
