@@ -290,6 +290,12 @@ impl Simulation {
         self.state.contacts
     }
 
+    /// Particle–particle candidates in the current neighbour list: the pairs closer than
+    /// R_i + R_j + skin at the last build.
+    pub fn candidate_pairs(&self) -> usize {
+        self.state.pairs.len()
+    }
+
     /// The smallest Rayleigh time of the particles present [s] (paper Eq. 9).
     pub fn rayleigh_time(&self) -> Option<f64> {
         let p = &self.state.particles;
