@@ -2,7 +2,7 @@
 //! radii lie within a factor [`CLASS_WIDTH`] of each other, each class binned in a grid of
 //! its own with cells sized by its own largest radius (the idea of LAMMPS's "multi"
 //! neighbour style). A single grid must be sized by the largest sphere, so that with radii
-//! a factor 3 apart each small sphere would test some 15 times the partners it needs.
+//! a factor 3 apart each small sphere would search some 16 times the volume it needs.
 
 use super::*;
 

@@ -34,17 +34,16 @@ impl Simulation {
         };
         // A wide size distribution is searched by size class; otherwise one grid, sized by
         // the largest sphere, serves (and the re-sort above keeps its cell order either way).
-        let search =
-            if self
-                .size_classes
-                .rebuild(&s.particles.position, &s.particles.radius, s.skin)
-            {
-                PairSearch::Classes(&self.size_classes)
-            } else {
-                self.grid
-                    .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
-                PairSearch::Cells(&self.grid)
-            };
+        let by_class =
+            self.size_classes
+                .rebuild(&s.particles.position, &s.particles.radius, s.skin);
+        let search = if by_class {
+            PairSearch::Classes(&self.size_classes)
+        } else {
+            self.grid
+                .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+            PairSearch::Cells(&self.grid)
+        };
         // `build_lists` clears what it writes into; only the capacity of the spares is reused.
         let old_pairs = std::mem::replace(&mut s.pairs, std::mem::take(&mut self.spare_lists.0));
         let old_walls =
