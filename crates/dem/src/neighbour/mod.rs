@@ -4,8 +4,8 @@
 //! closer than R_i + skin to a wall. The lists are rebuilt only when the bodies' motion since
 //! the last build could have closed one of those gaps (`Simulation::lists_may_miss`: the
 //! bodies' relative displacements against the skin for pairs, their own against it for
-//! walls), so no contact can be missed in between. Bodies whose radii lie within a factor 2
-//! are binned in one grid sized by the largest; wider size distributions in a grid per size
+//! walls), so no contact can be missed in between. Bodies whose radii lie within a factor
+//! 2.5 are binned in one grid sized by the largest; wider size distributions in a grid per size
 //! class ([`SizeClasses`]), which gives the same list with far fewer tests. Contact history
 //! lives in arrays parallel to the pair list and is carried over every rebuild, by index when
 //! particles kept their indices and through the map from new to old indices otherwise
@@ -122,7 +122,7 @@ pub(crate) struct ListScratch {
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum PairSearch<'a> {
     /// One grid with cells at least 2 R_max + skin wide, for radii within a factor
-    /// [`size_classes::CLASS_WIDTH`] of each other.
+    /// [`size_classes::SPLIT_RATIO`] of each other.
     Cells(&'a CellGrid),
     /// A grid per size class, for wider size distributions.
     Classes(&'a SizeClasses),

@@ -98,7 +98,8 @@ fn listed_pairs(set: &ParticleSet, skin: f64, search: PairSearch<'_>) -> Vec<(u3
 }
 
 /// The pair lists of the single grid and of the size classes, checked equal to the brute
-/// force's in content and order; returns how many pairs and whether classes were used.
+/// force's in content and order; returns how many pairs, and whether the simulation would
+/// search these radii by size class.
 fn check_both_searches(set: &ParticleSet, skin: f64) -> (usize, bool) {
     let r_max = set.radius.iter().copied().fold(0.0, f64::max);
     let brute = brute_force_pairs(set, skin);
@@ -106,14 +107,12 @@ fn check_both_searches(set: &ParticleSet, skin: f64) -> (usize, bool) {
     // Exact equality, element by element: the order is part of the bits of a run.
     assert_eq!(listed_pairs(set, skin, PairSearch::Cells(&grid)), brute);
     let mut classes = SizeClasses::default();
-    let split = classes.rebuild(&set.position, &set.radius, skin);
-    if split {
-        assert_eq!(
-            listed_pairs(set, skin, PairSearch::Classes(&classes)),
-            brute
-        );
-    }
-    (brute.len(), split)
+    classes.rebuild(&set.position, &set.radius, skin);
+    assert_eq!(
+        listed_pairs(set, skin, PairSearch::Classes(&classes)),
+        brute
+    );
+    (brute.len(), SizeClasses::pays_for(&set.radius))
 }
 
 /// `count` bodies uniformly in a box of `extent` [m], radii drawn by `radius`.
@@ -136,8 +135,8 @@ fn random_bed(
 #[test]
 fn size_classes_find_exactly_the_pairs_of_a_brute_force_search_for_two_sizes() {
     // 1000 spheres: small ones of radius 1 mm and large ones 2, 3, 4 and 10 times as large,
-    // one large in eight, overlapping freely in a box: every pair the brute force finds and no other,
-    // in its order, and the classes must be in use (radii at least a factor 2 apart).
+    // one large in eight, overlapping freely in a box: every pair the brute force finds and
+    // no other, in its order; a simulation searches the last three by size class.
     for (k, ratio) in [2.0, 3.0, 4.0, 10.0].into_iter().enumerate() {
         let r = 1e-3;
         let set = random_bed(
@@ -153,8 +152,8 @@ fn size_classes_find_exactly_the_pairs_of_a_brute_force_search_for_two_sizes() {
             },
         );
         for skin in [0.0, 0.2 * r, 0.2 * ratio * r] {
-            let (pairs, split) = check_both_searches(&set, skin);
-            assert!(split, "ratio {ratio}: the classes must be used");
+            let (pairs, by_class) = check_both_searches(&set, skin);
+            assert_eq!(by_class, ratio > 2.0, "ratio {ratio}");
             // Enough pairs that a search missing a stencil direction would be caught.
             assert!(
                 pairs > 300,
@@ -184,8 +183,11 @@ fn size_classes_find_exactly_the_pairs_of_a_brute_force_search_for_continuous_si
         random_bed(23, 800, DVec3::splat(0.04), mixture),
     ];
     for set in &sets {
-        let (pairs, split) = check_both_searches(set, 0.2 * r);
-        assert!(split && pairs > 500, "{pairs} pairs, classes used: {split}");
+        let (pairs, by_class) = check_both_searches(set, 0.2 * r);
+        assert!(
+            by_class && pairs > 500,
+            "{pairs} pairs, by class: {by_class}"
+        );
     }
 }
 
@@ -214,8 +216,8 @@ fn pairs_at_exactly_the_cutoff_are_left_out_and_pairs_one_ulp_inside_are_found()
     bodies.push((DVec3::new(-2.75, 0.0, -4.25), rl));
     let set = particle_set(&bodies);
     let brute = brute_force_pairs(&set, skin);
-    let (_, split) = check_both_searches(&set, skin);
-    assert!(split);
+    let (_, by_class) = check_both_searches(&set, skin);
+    assert!(by_class);
     let has = |a: u32, b: u32| brute.contains(&(a.min(b), a.max(b)));
     // One ulp inside: pairs.
     assert!(has(64, 0) && has(67, 3) && has(69, 0), "{brute:?}");
@@ -229,7 +231,7 @@ fn pairs_at_exactly_the_cutoff_are_left_out_and_pairs_one_ulp_inside_are_found()
 
 #[test]
 fn empty_sets_single_bodies_and_lone_large_bodies() {
-    // No bodies and one body: no pairs, and one class (no split). Two bodies of different
+    // No bodies and one body: no pairs, and a single grid in a simulation. Two bodies of different
     // classes, apart and then in reach, in either index order: none, then exactly one.
     let skin = 0.1;
     assert_eq!(check_both_searches(&particle_set(&[]), skin), (0, false));
@@ -263,8 +265,8 @@ fn large_bodies_outside_the_small_bodies_box_find_them() {
         bodies.push((at, 4.0 * r));
     }
     let set = particle_set(&bodies);
-    let (pairs, split) = check_both_searches(&set, 0.3 * r);
-    assert!(split);
+    let (pairs, by_class) = check_both_searches(&set, 0.3 * r);
+    assert!(by_class);
     // Each large sphere reaches at least one small one (5 r < 4 r + r + skin).
     let brute = brute_force_pairs(&set, 0.3 * r);
     for large in 125..129u32 {

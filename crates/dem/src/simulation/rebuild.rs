@@ -34,10 +34,9 @@ impl Simulation {
         };
         // A wide size distribution is searched by size class; otherwise one grid, sized by
         // the largest sphere, serves (and the re-sort above keeps its cell order either way).
-        let by_class =
+        let search = if SizeClasses::pays_for(&s.particles.radius) {
             self.size_classes
                 .rebuild(&s.particles.position, &s.particles.radius, s.skin);
-        let search = if by_class {
             PairSearch::Classes(&self.size_classes)
         } else {
             self.grid
