@@ -4,7 +4,8 @@ use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
 use study::bench::{
-    combine, hopper_benchmark, scaling_benchmark, settled_bed, time_steps, BenchResult,
+    bidisperse_benchmark, combine, hopper_benchmark, scaling_benchmark, settled_bed, time_steps,
+    BenchResult, BidisperseBed,
 };
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -16,6 +17,9 @@ pub enum BenchCase {
     /// Dense 3D packings (jittered lattices in contact) of 10^4, 10^5 and 10^6 spheres, or of
     /// `--particles`: cost per particle-step and peak memory as N grows.
     Scaling,
+    /// A settled 3D bed of spheres of diameters d and `--ratio`·d (d = 3 mm) in equal volumes,
+    /// 10^4 spheres by default; `--ratio 1` is the monodisperse bed at the same solid fraction.
+    Bidisperse,
 }
 
 #[derive(Args)]
@@ -29,19 +33,26 @@ pub struct BenchArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
-    /// Particles in the bed (default 3000) or the scaling packing (default 10^4, 10^5, 10^6).
+    /// Particles in the bed (default 3000), the scaling packing (default 10^4, 10^5, 10^6) or
+    /// the bidisperse bed (default 10^4, rounded to whole blocks).
     #[arg(long)]
     particles: Option<usize>,
-    /// Steps timed (bed: default 4000; scaling: default 20 per repetition, repeated from a fresh
-    /// packing until each size has 2·10^7 particle-steps).
+    /// Steps timed (bed and bidisperse: default 4000; scaling: default 20 per
+    /// repetition, repeated from a fresh packing until each size has 2·10^7 particle-steps).
     #[arg(long)]
     steps: Option<u64>,
-    /// Bed only: untimed steps of settling before the timed steps (2.5 µs each). The default,
-    /// 0.3 s, lets the bed compact: contacts per particle are 3.6 after 0.05 s, 4.22 after
-    /// 0.3 s and 4.26 after 0.6 s, and the cost per particle-step follows them.
-    #[arg(long, default_value_t = 120_000)]
-    settle_steps: u64,
-    /// Checkpoint of the filled, settled hopper, reused between hopper benchmarks.
+    /// Bed and bidisperse bed: untimed steps of settling before the timed steps (2.5 µs each).
+    /// The bed's default, 0.3 s, lets it compact: contacts per particle are 3.6 after 0.05 s,
+    /// 4.22 after 0.3 s and 4.26 after 0.6 s, and the cost per particle-step follows them. The
+    /// bidisperse bed's default is 0.4 s: its contacts per particle (1:3, 2000 spheres) are
+    /// 2.97 after 0.1 s, 4.17 after 0.2 s and 4.32 after 0.4 s.
+    #[arg(long)]
+    settle_steps: Option<u64>,
+    /// Bidisperse only: large over small diameter.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=10))]
+    ratio: u32,
+    /// Checkpoint of the filled, settled hopper, reused between hopper benchmarks; the
+    /// settled bidisperse beds are cached beside it.
     #[arg(long, default_value = "out/bench-cache/hopper.bin")]
     cache: PathBuf,
     /// Runs of the whole benchmark: the median run is reported, with every run's time and
@@ -54,7 +65,8 @@ pub struct BenchArgs {
 fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
     match args.case {
         BenchCase::Bed => {
-            let mut sim = settled_bed(args.particles.unwrap_or(3000), threads, args.settle_steps)?;
+            let settle = args.settle_steps.unwrap_or(120_000);
+            let mut sim = settled_bed(args.particles.unwrap_or(3000), threads, settle)?;
             Ok(vec![time_steps(
                 &mut sim,
                 args.steps.unwrap_or(4000),
@@ -76,6 +88,25 @@ fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
                 out.push(scaling_benchmark(n, steps, repeats, threads)?);
             }
             Ok(out)
+        }
+        BenchCase::Bidisperse => {
+            let bed = BidisperseBed {
+                ratio: args.ratio,
+                particles: args.particles.unwrap_or(10_000),
+            };
+            let (settle, steps) = (
+                args.settle_steps.unwrap_or(160_000),
+                args.steps.unwrap_or(4000),
+            );
+            let name = format!("bidisperse-r{}-n{}-s{settle}.bin", bed.ratio, bed.particles);
+            let cache = args.cache.with_file_name(name);
+            Ok(vec![bidisperse_benchmark(
+                bed,
+                threads,
+                settle,
+                steps,
+                Some(&cache),
+            )?])
         }
     }
 }
@@ -140,7 +171,7 @@ pub fn run(args: BenchArgs) -> i32 {
         println!("{}", out.unwrap_or_default());
     } else {
         println!(
-            "{:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>10} {:>9}",
+            "{:<8} {:>7} {:>9} {:>10} {:>12} {:>12} {:>10} {:>9} {:>10} {:>8}",
             "case",
             "threads",
             "particles",
@@ -148,12 +179,14 @@ pub fn run(args: BenchArgs) -> i32 {
             "cpu ns/p-st",
             "p-steps/s",
             "contacts/p",
-            "bytes/p"
+            "bytes/p",
+            "ns/contact",
+            "cands/p"
         );
         let or_dash = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
         for r in &results {
             println!(
-                "{:<8} {:>7} {:>9} {:>10.1} {:>12} {:>12.3e} {:>10.2} {:>9}",
+                "{:<8} {:>7} {:>9} {:>10.1} {:>12} {:>12.3e} {:>10.2} {:>9} {:>10.1} {:>8.2}",
                 r.case,
                 r.threads,
                 r.particles,
@@ -161,7 +194,9 @@ pub fn run(args: BenchArgs) -> i32 {
                 or_dash(r.cpu_ns_per_particle_step),
                 r.particle_steps_per_second,
                 r.contacts_per_particle,
-                or_dash(r.bytes_per_particle)
+                or_dash(r.bytes_per_particle),
+                r.ns_per_contact,
+                r.candidates_per_particle
             );
         }
         // Where the time went, as LAMMPS' timing table after a run.

@@ -4,7 +4,7 @@
 use super::*;
 use crate::history::HistoryArrays;
 use crate::material::{Interaction, Material, WallMaterial};
-use crate::neighbour::{build_lists, CellGrid};
+use crate::neighbour::{build_lists, CellGrid, PairSearch};
 use crate::particles::{MaterialId, ParticleInit};
 use rand::{Rng, SeedableRng};
 
@@ -277,7 +277,7 @@ impl Jumble {
         let grid = CellGrid::build(&self.set.position, 2.0 * 1.5e-3 * 1.3 + skin);
         let (mut pairs, mut wall_pairs) = (PairList::default(), WallPairList::default());
         build_lists(
-            &grid,
+            PairSearch::Cells(&grid),
             &self.set,
             &self.walls,
             skin,

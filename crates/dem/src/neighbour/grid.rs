@@ -6,8 +6,10 @@ use super::*;
 /// A uniform grid of cells at least as wide as the interaction cutoff.
 #[derive(Debug, Clone, Default)]
 pub struct CellGrid {
-    origin: DVec3,
-    inv_cell: f64,
+    /// Lowest corner of the grid: the smallest coordinates of the bodies [m].
+    pub(super) origin: DVec3,
+    /// One over the cell width [1/m].
+    pub(super) inv_cell: f64,
     pub(super) dims: [usize; 3],
     /// Cell of each particle.
     cell_of: Vec<u32>,

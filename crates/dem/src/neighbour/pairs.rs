@@ -18,20 +18,16 @@ pub(super) fn sort_small(v: &mut [u32]) {
     }
 }
 
+/// Rows of candidates longer than this are sorted by the standard library's sort instead of
+/// insertion: the rows of large bodies among small ones hold tens to hundreds of partners.
+const INSERTION_SORT_MAX: usize = 32;
+
 /// The candidate pairs of the bodies binned in `grid`: every pair (i, j), i < j, closer
 /// than R_i + R_j + `skin` [m], into `i` and `j`, sorted by i and then j.
 ///
-/// Each unordered pair of cells is visited once (a cell with itself, and with the 13 of
-/// its 26 neighbours that come after it in the grid's order: the next cell of its row, and
-/// the three-cell runs of the rows after its own), so each pair of bodies is tested once,
-/// from the cell-ordered copies of the positions and radii, which the runs read
-/// contiguously: half the tests of a search in which every body looks at all 27 cells
-/// around it and keeps the partners of higher index, and none through an index.
-///
-/// The test itself is that of any order of the two bodies: (R_a + R_b) + skin and the
-/// squared components of x_b − x_a do not depend on which comes first, so the list is the
-/// one the per-body search gave, bit for bit. The pairs come out by cell and are put in
-/// (i, j) order by counting on i, then a few insertion steps within each i.
+/// Each unordered pair of cells is visited once ([`same_grid_pairs`]), from the
+/// cell-ordered copies of the positions and radii, and the pairs found are put in (i, j)
+/// order ([`into_pair_order`]).
 pub(super) fn pair_candidates(
     grid: &CellGrid,
     (pos, rad): (&[DVec3], &[f64]),
@@ -41,29 +37,49 @@ pub(super) fn pair_candidates(
 ) {
     let n = pos.len();
     let sorted = &grid.sorted[..n];
-    let start = &grid.start;
-    // Positions and radii in the grid's order.
-    let body = |k: usize| {
-        let b = sorted[k] as usize;
-        (pos[b], rad[b])
-    };
     let ListScratch {
         cells,
         found,
         first,
         fill,
     } = scratch;
+    // Positions and radii in the grid's order.
     cells.clear();
-    cells.extend((0..n).map(body));
-    let cells = &cells[..];
+    cells.extend(sorted.iter().map(|&b| (pos[b as usize], rad[b as usize])));
+    let count = same_grid_pairs(grid, (&cells[..], sorted), skin, found, 0);
+    into_pair_order(&found[..count], n, (first, fill), (i_out, j_out));
+}
+
+/// Appends to `found` (from slot `count`) the pairs of bodies binned in `grid` closer than
+/// R_a + R_b + `skin` [m], as (min, max) index keys, and returns the new count. `cells`
+/// holds the bodies' positions [m] and radii [m] in the grid's order and `ids` their indices;
+/// the grid's cells must be at least as wide as the largest such cutoff among its bodies.
+///
+/// Each unordered pair of cells is visited once (a cell with itself, and with the 13 of
+/// its 26 neighbours that come after it in the grid's order: the next cell of its row, and
+/// the three-cell runs of the rows after its own), so each pair of bodies is tested once,
+/// from the cell-ordered copies, which the runs read contiguously: half the tests of a
+/// search in which every body looks at all 27 cells around it and keeps the partners of
+/// higher index, and none through an index.
+///
+/// The test itself is that of any order of the two bodies: (R_a + R_b) + skin and the
+/// squared components of x_b − x_a do not depend on which comes first, so the list is the
+/// one the per-body search gave, bit for bit.
+pub(super) fn same_grid_pairs(
+    grid: &CellGrid,
+    (cells, ids): (&[(DVec3, f64)], &[u32]),
+    skin: f64,
+    found: &mut Vec<u64>,
+    mut count: usize,
+) -> usize {
+    let start = &grid.start;
     let [nx, ny, nz] = grid.dims;
-    let mut count = 0;
     // The bodies of slots `a` (one body) against the slots of `run`, appending those in
     // reach as (min, max) index keys, without a branch on the outcome.
     let test = |a: usize, run: std::ops::Range<usize>, found: &mut [u64], mut count: usize| {
         let (xa, ra) = cells[a];
-        let ia = u64::from(sorted[a]);
-        for (&(xb, rb), &ib) in cells[run.clone()].iter().zip(&sorted[run]) {
+        let ia = u64::from(ids[a]);
+        for (&(xb, rb), &ib) in cells[run.clone()].iter().zip(&ids[run]) {
             let cut = ra + rb + skin;
             let d2 = (xb - xa).length_squared();
             let ib = u64::from(ib);
@@ -116,9 +132,18 @@ pub(super) fn pair_candidates(
             }
         }
     }
-    let found = &found[..count];
+    count
+}
 
-    // By i, counting; then j ascending within each i.
+/// Writes the pairs `found`, (min, max) index keys of `n` bodies in any order, into `i_out`
+/// and `j_out` sorted by i and then j: counting on i, then sorting each i's row of j.
+/// `first` and `fill` are working arrays.
+pub(super) fn into_pair_order(
+    found: &[u64],
+    n: usize,
+    (first, fill): (&mut Vec<u32>, &mut Vec<u32>),
+    (i_out, j_out): (&mut Vec<u32>, &mut Vec<u32>),
+) {
     first.clear();
     first.resize(n + 1, 0);
     for &key in found {
@@ -129,7 +154,7 @@ pub(super) fn pair_candidates(
     }
     i_out.clear();
     j_out.clear();
-    j_out.resize(count, 0);
+    j_out.resize(found.len(), 0);
     fill.clear();
     fill.extend_from_slice(first);
     for &key in found {
@@ -139,7 +164,12 @@ pub(super) fn pair_candidates(
     }
     for i in 0..n {
         let row = first[i] as usize..first[i + 1] as usize;
-        sort_small(&mut j_out[row.clone()]);
+        let js = &mut j_out[row.clone()];
+        if js.len() > INSERTION_SORT_MAX {
+            js.sort_unstable();
+        } else {
+            sort_small(js);
+        }
         i_out.extend(std::iter::repeat_n(i as u32, row.len()));
     }
 }

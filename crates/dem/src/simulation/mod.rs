@@ -15,7 +15,9 @@ use crate::integrator::{
     largest_displacement, merge_drift, uniform_free_body, NOTHING_MOVED,
 };
 use crate::material::{harmonic, Interaction, Material, PairCoefficients, WallMaterial};
-use crate::neighbour::{build_lists, Carry, CellGrid, ListScratch, PairList, WallPairList};
+use crate::neighbour::{
+    build_lists, Carry, CellGrid, ListScratch, PairList, PairSearch, SizeClasses, WallPairList,
+};
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::reach::ReachBound;
 use crate::timescale::rayleigh_time;
@@ -124,7 +126,11 @@ impl SimulationState {
 pub struct Simulation {
     state: SimulationState,
     pool: Option<Arc<rayon::ThreadPool>>,
+    /// Cells sized by the largest sphere: the order of the re-sorts, and the candidate search
+    /// for (near-)uniform radii.
     grid: CellGrid,
+    /// The bodies by size class, for the candidate search of wide size distributions.
+    size_classes: SizeClasses,
     buffers: ForceBuffers,
     pair_coeffs: Vec<PairCoefficients>,
     wall_coeffs: Vec<PairCoefficients>,
@@ -234,6 +240,7 @@ impl Simulation {
             pool: make_pool(threads)?,
             state,
             grid: CellGrid::default(),
+            size_classes: SizeClasses::default(),
             buffers: ForceBuffers::default(),
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
@@ -307,6 +314,12 @@ impl Simulation {
     /// Contacts that carried force in the last step.
     pub fn contacts(&self) -> ContactCount {
         self.state.contacts
+    }
+
+    /// Particle–particle candidates in the current neighbour list: the pairs closer than
+    /// R_i + R_j + skin at the last build.
+    pub fn candidate_pairs(&self) -> usize {
+        self.state.pairs.len()
     }
 
     /// The smallest Rayleigh time of the particles present [s] (paper Eq. 9).

@@ -32,14 +32,23 @@ impl Simulation {
             (Some(origin), _) | (None, Some(origin)) => Carry::Moved(origin),
             (None, None) => Carry::Same,
         };
-        self.grid
-            .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+        // A wide size distribution is searched by size class; otherwise one grid, sized by
+        // the largest sphere, serves (and the re-sort above keeps its cell order either way).
+        let search = if SizeClasses::pays_for(&s.particles.radius) {
+            self.size_classes
+                .rebuild(&s.particles.position, &s.particles.radius, s.skin);
+            PairSearch::Classes(&self.size_classes)
+        } else {
+            self.grid
+                .rebuild(&s.particles.position, cell.max(f64::MIN_POSITIVE));
+            PairSearch::Cells(&self.grid)
+        };
         // `build_lists` clears what it writes into; only the capacity of the spares is reused.
         let old_pairs = std::mem::replace(&mut s.pairs, std::mem::take(&mut self.spare_lists.0));
         let old_walls =
             std::mem::replace(&mut s.wall_pairs, std::mem::take(&mut self.spare_lists.1));
         build_lists(
-            &self.grid,
+            search,
             &s.particles,
             &s.walls,
             s.skin,

@@ -10,7 +10,9 @@ use serde::Serialize;
 use crate::config::Case;
 use crate::hopper::{hopper_simulation, lattice_bed};
 
+mod bidisperse;
 mod repeat;
+pub use bidisperse::{bidisperse_bed, bidisperse_benchmark, BidisperseBed};
 pub use repeat::{combine, RunSpread};
 
 /// One timing.
@@ -32,6 +34,12 @@ pub struct BenchResult {
     pub contacts_per_particle: f64,
     /// Particle–wall contacts per particle (included in `contacts_per_particle`).
     pub wall_contacts_per_particle: f64,
+    /// Wall time per contact and step [ns]: each touching pair and each particle–wall
+    /// contact counted once.
+    pub ns_per_contact: f64,
+    /// Particle–particle candidates in the neighbour list per particle, each counted for
+    /// both partners (sampled as the contacts are).
+    pub candidates_per_particle: f64,
     /// Neighbour-list rebuilds during the window.
     pub rebuilds: u64,
     /// CPU time of the calling thread per particle and step [ns], where the OS reports it
@@ -96,7 +104,7 @@ pub fn time_steps(
     sim.time_phases(true);
     let cpu0 = thread_cpu_ns();
     let start = Instant::now();
-    let (mut contacts, mut wall_contacts) = (0.0, 0.0);
+    let (mut contacts, mut wall_contacts, mut candidates) = (0.0, 0.0, 0.0);
     // Steps in runs of up to 10, as a case runs them (`Simulation::run` fuses the half kicks
     // of consecutive steps); contacts are sampled at the end of each run.
     let mut done = 0;
@@ -107,6 +115,7 @@ pub fn time_steps(
         let c = sim.contacts();
         contacts += n as f64 * (2 * c.particle_particle + c.particle_wall) as f64;
         wall_contacts += n as f64 * c.particle_wall as f64;
+        candidates += n as f64 * (2 * sim.candidate_pairs()) as f64;
     }
     let secs = start.elapsed().as_secs_f64();
     let cpu = match (cpu0, thread_cpu_ns()) {
@@ -123,6 +132,8 @@ pub fn time_steps(
         particle_steps_per_second: ps / secs,
         contacts_per_particle: contacts / (steps as f64 * n.max(1) as f64),
         wall_contacts_per_particle: wall_contacts / (steps as f64 * n.max(1) as f64),
+        ns_per_contact: secs * 1e9 / (0.5 * (contacts + wall_contacts)),
+        candidates_per_particle: candidates / (steps as f64 * n.max(1) as f64),
         rebuilds: sim.rebuilds() - rebuilds,
         cpu_ns_per_particle_step: cpu.map(|c| c / ps),
         peak_memory_bytes: None,
@@ -236,6 +247,8 @@ pub fn scaling_benchmark(
     r.particle_steps_per_second = 1e9 / r.ns_per_particle_step;
     r.contacts_per_particle = mean(&|r| r.contacts_per_particle);
     r.wall_contacts_per_particle = mean(&|r| r.wall_contacts_per_particle);
+    r.ns_per_contact = mean(&|r| r.ns_per_contact);
+    r.candidates_per_particle = mean(&|r| r.candidates_per_particle);
     r.phases = PhaseBreakdown {
         forces_ns: mean(&|r| r.phases.forces_ns),
         integrate_ns: mean(&|r| r.phases.integrate_ns),
@@ -321,7 +334,7 @@ pub fn hopper_benchmark(
     let steps0 = run.simulation().steps();
     run.time_phases(true);
     let mut particle_steps = 0.0;
-    let (mut contacts, mut wall_contacts) = (0.0, 0.0);
+    let (mut contacts, mut wall_contacts, mut candidates) = (0.0, 0.0, 0.0);
     let cpu0 = thread_cpu_ns();
     let start = Instant::now();
     let end = opened + HOPPER_WINDOW_START + HOPPER_WINDOW;
@@ -334,6 +347,7 @@ pub fn hopper_benchmark(
         let c = run.simulation().contacts();
         contacts += steps * (2 * c.particle_particle + c.particle_wall) as f64;
         wall_contacts += steps * c.particle_wall as f64;
+        candidates += steps * (2 * run.simulation().candidate_pairs()) as f64;
     }
     let secs = start.elapsed().as_secs_f64();
     let cpu = match (cpu0, thread_cpu_ns()) {
@@ -350,6 +364,8 @@ pub fn hopper_benchmark(
         particle_steps_per_second: particle_steps / secs,
         contacts_per_particle: contacts / particle_steps,
         wall_contacts_per_particle: wall_contacts / particle_steps,
+        ns_per_contact: secs * 1e9 / (0.5 * (contacts + wall_contacts)),
+        candidates_per_particle: candidates / particle_steps,
         rebuilds: run.simulation().rebuilds() - rebuilds,
         cpu_ns_per_particle_step: cpu.map(|c| c / particle_steps),
         peak_memory_bytes: None,

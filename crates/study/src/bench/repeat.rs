@@ -103,6 +103,8 @@ mod tests {
             particle_steps_per_second: 1e9 / ns,
             contacts_per_particle: 2.6,
             wall_contacts_per_particle: 0.36,
+            ns_per_contact: ns / 1.48,
+            candidates_per_particle: 4.0,
             rebuilds,
             cpu_ns_per_particle_step: Some(ns),
             peak_memory_bytes: None,
