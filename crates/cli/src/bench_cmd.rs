@@ -4,8 +4,8 @@ use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
 use study::bench::{
-    bidisperse_benchmark, combine, hopper_benchmark, scaling_benchmark, settled_bed, time_steps,
-    BenchResult, BidisperseBed,
+    bidisperse_benchmark, combine, hopper_benchmark, mesh_floor_benchmark, scaling_benchmark,
+    settled_bed, time_steps, BenchResult, BidisperseBed,
 };
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -20,6 +20,9 @@ pub enum BenchCase {
     /// A settled 3D bed of spheres of diameters d and `--ratio`·d (d = 3 mm) in equal volumes,
     /// 10^4 spheres by default; `--ratio 1` is the monodisperse bed at the same solid fraction.
     Bidisperse,
+    /// The monodisperse 3D bed (2·10^4 spheres by default) timed on its floor plane and then
+    /// on a floor of `--triangles` triangles (10^5 by default) in its place.
+    MeshFloor,
 }
 
 #[derive(Args)]
@@ -48,6 +51,9 @@ pub struct BenchArgs {
     /// 2.97 after 0.1 s, 4.17 after 0.2 s and 4.32 after 0.4 s.
     #[arg(long)]
     settle_steps: Option<u64>,
+    /// Mesh floor only: triangles of the floor (rounded up to 2n²).
+    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(usize))]
+    triangles: usize,
     /// Bidisperse only: large over small diameter.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=10))]
     ratio: u32,
@@ -107,6 +113,22 @@ fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
                 steps,
                 Some(&cache),
             )?])
+        }
+        BenchCase::MeshFloor => {
+            let particles = args.particles.unwrap_or(20_000);
+            let (settle, steps) = (
+                args.settle_steps.unwrap_or(160_000),
+                args.steps.unwrap_or(2000),
+            );
+            let name = format!("bidisperse-r1-n{particles}-s{settle}.bin");
+            let cache = args.cache.with_file_name(name);
+            Ok(mesh_floor_benchmark(
+                particles,
+                args.triangles,
+                threads,
+                (settle, steps),
+                Some(&cache),
+            )?)
         }
     }
 }

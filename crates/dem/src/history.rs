@@ -206,6 +206,24 @@ pub(crate) struct SurfaceContact {
     pub history: ContactHistory,
 }
 
+/// What a candidate of a curved, meshed or spinning wall remembers: its contacts, and for
+/// a mesh the triangles near the sphere, found once and reused while the sphere stays
+/// within a margin of where they were found (docs/physics.md §5.3). The triangles are a
+/// cache: any superset of those within reach gives the same contacts, so they are not
+/// stored in checkpoints.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub(crate) struct SurfaceSlot {
+    /// The contacts of the last step.
+    pub contacts: Vec<SurfaceContact>,
+    /// Triangles within reach plus the margin of `anchor`.
+    #[serde(skip)]
+    pub near: Vec<crate::wall::NearTriangle>,
+    /// Where the sphere's centre was, in the mesh's frame, when `near` was found [m]; none
+    /// until then.
+    #[serde(skip)]
+    pub anchor: Option<DVec3>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

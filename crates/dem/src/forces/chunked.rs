@@ -41,6 +41,7 @@ pub(crate) fn evaluate_chunk(
     wall_pairs: &mut WallPairList,
     buffers: &mut ForceBuffers,
     bodies: Range<usize>,
+    elements: &mut [super::loads::SurfaceLoads],
 ) -> Evaluation {
     assert!(
         *input.laws == ContactLaws::default(),
@@ -78,7 +79,7 @@ pub(crate) fn evaluate_chunk(
     let pieces = pieces_in(
         (&wall_pairs.particle, &wall_pairs.wall),
         (tangential, live),
-        bodies,
+        bodies.clone(),
     );
     let (worst_wall, particle_wall) = wall_pieces(
         input,
@@ -93,14 +94,22 @@ pub(crate) fn evaluate_chunk(
         // A wall contact has only the particle's share: F and M_i.
         &mut |i: usize, cf: &ContactForce| acc.add_i(i, cf),
     );
-    Evaluation {
+    let mut eval = Evaluation {
         count: ContactCount {
             particle_particle,
             particle_wall,
         },
         worst_pair,
         worst_wall,
+    };
+    // The chunk's contacts with curved, meshed and spinning walls, after its others, as
+    // the whole evaluation adds them.
+    if input.walls.iter().flatten().any(Wall::resolved_one_by_one) {
+        let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements, bodies);
+        eval.count.particle_wall += contacts;
+        eval.worst_wall = eval.worst_wall.merge(worst);
     }
+    eval
 }
 
 /// The candidates of a wall-major list (`pi`, `pw`) whose particle lies in `bodies`: one
@@ -203,7 +212,9 @@ mod tests {
                 start(&mut buffers);
                 let eval = chunks
                     .iter()
-                    .map(|c| evaluate_chunk(&input, &mut p, &mut w, &mut buffers, c.clone()))
+                    .map(|c| {
+                        evaluate_chunk(&input, &mut p, &mut w, &mut buffers, c.clone(), &mut [])
+                    })
                     .reduce(Evaluation::merge)
                     .expect("some chunks");
                 chunked.extend(bits(&buffers, &p, &w, &eval));

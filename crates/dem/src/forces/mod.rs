@@ -216,7 +216,8 @@ pub(crate) fn evaluate(
         None => planar_contacts(input, pairs, wall_pairs, buffers),
     };
     if input.walls.iter().flatten().any(Wall::resolved_one_by_one) {
-        let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements);
+        let everyone = 0..input.particles.len();
+        let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements, everyone);
         eval.count.particle_wall += contacts;
         eval.worst_wall = eval.worst_wall.merge(worst);
     }
@@ -229,20 +230,22 @@ pub(crate) fn start_loads(buffers: &mut ForceBuffers, walls: usize) {
     buffers.loads.resize(walls, LoadSum::default());
 }
 
-/// The contacts of the curved, meshed and spinning walls, after all others
-/// ([`surfaces::surface_pass`]).
+/// The contacts of the curved, meshed and spinning walls with the particles of `bodies`,
+/// after all others ([`surfaces::surface_pass`]).
 fn surface_contacts(
     input: &KernelInput,
     wall_pairs: &mut WallPairList,
     buffers: &mut ForceBuffers,
     elements: &mut [loads::SurfaceLoads],
+    bodies: std::ops::Range<usize>,
 ) -> (WorstOverlap, usize) {
     let len = wall_pairs.particle.len();
     // A wall that began to spin since the last build has no remembered contacts yet.
-    wall_pairs.surfaces.resize_with(len, Vec::new);
+    wall_pairs.surfaces.resize_with(len, Default::default);
     surfaces::surface_pass(
         input,
         (&wall_pairs.particle, &wall_pairs.wall),
+        bodies,
         &mut wall_pairs.surfaces,
         &mut buffers.surface,
         &mut surfaces::SurfaceSinks {

@@ -11,13 +11,18 @@
 use super::loads::{add_load, LoadQuanta, LoadSum, SurfaceLoads};
 use super::*;
 use crate::contact::geometry::{sphere_wall, Sphere};
-use crate::history::SurfaceContact;
+use crate::history::{SurfaceContact, SurfaceSlot};
 use crate::wall::{MeshContact, MeshScratch, WallShape};
 
 /// Cosine of the largest angle between the normals of a remembered contact and a new one
 /// that continue each other (60°). A sliding contact's normal turns by far less in one
 /// step; two simultaneous contacts of a fold differ by more.
 const SAME_CONTACT_COS: f64 = 0.5;
+
+/// How far, as a fraction of its radius, a sphere may move relative to a mesh before the
+/// triangles near it are looked up again: a triangle farther than R + margin when they were
+/// found cannot have come within R since.
+const NEAR_MARGIN: f64 = 0.02;
 
 /// Working arrays of the pass, reused from step to step.
 #[derive(Debug, Default)]
@@ -38,13 +43,16 @@ pub(crate) struct SurfaceSinks<'a> {
     pub elements: &'a mut [SurfaceLoads],
 }
 
-/// Resolves every candidate of the walls that [`Wall::resolved_one_by_one`] names, from the
-/// wall-major list (`pi`, `pw`), with their remembered contacts `slots` (index-aligned with
-/// the list); returns the worst overlap and the number of contacts.
+/// Resolves the candidates of the walls that [`Wall::resolved_one_by_one`] names whose
+/// particles lie in `bodies`, from the wall-major list (`pi`, `pw`), with their remembered
+/// contacts `slots` (index-aligned with the list); returns the worst overlap and the number
+/// of contacts. Each wall's particles are visited in increasing index order, whether the
+/// bodies come whole or chunk by chunk, so every sum sees its additions in the same order.
 pub(crate) fn surface_pass(
     input: &KernelInput,
     (pi, pw): (&[u32], &[u32]),
-    slots: &mut [Vec<SurfaceContact>],
+    bodies: std::ops::Range<usize>,
+    slots: &mut [SurfaceSlot],
     scratch: &mut SurfaceScratch,
     sinks: &mut SurfaceSinks,
 ) -> (WorstOverlap, usize) {
@@ -58,11 +66,16 @@ pub(crate) fn surface_pass(
         };
         let mut sum = LoadSum::default();
         let bands = sinks.elements.get(w).map_or(1, |e| e.elements.len().max(1));
-        for k in run {
+        // The run's particles are in increasing order: those in `bodies` are one stretch.
+        let ids = &pi[run.clone()];
+        let from = run.start + ids.partition_point(|&i| (i as usize) < bodies.start);
+        let to = run.start + ids.partition_point(|&i| (i as usize) < bodies.end);
+        for k in from..to {
             let i = pi[k] as usize;
             let (x, r) = (p.position[i], p.radius[i]);
-            touching(wall, x, r, bands, scratch);
             let slot = &mut slots[k];
+            touching(wall, (x, r), bands, slot, scratch);
+            let slot = &mut slot.contacts;
             if scratch.contacts.is_empty() {
                 slot.clear();
                 continue;
@@ -116,11 +129,29 @@ pub(crate) fn surface_pass(
 
 /// The contacts of a sphere at `x` with radius `r` [m] with `wall`, into
 /// `scratch.contacts`; for a frustum, `triangle` holds the contact's band, of `bands` equal
-/// lengths along the axis.
-fn touching(wall: &Wall, x: DVec3, r: f64, bands: usize, scratch: &mut SurfaceScratch) {
+/// lengths along the axis. For a mesh, the triangles near the sphere are looked up in the
+/// mesh's index only when it has left the margin about where `slot` last found them.
+fn touching(
+    wall: &Wall,
+    (x, r): (DVec3, f64),
+    bands: usize,
+    slot: &mut SurfaceSlot,
+    scratch: &mut SurfaceScratch,
+) {
     let out = &mut scratch.contacts;
     match wall.shape() {
-        WallShape::Mesh(m) => m.contacts(x, r, &mut scratch.mesh, out),
+        WallShape::Mesh(m) => {
+            let margin = NEAR_MARGIN * r;
+            let here = m.to_mesh_frame(x);
+            if slot
+                .anchor
+                .is_none_or(|a| a.distance_squared(here) >= margin * margin)
+            {
+                m.triangles_near(here, r + margin, &mut slot.near);
+                slot.anchor = Some(here);
+            }
+            m.contacts_among(x, r, &slot.near, &mut scratch.mesh, out);
+        }
         WallShape::Frustum(f) => {
             out.clear();
             let (point, distance, t) = f.closest_point(x);

@@ -15,7 +15,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactHistory;
-use crate::history::{HistoryArrays, SurfaceContact, NO_SOURCE};
+use crate::history::{HistoryArrays, SurfaceSlot, NO_SOURCE};
 use crate::particles::ParticleSet;
 use crate::wall::Wall;
 
@@ -52,7 +52,7 @@ pub struct WallPairList {
     pub(crate) history: HistoryArrays,
     /// The remembered contacts of each candidate of a curved, meshed or spinning wall
     /// (`forces::surfaces`), index-aligned with the list; empty while there is no such wall.
-    pub(crate) surfaces: Vec<Vec<SurfaceContact>>,
+    pub(crate) surfaces: Vec<SurfaceSlot>,
 }
 
 impl WallPairList {

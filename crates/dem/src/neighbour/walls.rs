@@ -40,8 +40,7 @@ pub(super) fn wall_candidates(
     } else {
         for i in 0..n {
             let reach = rad[i] + skin;
-            if !wall.certainly_beyond(pos[i], reach) && wall.distance_within(pos[i], reach) < reach
-            {
+            if !wall.certainly_beyond(pos[i], reach) && wall.comes_within(pos[i], reach) {
                 out.push(i as u32);
             }
         }

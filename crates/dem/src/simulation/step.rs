@@ -219,9 +219,6 @@ impl Simulation {
         self.pool.is_none()
             && self.state.particles.len() > FUSE_BODIES
             && self.state.config.laws == ContactLaws::default()
-            // The surface pass follows every other contact, so no chunk's forces are whole
-            // before the end.
-            && !self.state.walls.iter().flatten().any(Wall::resolved_one_by_one)
     }
 
     /// The evaluation of the step's forces cut into chunks of bodies
@@ -297,7 +294,7 @@ impl Simulation {
                 self.pool.as_deref(),
                 elements,
             ),
-            Some(bodies) => forces::evaluate_chunk(&input, pairs, walls, buffers, bodies),
+            Some(bodies) => forces::evaluate_chunk(&input, pairs, walls, buffers, bodies, elements),
         };
         std::mem::swap(&mut s.particles.force, &mut self.buffers.force);
         std::mem::swap(&mut s.particles.torque, &mut self.buffers.torque);

@@ -37,6 +37,23 @@ struct Facet {
     vertex: [u32; 3],
     /// Edge ids, edge k from corner k to corner k + 1.
     edge: [u32; 3],
+    /// Lowest and highest corner of the triangle's bounding box [m].
+    bounds: (DVec3, DVec3),
+}
+
+/// A copy of one triangle's geometry, kept beside a sphere that is near it: the contact test
+/// of every step then reads a few hundred bytes in a row instead of triangles scattered
+/// through a large mesh, which cost a cache miss each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NearTriangle {
+    /// The triangle's index in the mesh.
+    pub triangle: u32,
+    /// Corners in the mesh's frame [m].
+    corners: [DVec3; 3],
+    /// Unit normal [-].
+    normal: DVec3,
+    /// Bounding box [m].
+    bounds: (DVec3, DVec3),
 }
 
 /// A contact of a sphere with a mesh: where, along which normal and with which triangle.
@@ -76,6 +93,7 @@ pub struct Mesh {
 #[derive(Debug, Default, Clone)]
 pub struct MeshScratch {
     found: Vec<(Feature, u32, u32, DVec3, f64)>,
+    near: Vec<NearTriangle>,
 }
 
 impl Mesh {
@@ -136,6 +154,10 @@ impl Mesh {
                 normal,
                 vertex,
                 edge,
+                bounds: (
+                    tri[0].min(tri[1]).min(tri[2]),
+                    tri[0].max(tri[1]).max(tri[2]),
+                ),
             });
         }
         let boxes: Vec<(DVec3, DVec3)> = triangles
@@ -202,13 +224,26 @@ impl Mesh {
         self.translation = translation;
     }
 
+    /// True while the mesh is where it was built: its frame is the world's, and no point
+    /// needs transforming.
+    #[inline]
+    fn at_home(&self) -> bool {
+        self.rotation == DQuat::IDENTITY && self.translation == DVec3::ZERO
+    }
+
     #[inline]
     fn to_world(&self, b: DVec3) -> DVec3 {
+        if self.at_home() {
+            return b;
+        }
         self.rotation * b + self.translation
     }
 
     #[inline]
     fn to_body(&self, x: DVec3) -> DVec3 {
+        if self.at_home() {
+            return x;
+        }
         self.rotation.inverse() * (x - self.translation)
     }
 
@@ -234,23 +269,82 @@ impl Mesh {
 
     /// Distance from `x` to the nearest point of the mesh within `reach` [m], or `reach`
     /// when none is nearer.
+    #[cfg(test)]
     pub(super) fn distance_within(&self, x: DVec3, reach: f64) -> f64 {
         let b = self.to_body(x);
         let mut best = reach * reach;
         self.grid.near(b, reach, |t| {
             let (p, _) = closest_point(b, self.facets[t as usize].corners);
             best = best.min((b - p).length_squared());
+            false
         });
         best.sqrt()
     }
 
-    /// The contacts of a sphere at `x` with radius `r` [m], after the claims of the module's
-    /// rule, into `out` in a fixed order (faces, then edges, then corners, each by
-    /// triangle or feature id).
+    /// True when some triangle is closer than `reach` [m] to `x`: the neighbour search's
+    /// test, which stops at the first.
+    pub(super) fn comes_within(&self, x: DVec3, reach: f64) -> bool {
+        let b = self.to_body(x);
+        let reach2 = reach * reach;
+        let mut found = false;
+        self.grid.near(b, reach, |t| {
+            let (p, _) = closest_point(b, self.facets[t as usize].corners);
+            found = (b - p).length_squared() < reach2;
+            found
+        });
+        found
+    }
+
+    /// A point of the world in the mesh's own frame [m].
+    #[inline]
+    pub fn to_mesh_frame(&self, x: DVec3) -> DVec3 {
+        self.to_body(x)
+    }
+
+    /// The triangles closer than `reach` [m] to `b`, a point in the mesh's own frame, into
+    /// `out` in increasing order.
+    pub fn triangles_near(&self, b: DVec3, reach: f64, out: &mut Vec<NearTriangle>) {
+        out.clear();
+        let reach2 = reach * reach;
+        self.grid.near(b, reach, |t| {
+            let f = &self.facets[t as usize];
+            let (p, _) = closest_point(b, f.corners);
+            if (b - p).length_squared() < reach2 {
+                out.push(NearTriangle {
+                    triangle: t,
+                    corners: f.corners,
+                    normal: f.normal,
+                    bounds: f.bounds,
+                });
+            }
+            false
+        });
+        out.sort_unstable_by_key(|n| n.triangle);
+    }
+
+    /// The contacts of a sphere at `x` with radius `r` [m] under the module's rule, into
+    /// `out` in a fixed order (faces, then edges, then corners, each by triangle or feature
+    /// id): the triangles are looked up in the index.
     pub fn contacts(
         &self,
         x: DVec3,
         r: f64,
+        scratch: &mut MeshScratch,
+        out: &mut Vec<MeshContact>,
+    ) {
+        let mut near = std::mem::take(&mut scratch.near);
+        self.triangles_near(self.to_body(x), r, &mut near);
+        self.contacts_among(x, r, &near, scratch, out);
+        scratch.near = near;
+    }
+
+    /// [`Mesh::contacts`] among the triangles `near`, which must include every triangle
+    /// within `r` of `x` (more do no harm: the result is the same).
+    pub fn contacts_among(
+        &self,
+        x: DVec3,
+        r: f64,
+        near: &[NearTriangle],
         scratch: &mut MeshScratch,
         out: &mut Vec<MeshContact>,
     ) {
@@ -259,13 +353,19 @@ impl Mesh {
         let r2 = r * r;
         let found = &mut scratch.found;
         found.clear();
-        self.grid.near(b, r, |t| {
-            let facet = &self.facets[t as usize];
-            // The plane's distance bounds the triangle's from below: most triangles beside
-            // a sphere are out of reach of its plane section, and are left after one dot.
+        for facet in near {
+            let t = facet.triangle;
+            // The bounding box's distance and the plane's bound the triangle's from below:
+            // most triangles beside a sphere are out of reach of its section with their
+            // plane, and are left after these few operations.
+            let (lo, hi) = facet.bounds;
+            let gap = (lo - b).max(b - hi).max(DVec3::ZERO);
+            if gap.length_squared() >= r2 {
+                continue;
+            }
             let h = (b - facet.corners[0]).dot(facet.normal);
             if h * h >= r2 {
-                return;
+                continue;
             }
             let (p, feature) = closest_point(b, facet.corners);
             let d2 = (b - p).length_squared();
@@ -273,14 +373,20 @@ impl Mesh {
                 // The feature's id on the whole mesh: the triangle, the edge or the corner.
                 let id = match feature {
                     Feature::Face => t,
-                    Feature::Edge(k) => facet.edge[k as usize],
-                    Feature::Corner(k) => facet.vertex[k as usize],
+                    Feature::Edge(k) => self.facets[t as usize].edge[k as usize],
+                    Feature::Corner(k) => self.facets[t as usize].vertex[k as usize],
                 };
                 found.push((feature_class(feature), id, t, p, d2));
             }
-        });
-        if found.is_empty() {
-            return;
+        }
+        match found[..] {
+            [] => return,
+            // One face: nothing to count or claim (the common case of a sphere on a surface).
+            [(Feature::Face, _, t, p, d2)] => {
+                out.push(self.contact(b, t, p, d2));
+                return;
+            }
+            _ => {}
         }
         found.sort_unstable_by_key(|f| (f.0, f.1, f.2));
         // Runs of one feature: a face counts; an edge or corner when every triangle having
@@ -323,7 +429,11 @@ impl Mesh {
         };
         MeshContact {
             point: self.to_world(p),
-            normal: self.rotation * normal_b,
+            normal: if self.at_home() {
+                normal_b
+            } else {
+                self.rotation * normal_b
+            },
             distance,
             triangle: t,
         }

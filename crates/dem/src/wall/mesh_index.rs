@@ -94,9 +94,9 @@ impl TriangleGrid {
     }
 
     /// Calls `visit(t)` once for every triangle whose bounding box comes closer than
-    /// `reach` [m] to `x`.
+    /// `reach` [m] to `x`, until a call returns true.
     #[inline]
-    pub(super) fn near(&self, x: DVec3, reach: f64, mut visit: impl FnMut(u32)) {
+    pub(super) fn near(&self, x: DVec3, reach: f64, mut visit: impl FnMut(u32) -> bool) {
         let dims = self.dims;
         let mut lo = [0u32; 3];
         let mut hi = [0u32; 3];
@@ -124,8 +124,8 @@ impl TriangleGrid {
                         }
                         let (a, b) = self.bounds[t as usize];
                         let gap = (a - x).max(x - b).max(DVec3::ZERO);
-                        if gap.length_squared() < reach2 {
-                            visit(t);
+                        if gap.length_squared() < reach2 && visit(t) {
+                            return;
                         }
                     }
                 }

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::material::{Interaction, WallMaterial};
 pub use frustum::Frustum;
-pub use mesh::{Mesh, MeshContact, MeshScratch};
+pub use mesh::{Mesh, MeshContact, MeshScratch, NearTriangle};
 pub use plane::Plane;
 pub use polygon::Polygon;
 
@@ -363,13 +363,13 @@ impl Wall {
         }
     }
 
-    /// Distance from `x` to the wall if it is below `reach` [m], else some value ≥ `reach`:
-    /// the neighbour search's test, which for a mesh looks only at the triangles in reach.
+    /// True when the wall comes closer than `reach` [m] to `x`: the neighbour search's test,
+    /// which for a mesh looks only at the triangles in reach and stops at the first.
     #[inline]
-    pub fn distance_within(&self, x: DVec3, reach: f64) -> f64 {
+    pub fn comes_within(&self, x: DVec3, reach: f64) -> bool {
         match &self.shape {
-            WallShape::Mesh(m) => m.distance_within(x, reach),
-            _ => self.closest_point(x).1,
+            WallShape::Mesh(m) => m.comes_within(x, reach),
+            _ => self.closest_point(x).1 < reach,
         }
     }
 

@@ -241,6 +241,7 @@ fn the_index_finds_what_a_search_of_every_triangle_finds() {
         } else {
             assert!(indexed >= reach - GEOM_TOL);
         }
+        assert_eq!(m.comes_within(x, reach), exact < reach);
     }
 }
 

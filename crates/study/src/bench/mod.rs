@@ -11,8 +11,11 @@ use crate::config::Case;
 use crate::hopper::{hopper_simulation, lattice_bed};
 
 mod bidisperse;
+mod mesh_floor;
 mod repeat;
 pub use bidisperse::{bidisperse_bed, bidisperse_benchmark, BidisperseBed};
+use bidisperse::{settled_bidisperse_bed, SMALL_DIAMETER};
+pub use mesh_floor::mesh_floor_benchmark;
 pub use repeat::{combine, RunSpread};
 
 /// One timing.
