@@ -199,7 +199,10 @@ fn wall_loads_of_the_settled_bed_carry_its_weight_and_the_gate_leaves_with_the_o
     // The torque about the origin of a horizontal floor's load: τ_x = y F_z − z F_y and
     // τ_y = z F_x − x F_z, with the gate in z = 0 and the load's line of action in the
     // slab (0 < y < Z) and over the gate (|x − x_c| < D/2).
-    let (y, x) = (gate.torque[0] / gate.force[2], -gate.torque[1] / gate.force[2]);
+    let (y, x) = (
+        gate.torque[0] / gate.force[2],
+        -gate.torque[1] / gate.force[2],
+    );
     println!("gate's line of action: x = {x:.6e} m, y = {y:.6e} m");
     assert!(
         y > 0.0 && y < case.geometry.thickness,
