@@ -90,6 +90,10 @@ fn wall_loads_of_the_settled_bed_carry_its_weight_and_the_gate_leaves_with_the_o
         .map(|w| (w[0].time, w))
         .filter(|(t, _)| *t > opened)
         .collect();
+    assert!(
+        !before.is_empty() && !after.is_empty(),
+        "windows before and after the opening at {opened} s"
+    );
     fn names<'a>(w: &[&'a Row]) -> Vec<&'a str> {
         w.iter().map(|r| r.wall.as_str()).collect()
     }

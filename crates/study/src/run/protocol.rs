@@ -330,7 +330,7 @@ impl CaseRun {
         sim.run_watched(chunk, 1, |seen: &Watched<'_>| -> Result<(), RunError> {
             state.wall_forces.observe(seen);
             taken += 1;
-            if taken % every != 0 && taken != chunk {
+            if !taken.is_multiple_of(every) && taken != chunk {
                 return Ok(());
             }
             let t = seen.time();
