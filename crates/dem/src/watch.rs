@@ -3,10 +3,12 @@
 
 use glam::DVec3;
 
+use crate::forces::loads::WallLoad;
 use crate::particles::{ParticleSet, ParticleTag, FLAG_FROZEN};
+use crate::wall::{Wall, WallId};
 
 /// The bodies at one step, as a caller that measures them sees them: tags, positions,
-/// radii, masses, and velocities at the full step.
+/// radii, masses, velocities at the full step, and the loads on the walls in that step.
 ///
 /// Between the steps of a run the velocities stored are half a kick behind: each step's
 /// second half kick v += (Δt/2m) F waits for the next step's pass. [`Watched::velocity`]
@@ -16,6 +18,9 @@ use crate::particles::{ParticleSet, ParticleTag, FLAG_FROZEN};
 pub struct Watched<'a> {
     particles: &'a ParticleSet,
     time: f64,
+    /// The walls by id (`None` where one was removed) and their loads in the step.
+    walls: &'a [Option<Wall>],
+    wall_loads: &'a [WallLoad],
     /// The pending kick: Δt/2 [s], and the reciprocal mass [1/kg] and inertia [1/(kg m²)]
     /// that all bodies share when they do (`integrator::uniform_free_body`).
     pending: Option<(f64, Option<(f64, f64)>)>,
@@ -25,13 +30,25 @@ impl<'a> Watched<'a> {
     pub(crate) fn new(
         particles: &'a ParticleSet,
         time: f64,
+        walls: (&'a [Option<Wall>], &'a [WallLoad]),
         pending: Option<(f64, Option<(f64, f64)>)>,
     ) -> Self {
         Self {
             particles,
             time,
+            walls: walls.0,
+            wall_loads: walls.1,
             pending,
         }
+    }
+
+    /// The load the particles exerted on wall `id` in the step, as
+    /// [`crate::Simulation::wall_load`] gives it (zero for a wall that does not sum its
+    /// load, and before the first step); `None` for a wall that is not present.
+    pub fn wall_load(&self, id: WallId) -> Option<WallLoad> {
+        let k = id.0 as usize;
+        self.walls.get(k)?.as_ref()?;
+        Some(self.wall_loads.get(k).copied().unwrap_or_default())
     }
 
     /// Simulated time of the step [s].

@@ -299,6 +299,22 @@ impl Simulation {
             .map_err(|e| engine_error(&e))
     }
 
+    /// The load the particles exerted on wall `id` in the last step: the force [N] and the
+    /// torque about the origin [N m], each a read-only float64 array of 3. Zero before the
+    /// first step, and for the front and back faces, whose load is not summed.
+    fn wall_load<'py>(
+        &self,
+        py: Python<'py>,
+        id: i64,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let id = self.wall_id(id)?;
+        let load = self.sim.wall_load(id).map_err(|e| engine_error(&e))?;
+        Ok((
+            array(py, vec3_bytes(&[load.force]), "float64", 0)?,
+            array(py, vec3_bytes(&[load.torque]), "float64", 0)?,
+        ))
+    }
+
     /// The hopper's walls by name: left, right, front, back, plate_left, plate_right (when
     /// present) and gate (while present).
     #[getter]

@@ -18,7 +18,7 @@ from conftest import TINY
 def test_summary_is_byte_identical_to_the_cli(cli_run, py_run):
     # Determinism is the contract: the Python module runs the same code on the same case.
     assert (py_run.path / "summary.json").read_bytes() == (cli_run / "summary.json").read_bytes()
-    for name in ["flow.csv", "profiles.csv", "field.csv", "case.toml"]:
+    for name in ["flow.csv", "wall_forces.csv", "profiles.csv", "field.csv", "case.toml"]:
         assert (py_run.path / name).read_bytes() == (cli_run / name).read_bytes(), name
 
 
@@ -57,8 +57,8 @@ def test_crossings_are_a_table_and_absent_tables_raise_file_not_found(py_run):
     assert np.all(np.asarray(crossings["velocity_z_m_per_s"]) < 0)
     # Each crossing is one particle of the case.
     assert np.asarray(crossings["id"]).max() < 250
-    with pytest.raises(FileNotFoundError, match="wall_forces.csv"):
-        py_run.wall_forces
+    with pytest.raises(FileNotFoundError, match="no_such.csv"):
+        py_run.table("no_such.csv")
     with pytest.raises(AttributeError):
         py_run.not_a_table
 
@@ -185,3 +185,59 @@ def test_the_gil_is_released_during_a_run(tmp_path):
         worker.join()
     during = [t for t in counts if started < t < ended]
     assert len(during) > 100, "the counting thread starved while the run held the GIL"
+
+
+# Gravity of the runs [m/s²] (the engine's, along −z).
+G = 9.81
+
+WALL_FORCE_COLUMNS = ["time", "wall", "fx", "fy", "fz", "tx", "ty", "tz"]
+
+
+def bed_weight(case):
+    """m g of the tiny case's fill [N]: monodisperse spheres of the case's density."""
+    d = case["particles.diameter"]
+    return case["particles.count"] * case["particles.material.density"] * np.pi * d**3 / 6 * G
+
+
+def test_wall_forces_before_the_opening_carry_the_settled_bed(py_run):
+    forces = py_run.wall_forces
+    assert list(forces.columns) == WALL_FORCE_COLUMNS
+    assert forces["time"].dtype == np.float64 and forces["fz"].dtype == np.float64
+    summary, case = py_run.summary, py_run.case
+    opened = summary["fill_time"]
+    times = forces["time"].to_numpy()
+    walls = forces["wall"].to_numpy()
+    # Windows through the whole run (time [s] from its start), never past its end; the
+    # faces, whose load is not summed, have no rows; the gate none after it opened.
+    assert times.min() > 0 and times.max() <= opened + summary["discharge_time"]
+    assert set(walls) == {"left", "right", "plate_left", "plate_right", "gate"}
+    assert np.all(times[walls == "gate"] < opened)
+    assert np.any(times > opened)
+    # The last window before the opening: the settled bed rests on the walls, which it
+    # presses down (fz < 0, the force the particles exert [N]) with its whole weight m g.
+    # The faces of the 1.01 d slab take a little of it by friction; measured, the walls
+    # that sum their load carry 0.9978 m g, and 1 % is the margin.
+    last = forces[times == times[times < opened].max()]
+    weight = bed_weight(case)
+    total = last["fz"].sum()
+    assert abs(total + weight) < 0.01 * weight, (total, weight)
+    # The gate carries the part of the bed over the outlet, of the order of its share D/L
+    # of the floor (measured 1.37 D/L: the middle of this shallow bed presses harder than
+    # the edges, where the side walls hold part of it by friction). Half to twice D/L.
+    gate = last[last["wall"] == "gate"]["fz"].item()
+    share = case["geometry.outlet_width"] / case["geometry.width"]
+    assert 0.5 * share * weight < -gate < 2 * share * weight, (gate, weight)
+    # Its torque about the origin [N m] puts the load's line of action over the outlet:
+    # for a floor in z = 0, τ_y = −x F_z.
+    x = -last[last["wall"] == "gate"]["ty"].item() / gate
+    assert abs(x) < case["geometry.outlet_width"] / 2
+
+
+def test_wall_forces_without_pandas_and_from_load_run(py_run, monkeypatch):
+    monkeypatch.setenv("HOPPERFLOW_NO_PANDAS", "1")
+    forces = hf.load_run(py_run.path).wall_forces
+    assert isinstance(forces, dict) and list(forces) == WALL_FORCE_COLUMNS
+    # Names as text, loads as the float64 bits of the CSV text.
+    assert forces["wall"].dtype.kind == "U" and forces["fx"].dtype == np.float64
+    first = (py_run.path / "wall_forces.csv").read_text().splitlines()[1].split(",")
+    assert forces["wall"][0] == first[1] and forces["fz"][0] == float(first[4])

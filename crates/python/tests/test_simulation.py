@@ -7,6 +7,9 @@ import pytest
 import hopperflow as hf
 from conftest import TINY
 
+# Gravity of the engine [m/s²], along −z.
+G = 9.81
+
 
 def lattice(case, rows=6, cols=10):
     """Spheres on a square lattice inside the tiny hopper, 10 % apart, at rest."""
@@ -103,6 +106,9 @@ def test_add_and_remove_particles_and_walls():
         (lambda s: s.remove_wall(999), KeyError, "wall 999"),
         (lambda s: s.remove_wall(-1), KeyError, "wall -1"),
         (lambda s: s.translate_wall(999, [0, 0, 0]), KeyError, "wall 999"),
+        (lambda s: s.wall_load(999), KeyError, "wall 999"),
+        (lambda s: s.wall_load(-1), KeyError, "wall -1"),
+        (lambda s: s.wall_load("gate"), TypeError, None),
         (lambda s: s.add_plane([0, 0, 0], [0, 0, 0]), ValueError, "plane"),
         (lambda s: s.add_polygon([[0, 0, 0], [1, 0, 0]]), ValueError, "polygon"),
         (lambda s: s.remove_below(float("nan")), ValueError, "z"),
@@ -118,9 +124,51 @@ def test_misuse_raises_python_exceptions(call, error, words):
 
 def test_removing_the_gate_twice_raises_key_error():
     _, sim, *_ = filled()
+    gate = sim.walls["gate"]
     sim.open_gate()
     with pytest.raises(KeyError):
         sim.open_gate()
+    # A removed wall has no load either.
+    with pytest.raises(KeyError, match=f"wall {gate}"):
+        sim.wall_load(gate)
+
+
+def test_a_resting_sphere_presses_a_plane_with_its_weight():
+    case = hf.Case.load(str(TINY))
+    sim = hf.Simulation.from_case(case)
+    # A shelf across the hopper, well above its floor, and one sphere just touching it,
+    # midway between the faces (it touches neither: the slab is 1.01 d thick).
+    shelf_z = 0.05
+    shelf = sim.add_plane([0.0, 0.0, shelf_z], [0.0, 0.0, 1.0])
+    r = case["particles.diameter"] / 2
+    x, y = 0.01, case["geometry.thickness"] / 2
+    sim.add_particle([x, y, shelf_z + r], r)
+    before = sim.wall_load(shelf)
+    # Before any step no load has been evaluated.
+    assert np.all(before[0] == 0) and np.all(before[1] == 0)
+    # 20 ms: the contact (restitution 0.2, some 10 µs long) has long damped out.
+    sim.step(round(0.02 / sim.time_step))
+    force, torque = sim.wall_load(shelf)
+    assert force.shape == (3,) and torque.shape == (3,)
+    m = sim.masses[0]
+    weight = np.array([0.0, 0.0, -G * m])
+    # The plane's load is the reaction of the contact force on the sphere: its total force
+    # (`forces` holds the weight too) less its weight. The loads are summed in quanta of
+    # 2^-32 of the weight, so they agree to that.
+    contact = sim.forces[0] - weight
+    assert np.allclose(force, -contact, rtol=0, atol=1e-9 * G * m)
+    # At rest the sphere weighs on the plane, downward: F = m g. The residual
+    # acceleration after 20 ms is far below 10^-6 g.
+    assert np.allclose(force, weight, rtol=0, atol=1e-6 * G * m), (force, weight)
+    # Torque about the origin [N m] of a force at the contact point (x, y, shelf_z):
+    # (y F_z, −x F_z, 0), up to the sphere's rolling resistance torque at rest (none).
+    expected = np.array([y * force[2], -x * force[2], 0.0])
+    assert np.allclose(torque, expected, rtol=0, atol=1e-6 * G * m * r), (torque, expected)
+    # The faces are not summed and read zero; the side walls, untouched, too.
+    walls = sim.walls
+    for name in ["front", "left"]:
+        f, t = sim.wall_load(walls[name])
+        assert np.all(f == 0) and np.all(t == 0), name
 
 
 def test_overlapping_particles_stop_the_engine_with_run_error():

@@ -42,7 +42,7 @@ pub struct WallLoad {
 }
 
 /// The force and torque quanta of the fixed-point sums and their inverses.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub(crate) struct LoadQuanta {
     /// Force quantum [N] and torque quantum [N m].
     quantum: (f64, f64),

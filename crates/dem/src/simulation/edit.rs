@@ -99,7 +99,7 @@ impl Simulation {
         table[old * n + old] = Some(self_interaction);
         s.materials.push(material);
         s.interactions = table;
-        self.prepared = false;
+        self.unprepare();
         Ok(MaterialId(old as u16))
     }
 
@@ -116,7 +116,7 @@ impl Simulation {
         check_material_id(b, n)?;
         self.state.interactions[a.0 as usize * n + b.0 as usize] = Some(interaction);
         self.state.interactions[b.0 as usize * n + a.0 as usize] = Some(interaction);
-        self.prepared = false;
+        self.unprepare();
         Ok(())
     }
 
@@ -140,7 +140,7 @@ impl Simulation {
         let k = p.len() - 1;
         p.force[k] = p.mass[k] * g;
         self.state.needs_rebuild = true;
-        self.prepared = false;
+        self.unprepare();
         Ok(tag)
     }
 
@@ -186,7 +186,7 @@ impl Simulation {
         self.state.walls.push(Some(wall));
         self.state.wall_interactions.push(Vec::new());
         self.state.needs_rebuild = true;
-        self.prepared = false;
+        self.unprepare();
         Ok(WallId(self.state.walls.len() as u32 - 1))
     }
 
@@ -207,7 +207,7 @@ impl Simulation {
             row.resize(m + 1, None);
         }
         row[m] = Some(interaction);
-        self.prepared = false;
+        self.unprepare();
         Ok(())
     }
 
@@ -276,10 +276,16 @@ impl Simulation {
     pub fn set_particle_flags(&mut self, index: usize, flags: u8) {
         self.state.particles.flags[index] = flags;
         // The integrator's shared-body form holds only while no particle has flags.
-        self.prepared = false;
+        self.unprepare();
     }
 
     /// Mixes coefficients and checks Δt; runs before a step whenever the set-up changed.
+    /// Marks the set-up changed: the next step prepares it again, with new load quanta.
+    pub(super) fn unprepare(&mut self) {
+        self.prepared = false;
+        self.new_quanta = true;
+    }
+
     pub(super) fn prepare(&mut self) -> Result<(), DemError> {
         let s = &self.state;
         let n = s.materials.len();
@@ -334,15 +340,23 @@ impl Simulation {
         self.uniform_body = uniform_body(&s.particles);
         self.uniform_free = uniform_free_body(&s.particles);
         let p = &s.particles;
-        let g = s.config.gravity.length().max(1.0);
-        let lightest = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
-        let reach = p
-            .position
-            .iter()
-            .zip(&p.radius)
-            .map(|(x, r)| x.length() + r)
-            .fold(0.0, f64::max);
-        self.load_quanta = LoadQuanta::new(lightest * g, reach);
+        let quanta = match s.load_quanta {
+            Some(saved) if !self.new_quanta => saved,
+            _ => {
+                let g = s.config.gravity.length().max(1.0);
+                let lightest = p.mass.iter().copied().fold(f64::INFINITY, f64::min);
+                let reach = p
+                    .position
+                    .iter()
+                    .zip(&p.radius)
+                    .map(|(x, r)| x.length() + r)
+                    .fold(0.0, f64::max);
+                LoadQuanta::new(lightest * g, reach)
+            }
+        };
+        self.state.load_quanta = Some(quanta);
+        self.load_quanta = quanta;
+        self.new_quanta = false;
         self.prepared = true;
         Ok(())
     }

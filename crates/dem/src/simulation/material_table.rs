@@ -97,7 +97,7 @@ impl Simulation {
         for (id, interaction) in interactions {
             self.set_wall_interaction(wall, id, interaction)?;
         }
-        self.prepared = false;
+        self.unprepare();
         Ok(())
     }
 }

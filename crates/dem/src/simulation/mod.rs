@@ -109,6 +109,10 @@ pub struct SimulationState {
     contacts: ContactCount,
     /// The element loads of each wall (by wall index) summed over the current window.
     surface_loads: Vec<SurfaceLoads>,
+    /// The quanta of the walls' fixed-point loads, as the last preparation set them from
+    /// the particles of that moment; `None` before the first. Kept in the state so that a
+    /// restored simulation sums its wall loads to the same bits as the one that saved it.
+    load_quanta: Option<LoadQuanta>,
 }
 
 impl SimulationState {
@@ -154,6 +158,9 @@ pub struct Simulation {
     list_scratch: ListScratch,
     /// The quanta of the walls' fixed-point loads, set with the coefficients.
     load_quanta: LoadQuanta,
+    /// Whether the next preparation sets new quanta: after an edit (which may have added
+    /// particles farther out or lighter), not after a restore, which keeps the saved ones.
+    new_quanta: bool,
     /// Each wall's load in the last step (by wall index); not part of the state: a restored
     /// simulation has zero loads until its first step.
     wall_loads: Vec<WallLoad>,
@@ -228,6 +235,7 @@ impl Simulation {
             indices_changed: false,
             contacts: ContactCount::default(),
             surface_loads: Vec::new(),
+            load_quanta: None,
         };
         Self::from_state(state, config.threads)
     }
@@ -236,6 +244,7 @@ impl Simulation {
     pub fn from_state(mut state: SimulationState, threads: usize) -> Result<Self, DemError> {
         // Checkpoints from before the wall-major candidate order hold particle-major lists.
         state.wall_pairs = std::mem::take(&mut state.wall_pairs).into_wall_major();
+        let new_quanta = state.load_quanta.is_none();
         Ok(Self {
             pool: make_pool(threads)?,
             state,
@@ -252,6 +261,7 @@ impl Simulation {
             reach_bound: ReachBound::default(),
             list_scratch: ListScratch::default(),
             load_quanta: LoadQuanta::default(),
+            new_quanta,
             wall_loads: Vec::new(),
             failure: None,
         })

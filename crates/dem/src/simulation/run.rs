@@ -98,6 +98,7 @@ impl Simulation {
         Watched::new(
             &self.state.particles,
             self.state.time,
+            (&self.state.walls, &self.wall_loads),
             pending.then_some((half, self.uniform_free)),
         )
     }

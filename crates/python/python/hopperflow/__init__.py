@@ -46,9 +46,10 @@ __all__ = [
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-#: The tables a run may hold, by attribute name. A finished run writes flow.csv,
-#: profiles.csv, field.csv and crossings.csv; wall_forces.csv is read when present (the
-#: engine does not write it yet), and asking for an absent table raises FileNotFoundError.
+#: The tables of a run, by attribute name: a finished run writes flow.csv, profiles.csv,
+#: field.csv (when its steady window was found), crossings.csv and wall_forces.csv (the
+#: mean loads on the walls, by window of the run); asking for a table the run folder does
+#: not hold raises FileNotFoundError.
 RUN_TABLES = {
     "flow": "flow.csv",
     "profiles": "profiles.csv",

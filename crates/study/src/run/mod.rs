@@ -3,6 +3,7 @@
 mod checkpoint;
 mod outputs;
 mod protocol;
+mod wall_forces;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

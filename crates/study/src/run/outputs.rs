@@ -1,5 +1,5 @@
-//! What a finished run writes: flow.csv, profiles.csv, field.csv, plots, frames, VTU/PVD,
-//! and the summary (docs/physics.md §7).
+//! What a finished run writes: flow.csv, wall_forces.csv, profiles.csv, field.csv, plots,
+//! frames, VTU/PVD, and the summary (docs/physics.md §7).
 
 use std::path::{Path, PathBuf};
 
@@ -10,6 +10,7 @@ use analysis::selfsimilar::{
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
 use super::protocol::{CaseRun, Phase};
+use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::RunError;
 use crate::config::Case;
 use crate::hopper::outline;
@@ -25,6 +26,7 @@ use crate::summary::{CaseSummary, ProfileRow, StopReason};
 /// The results a finished run writes beside its summary, besides the snapshot folder.
 pub(crate) const RESULT_FILES: &[&str] = &[
     "flow.csv",
+    "wall_forces.csv",
     "crossings.csv",
     "profiles.csv",
     "field.csv",
@@ -249,8 +251,8 @@ fn packing_exponent(rows: &[ProfileRow], value: fn(&ProfileRow) -> (f64, f64)) -
     fit.exponent.value.is_finite().then_some(fit.exponent.value)
 }
 
-/// Analyses the finished run, writes flow.csv, profiles.csv, field.csv and the plots, and
-/// returns the summary (the caller writes it last).
+/// Analyses the finished run, writes flow.csv, wall_forces.csv, profiles.csv, field.csv and
+/// the plots, and returns the summary (the caller writes it last).
 pub fn finish(
     run: &CaseRun,
     out_dir: &Path,
@@ -291,6 +293,13 @@ pub fn finish(
         out_dir.join("flow.csv"),
         &["time", "rate", "cumulative_mass"],
         &rows,
+    )?;
+
+    // wall_forces.csv: the mean load on each wall that sums it, by window (`wall_forces`).
+    write_csv_table(
+        out_dir.join("wall_forces.csv"),
+        &WALL_FORCE_COLUMNS,
+        &state.wall_forces.table(),
     )?;
 
     let outlet_window = window

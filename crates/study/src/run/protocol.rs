@@ -16,6 +16,7 @@ use crate::measure::{
 };
 use crate::summary::StopReason;
 
+use super::wall_forces::WallForceRecorder;
 use super::RunError;
 
 /// Height of the insertion band below the fill top [m]: tall enough for a few hundred
@@ -82,6 +83,8 @@ pub struct RunState {
     pub(crate) discharged_mass: f64,
     /// Mass of the fill when the gate opened [kg].
     pub(crate) fill_mass: f64,
+    /// The loads on the walls, by window (`wall_forces.csv`).
+    pub(crate) wall_forces: WallForceRecorder,
 }
 
 /// A case being run.
@@ -117,6 +120,8 @@ impl CaseRun {
             (2.0 * case.geometry.width).min(case.geometry.height),
             d,
         )?;
+        let wall_forces =
+            WallForceRecorder::new(&sim, &walls, case.measure.rate_bin_width, case.time_step);
         let state = RunState {
             sim: sim.state().clone(),
             walls,
@@ -136,6 +141,7 @@ impl CaseRun {
             next_check: 0.0,
             discharged_mass: 0.0,
             fill_mass: 0.0,
+            wall_forces,
         };
         Ok(Self {
             case: case.clone(),
@@ -236,7 +242,7 @@ impl CaseRun {
                 return Err(RunError::CannotFill { inserted, total });
             }
         }
-        self.sim.run(chunk)?;
+        self.run_recording_loads(chunk)?;
         self.state.phase = if inserted >= total {
             self.state.next_check = self.sim.time() + MIN_SETTLE_AFTER_FILL;
             Phase::Settle {
@@ -256,8 +262,19 @@ impl CaseRun {
         (e.translational + e.rotational) / self.sim.particles().len().max(1) as f64
     }
 
+    /// Takes `chunk` steps, adding each step's wall loads to the recorder: the same steps,
+    /// to the bit, as `Simulation::run(chunk)` ([`Simulation::run_watched`]).
+    fn run_recording_loads(&mut self, chunk: u64) -> Result<(), RunError> {
+        let recorder = &mut self.state.wall_forces;
+        self.sim
+            .run_watched(chunk, 1, |seen: &Watched<'_>| -> Result<(), RunError> {
+                recorder.observe(seen);
+                Ok(())
+            })
+    }
+
     fn settle(&mut self, since: f64, chunk: u64) -> Result<(), RunError> {
-        self.sim.run(chunk)?;
+        self.run_recording_loads(chunk)?;
         let t = self.sim.time();
         if t < self.state.next_check {
             return Ok(());
@@ -270,6 +287,8 @@ impl CaseRun {
             self.state.bulk = self.measure_bulk().ok();
             self.state.fill_mass = self.sim.particles().masses().iter().sum();
             self.sim.remove_wall(self.state.walls.gate)?;
+            // The gate's last window ends with it; the next ones lie on the W(t) bins.
+            self.state.wall_forces.close();
             self.state.next_frame = t;
             self.state.next_check = t;
             self.state.phase = Phase::Discharge {
@@ -303,9 +322,17 @@ impl CaseRun {
         let band = CROSSING_BAND_DIAMETERS * d;
         let mut last_crossing = last_crossing;
         let (case, state, sim) = (&self.case, &mut self.state, &mut self.sim);
-        // The outlet is looked at every `every` steps; the engine leaves each look's second
-        // half kick to the next step's pass, and the view gives full-step velocities.
-        sim.run_watched(chunk, every, |seen: &Watched<'_>| -> Result<(), RunError> {
+        // Every step's wall loads are recorded; the outlet is looked at every `every` steps
+        // and after the chunk's last, as `run_watched(chunk, every, …)` would look. The
+        // engine leaves each look's second half kick to the next step's pass, and the view
+        // gives full-step velocities.
+        let mut taken = 0u64;
+        sim.run_watched(chunk, 1, |seen: &Watched<'_>| -> Result<(), RunError> {
+            state.wall_forces.observe(seen);
+            taken += 1;
+            if !taken.is_multiple_of(every) && taken != chunk {
+                return Ok(());
+            }
             let t = seen.time();
             let frame = Frame::of(seen, |x| x.z.abs() < band);
             if state.crossing.observe(&frame.view(t, density))? > 0 {
