@@ -121,3 +121,40 @@ pub fn motion_gap(a: (DVec3, DVec3, DVec3), b: (DVec3, DVec3, DVec3), scale: [f6
     .into_iter()
     .fold(0.0, f64::max)
 }
+
+/// Table 1's contact without rolling friction: Eq. 8's constant torque turns with the sign
+/// of ω, which for a sphere that does not spin a round-off tilt of the normal (1e-16)
+/// decides, and would make two shapes differ by that decision, not by their geometry.
+pub fn no_rolling() -> Interaction {
+    Interaction {
+        rolling_friction: 0.0,
+        ..Interaction::fan2023()
+    }
+}
+
+/// Sends the only sphere from `start` at `velocity` onto `walls` without gravity, under
+/// [`no_rolling`]; returns its velocity once it has left the contact, and the most wall
+/// contacts it had in a step.
+pub fn rebound(
+    walls: Vec<Wall>,
+    start: DVec3,
+    velocity: DVec3,
+) -> Result<(DVec3, usize), VerifyError> {
+    let at_start = (start, velocity, DVec3::ZERO);
+    let (mut sim, _) = one_sphere(walls, no_rolling(), DVec3::ZERO, at_start)?;
+    let (mut most, mut touched) = (0, false);
+    const STEPS: u64 = 400_000;
+    for _ in 0..STEPS {
+        sim.step()?;
+        let c = sim.contacts().particle_wall;
+        most = most.max(c);
+        touched |= c > 0;
+        if touched && c == 0 {
+            return Ok((motion(&sim).1, most));
+        }
+    }
+    Err(VerifyError::NoEvent {
+        what: "the rebound",
+        steps: STEPS,
+    })
+}

@@ -12,47 +12,14 @@
 //! Tolerance: 1e-9 of the impact speed: the closest point of an edge or a corner is exact
 //! up to coordinate round-off.
 
-use dem::{DVec3, Interaction};
+use dem::DVec3;
 
-use crate::meshes::{cube, mesh_wall, motion, one_sphere, plane_wall, RADIUS};
+use crate::meshes::{cube, mesh_wall, no_rolling, plane_wall, rebound, RADIUS};
 use crate::{Resolution, Row, VerifyError};
-
-/// Table 1's contact without rolling friction: Eq. 8's constant torque turns with the sign
-/// of ω, which for a sphere that does not spin a round-off tilt of the normal (1e-16)
-/// decides, and would make the shapes differ by that decision, not by their geometry.
-fn no_rolling() -> Interaction {
-    Interaction {
-        rolling_friction: 0.0,
-        ..Interaction::fan2023()
-    }
-}
 
 const TEST: &str = "W2";
 const SPEED: f64 = 0.5;
 const TOLERANCE: f64 = 1e-9;
-
-/// Drops the sphere from `start` (its centre R + gap above the target) at `SPEED` down
-/// until it moves up and out of contact; returns its velocity and the most contacts seen.
-fn drop(walls: Vec<dem::Wall>, start: DVec3) -> Result<(DVec3, usize), VerifyError> {
-    let interaction = no_rolling();
-    let v = DVec3::new(0.0, 0.0, -SPEED);
-    let (mut sim, _) = one_sphere(walls, interaction, DVec3::ZERO, (start, v, DVec3::ZERO))?;
-    let mut most = 0;
-    let mut touched = false;
-    for _ in 0..400_000 {
-        sim.step()?;
-        let c = sim.contacts().particle_wall;
-        most = most.max(c);
-        touched |= c > 0;
-        if touched && c == 0 {
-            return Ok((motion(&sim).1, most));
-        }
-    }
-    Err(VerifyError::NoEvent {
-        what: "the rebound",
-        steps: 400_000,
-    })
-}
 
 /// The rows of W2.
 pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
@@ -61,9 +28,11 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     // of the start cannot move the first touching step.
     let gap = 0.0537 * RADIUS;
     let side = 10.0 * RADIUS;
-    let (plane_v, _) = drop(
+    let down = DVec3::new(0.0, 0.0, -SPEED);
+    let (plane_v, _) = rebound(
         vec![plane_wall(interaction)?],
         DVec3::new(0.0, 0.0, RADIUS + gap),
+        down,
     )?;
     let top = side;
     let box_tris = cube(DVec3::ZERO, DVec3::splat(side));
@@ -77,9 +46,10 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
             0.3 * side,
         ),
     ] {
-        let (v, most) = drop(
+        let (v, most) = rebound(
             vec![mesh_wall(&box_tris, interaction)?],
             DVec3::new(x, y, top + RADIUS + gap),
+            down,
         )?;
         rows.push(Row::absolute(
             TEST,

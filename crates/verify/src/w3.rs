@@ -11,50 +11,14 @@
 //! Tolerance: 1e-9 of the impact speed: the closest point of the smooth surface is exact up
 //! to round-off.
 
-use dem::{DVec3, Interaction, Wall, WallMaterial};
+use dem::{DVec3, Wall, WallMaterial};
 
-use crate::meshes::{motion, one_sphere, plane_wall, RADIUS};
+use crate::meshes::{no_rolling, plane_wall, rebound, RADIUS};
 use crate::{Resolution, Row, VerifyError};
-
-/// Table 1's contact without rolling friction: Eq. 8's constant torque turns with the sign
-/// of ω, which for a sphere that does not spin a round-off tilt of the normal (1e-16)
-/// decides, and would make the shapes differ by that decision, not by their geometry.
-fn no_rolling() -> Interaction {
-    Interaction {
-        rolling_friction: 0.0,
-        ..Interaction::fan2023()
-    }
-}
 
 const TEST: &str = "W3";
 const SPEED: f64 = 0.5;
 const TOLERANCE: f64 = 1e-9;
-
-/// Sends the sphere from `start` at `SPEED` along `direction` onto `wall`; returns its
-/// velocity once it has left the contact.
-fn impact(wall: Wall, start: DVec3, direction: DVec3) -> Result<DVec3, VerifyError> {
-    let interaction = no_rolling();
-    let v = SPEED * direction;
-    let (mut sim, _) = one_sphere(
-        vec![wall],
-        interaction,
-        DVec3::ZERO,
-        (start, v, DVec3::ZERO),
-    )?;
-    let mut touched = false;
-    for _ in 0..400_000 {
-        sim.step()?;
-        let c = sim.contacts().particle_wall;
-        touched |= c > 0;
-        if touched && c == 0 {
-            return Ok(motion(&sim).1);
-        }
-    }
-    Err(VerifyError::NoEvent {
-        what: "the rebound",
-        steps: 400_000,
-    })
-}
 
 /// The rows of W3.
 pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
@@ -62,12 +26,12 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     // Not a whole number of steps' travel (0.05 R would be 60 steps exactly), so round-off
     // of the start cannot move the first touching step.
     let gap = 0.0537 * RADIUS;
-    let plane = impact(
-        plane_wall(interaction)?,
+    let (plane, _) = rebound(
+        vec![plane_wall(interaction)?],
         DVec3::new(0.0, 0.0, RADIUS + gap),
-        -DVec3::Z,
+        -SPEED * DVec3::Z,
     )?;
-    let rebound = plane.z;
+    let speed_out = plane.z;
     let r = 20.0 * RADIUS;
     let cylinder = || {
         Wall::cylinder(
@@ -115,12 +79,12 @@ pub fn run(_res: Resolution) -> Result<Vec<Row>, VerifyError> {
     for (what, wall, point, normal, side) in cases {
         // The surface's normal towards the sphere's side.
         let n = side * normal;
-        let v = impact(wall, point + (RADIUS + gap) * n, -n)?;
+        let (v, _) = rebound(vec![wall], point + (RADIUS + gap) * n, -SPEED * n)?;
         rows.push(Row::absolute(
             TEST,
             format!("{what}: |v − e v n| / v_impact, normal rebound as on a plane"),
             0.0,
-            v.distance(rebound * n) / SPEED,
+            v.distance(speed_out * n) / SPEED,
             TOLERANCE,
         ));
     }

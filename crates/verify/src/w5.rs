@@ -10,9 +10,9 @@
 //! Tolerance: 1e-3 u: the tangential spring's elastic rebound after the slip stops makes
 //! the centre speed ring by ~1e-4 u around its final value.
 
-use dem::{DVec3, Interaction, Wall, WallMotion};
+use dem::{DVec3, Wall, WallMotion};
 
-use crate::meshes::{floor, mesh_wall, motion, one_sphere, plane_wall, RADIUS};
+use crate::meshes::{floor, mesh_wall, motion, no_rolling, one_sphere, plane_wall, RADIUS};
 use crate::{Resolution, Row, VerifyError};
 
 const TEST: &str = "W5";
@@ -42,15 +42,6 @@ fn conveyor(wall: Wall) -> Result<(f64, f64), VerifyError> {
     }
     let (_, v, w) = motion(&sim);
     Ok((v.x, v.x - RADIUS * w.y))
-}
-
-/// Table 1's contact without rolling friction, whose torque would take angular momentum
-/// about the contact point away.
-fn no_rolling() -> Interaction {
-    Interaction {
-        rolling_friction: 0.0,
-        ..Interaction::fan2023()
-    }
 }
 
 /// The rows of W5.
