@@ -21,6 +21,8 @@ pub struct Watched<'a> {
     /// The walls by id (`None` where one was removed) and their loads in the step.
     walls: &'a [Option<Wall>],
     wall_loads: &'a [WallLoad],
+    /// Each wall's load integrated over time since it was added [N s, N m s].
+    wall_impulses: &'a [WallLoad],
     /// The pending kick: Δt/2 [s], and the reciprocal mass [1/kg] and inertia [1/(kg m²)]
     /// that all bodies share when they do (`integrator::uniform_free_body`).
     pending: Option<(f64, Option<(f64, f64)>)>,
@@ -30,7 +32,7 @@ impl<'a> Watched<'a> {
     pub(crate) fn new(
         particles: &'a ParticleSet,
         time: f64,
-        walls: (&'a [Option<Wall>], &'a [WallLoad]),
+        walls: (&'a [Option<Wall>], &'a [WallLoad], &'a [WallLoad]),
         pending: Option<(f64, Option<(f64, f64)>)>,
     ) -> Self {
         Self {
@@ -38,8 +40,17 @@ impl<'a> Watched<'a> {
             time,
             walls: walls.0,
             wall_loads: walls.1,
+            wall_impulses: walls.2,
             pending,
         }
+    }
+
+    /// The time integral of the load on wall `id` since it was added, as
+    /// [`crate::Simulation::wall_impulse`] gives it; `None` for a wall that is not present.
+    pub fn wall_impulse(&self, id: WallId) -> Option<WallLoad> {
+        let k = id.0 as usize;
+        self.walls.get(k)?.as_ref()?;
+        Some(self.wall_impulses.get(k).copied().unwrap_or_default())
     }
 
     /// The load the particles exerted on wall `id` in the step, as

@@ -109,6 +109,9 @@ pub struct SimulationState {
     contacts: ContactCount,
     /// The element loads of each wall (by wall index) summed over the current window.
     surface_loads: Vec<SurfaceLoads>,
+    /// Each wall's load (by wall index) integrated over time since it was added: force
+    /// [N s] and torque about the origin [N m s], summed step by step in step order.
+    wall_impulses: Vec<WallLoad>,
     /// The quanta of the walls' fixed-point loads, as the last preparation set them from
     /// the particles of that moment; `None` before the first. Kept in the state so that a
     /// restored simulation sums its wall loads to the same bits as the one that saved it.
@@ -235,6 +238,7 @@ impl Simulation {
             indices_changed: false,
             contacts: ContactCount::default(),
             surface_loads: Vec::new(),
+            wall_impulses: Vec::new(),
             load_quanta: None,
         };
         Self::from_state(state, config.threads)

@@ -98,7 +98,11 @@ impl Simulation {
         Watched::new(
             &self.state.particles,
             self.state.time,
-            (&self.state.walls, &self.wall_loads),
+            (
+                &self.state.walls,
+                &self.wall_loads,
+                &self.state.wall_impulses,
+            ),
             pending.then_some((half, self.uniform_free)),
         )
     }

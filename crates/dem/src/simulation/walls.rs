@@ -150,12 +150,33 @@ impl Simulation {
         far + self.state.skin
     }
 
-    /// Keeps the last evaluation's wall loads and adds the step to the element windows.
+    /// The load on a wall integrated over time since it was added: force [N s] and torque
+    /// about the origin [N m s], summed step by step. A window's mean load is the difference
+    /// of two readings over the time between them, so a caller needs to look only at the
+    /// window's ends, not at every step.
+    pub fn wall_impulse(&self, id: WallId) -> Result<WallLoad, DemError> {
+        self.wall(id).ok_or(DemError::UnknownWall(id.0))?;
+        Ok(self
+            .state
+            .wall_impulses
+            .get(id.0 as usize)
+            .copied()
+            .unwrap_or_default())
+    }
+
+    /// Keeps the last evaluation's wall loads, adds them to the walls' impulses and the step
+    /// to the element windows.
     pub(super) fn keep_wall_loads(&mut self, dt: f64) {
         let q = self.load_quanta;
         self.wall_loads.clear();
         self.wall_loads
             .extend(self.buffers.loads.iter().map(|sum| load_of(sum, &q)));
+        let impulses = &mut self.state.wall_impulses;
+        impulses.resize(self.wall_loads.len(), WallLoad::default());
+        for (i, l) in impulses.iter_mut().zip(&self.wall_loads) {
+            i.force += l.force * dt;
+            i.torque += l.torque * dt;
+        }
         for loads in &mut self.state.surface_loads {
             if !loads.elements.is_empty() {
                 loads.duration += dt;

@@ -262,15 +262,12 @@ impl CaseRun {
         (e.translational + e.rotational) / self.sim.particles().len().max(1) as f64
     }
 
-    /// Takes `chunk` steps, adding each step's wall loads to the recorder: the same steps,
-    /// to the bit, as `Simulation::run(chunk)` ([`Simulation::run_watched`]).
+    /// Takes `chunk` steps and reads the walls' loads after them (`wall_forces`).
     fn run_recording_loads(&mut self, chunk: u64) -> Result<(), RunError> {
-        let recorder = &mut self.state.wall_forces;
-        self.sim
-            .run_watched(chunk, 1, |seen: &Watched<'_>| -> Result<(), RunError> {
-                recorder.observe(seen);
-                Ok(())
-            })
+        self.sim.run(chunk)?;
+        let step = self.sim.steps();
+        self.state.wall_forces.observe(&self.sim.watched(), step);
+        Ok(())
     }
 
     fn settle(&mut self, since: f64, chunk: u64) -> Result<(), RunError> {
@@ -288,7 +285,7 @@ impl CaseRun {
             self.state.fill_mass = self.sim.particles().masses().iter().sum();
             self.sim.remove_wall(self.state.walls.gate)?;
             // The gate's last window ends with it; the next ones lie on the W(t) bins.
-            self.state.wall_forces.close();
+            self.state.wall_forces.close(self.sim.steps());
             self.state.next_frame = t;
             self.state.next_check = t;
             self.state.phase = Phase::Discharge {
@@ -322,17 +319,14 @@ impl CaseRun {
         let band = CROSSING_BAND_DIAMETERS * d;
         let mut last_crossing = last_crossing;
         let (case, state, sim) = (&self.case, &mut self.state, &mut self.sim);
-        // Every step's wall loads are recorded; the outlet is looked at every `every` steps
-        // and after the chunk's last, as `run_watched(chunk, every, …)` would look. The
-        // engine leaves each look's second half kick to the next step's pass, and the view
-        // gives full-step velocities.
+        // The outlet is looked at every `every` steps and after the chunk's last; the engine
+        // leaves each look's second half kick to the next step's pass, and the view gives
+        // full-step velocities. The walls' loads are read at the same looks.
+        let first = sim.steps();
         let mut taken = 0u64;
-        sim.run_watched(chunk, 1, |seen: &Watched<'_>| -> Result<(), RunError> {
-            state.wall_forces.observe(seen);
-            taken += 1;
-            if !taken.is_multiple_of(every) && taken != chunk {
-                return Ok(());
-            }
+        sim.run_watched(chunk, every, |seen: &Watched<'_>| -> Result<(), RunError> {
+            taken = (taken + every).min(chunk);
+            state.wall_forces.observe(seen, first + taken);
             let t = seen.time();
             let frame = Frame::of(seen, |x| x.z.abs() < band);
             if state.crossing.observe(&frame.view(t, density))? > 0 {

@@ -1,13 +1,16 @@
 //! The loads the particles exert on the hopper's walls, averaged over windows of the run:
 //! what `wall_forces.csv` holds.
 //!
-//! Every step of the fill, the settling and the discharge adds the engine's load of that
-//! step on each wall ([`dem::Simulation::wall_load`]) to the open window. A window holds
-//! `measure.rate_bin_width` of simulated time (rounded to whole steps); the windows run
-//! from the start of the run, one ends early when the gate opens, and from then on they
-//! start at the opening, on the bins of the discharge rate W(t) in `flow.csv`. A window's
-//! row holds the mean load over its steps. The last window of the run ends with the run
-//! and may be shorter.
+//! The engine integrates each wall's load over every step of the fill, the settling and the
+//! discharge ([`dem::Simulation::wall_impulse`]); a window's mean load is the difference of
+//! two readings over the time between them, so the run reads the walls only where it looks
+//! at the bodies anyway (after each chunk of the fill and settling, at each outlet check of
+//! the discharge) and its steps stay those of a plain run. A window holds
+//! `measure.rate_bin_width` of simulated time: it ends at the first look at or after that
+//! span; the windows run from the start of the run, one ends early when the gate opens, and
+//! from then on they start at the opening, on the bins of the discharge rate W(t) in
+//! `flow.csv` (the outlet checks divide the bins). The last window of the run ends with the
+//! run and may be shorter.
 //!
 //! Only walls that sum their load ([`dem::Wall::sums_load`]) are recorded: the side walls,
 //! the bottom plates and, while it is closed, the gate; not the front and back faces.
@@ -36,8 +39,8 @@ struct WallForceRow {
     load: [f64; 6],
 }
 
-/// The windows of wall loads of a run so far: the finished rows and the open window. Part
-/// of the checkpointed run state, so that a resumed run writes the same file.
+/// The windows of wall loads of a run so far: the finished rows and where the open window
+/// began. Part of the checkpointed run state, so that a resumed run writes the same file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WallForceRecorder {
     /// Steps of a whole window.
@@ -46,14 +49,14 @@ pub struct WallForceRecorder {
     walls: Vec<(u8, WallId)>,
     /// Finished rows, in time order and, within a window, in the order of `walls`.
     rows: Vec<WallForceRow>,
-    /// The open window: its start [s], its last step's time [s], its steps.
+    /// The open window: its start [s] and step, the last look's time [s].
     start: f64,
+    start_step: u64,
     end: f64,
-    steps: u64,
-    /// The open window's sums of force [N] and torque [N m] per entry of `walls`, and the
-    /// steps each wall was present in (the gate leaves only when a window ends).
-    sums: Vec<[f64; 6]>,
-    present: Vec<u64>,
+    /// Each wall's impulse (force [N s], torque [N m s]) when the open window began, and the
+    /// last look's (`None` once the wall is gone: the gate leaves only when a window ends).
+    at_start: Vec<Option<[f64; 6]>>,
+    at_end: Vec<Option<[f64; 6]>>,
 }
 
 impl WallForceRecorder {
@@ -73,57 +76,62 @@ impl WallForceRecorder {
             .filter_map(|(k, id)| Some((k as u8, (*id)?)))
             .filter(|(_, id)| sim.wall(*id).is_some_and(|w| w.sums_load))
             .collect();
-        let n = walls.len();
+        let start = sim.watched();
+        let at_start: Vec<Option<[f64; 6]>> = walls
+            .iter()
+            .map(|(_, id)| start.wall_impulse(*id).map(|l| numbers(&l)))
+            .collect();
         Self {
             window_steps: (window / dt).round().max(1.0) as u64,
             walls,
             rows: Vec::new(),
             start: sim.time(),
+            start_step: sim.steps(),
             end: sim.time(),
-            steps: 0,
-            sums: vec![[0.0; 6]; n],
-            present: vec![0; n],
+            at_end: at_start.clone(),
+            at_start,
         }
     }
 
-    /// Adds the loads of the step `seen` shows; ends the window when it is whole.
-    pub(crate) fn observe(&mut self, seen: &Watched<'_>) {
-        for (k, (_, id)) in self.walls.iter().enumerate() {
-            if let Some(load) = seen.wall_load(*id) {
-                add(&mut self.sums[k], &load);
-                self.present[k] += 1;
-            }
+    /// Reads the walls' impulses at the step `seen` shows (`step` of the run); ends the
+    /// window when it is whole.
+    pub(crate) fn observe(&mut self, seen: &Watched<'_>, step: u64) {
+        for ((_, id), end) in self.walls.iter().zip(&mut self.at_end) {
+            *end = seen.wall_impulse(*id).map(|l| numbers(&l));
         }
-        self.steps += 1;
         self.end = seen.time();
-        if self.steps >= self.window_steps {
-            self.close();
+        if step >= self.start_step + self.window_steps {
+            self.close(step);
         }
     }
 
-    /// Ends the open window (when the gate opens): its rows are kept, and the next window
-    /// starts at its end.
-    pub(crate) fn close(&mut self) {
+    /// Ends the open window at the last look, `step` of the run (when the gate opens, after
+    /// an [`WallForceRecorder::observe`] of that step): its rows are kept, and the next
+    /// window starts there.
+    pub(crate) fn close(&mut self, step: u64) {
         let rows: Vec<WallForceRow> = self.open_rows().collect();
         self.rows.extend(rows);
         self.start = self.end;
-        self.steps = 0;
-        self.sums.iter_mut().for_each(|s| *s = [0.0; 6]);
-        self.present.iter_mut().for_each(|p| *p = 0);
+        self.start_step = step;
+        self.at_start.clone_from(&self.at_end);
     }
 
-    /// The rows of the open window: one per wall present in any of its steps.
+    /// The rows of the open window: one per wall present at both of its ends, the mean load
+    /// the difference of the impulses over the window's length.
     fn open_rows(&self) -> impl Iterator<Item = WallForceRow> + '_ {
         let time = 0.5 * (self.start + self.end);
+        let span = self.end - self.start;
         self.walls
             .iter()
-            .zip(&self.sums)
-            .zip(&self.present)
-            .filter(|(_, &n)| n > 0)
-            .map(move |(((wall, _), sum), &n)| WallForceRow {
-                time,
-                wall: *wall,
-                load: sum.map(|s| s / n as f64),
+            .zip(self.at_start.iter().zip(&self.at_end))
+            .filter(move |_| span > 0.0)
+            .filter_map(move |((wall, _), (a, b))| {
+                let (a, b) = (a.as_ref()?, b.as_ref()?);
+                Some(WallForceRow {
+                    time,
+                    wall: *wall,
+                    load: std::array::from_fn(|k| (b[k] - a[k]) / span),
+                })
             })
     }
 
@@ -143,17 +151,14 @@ impl WallForceRecorder {
     }
 }
 
-/// Adds a step's load to a window's sums.
-fn add(sum: &mut [f64; 6], load: &WallLoad) {
-    let values = [
+/// A load's six numbers: force, then torque.
+fn numbers(load: &WallLoad) -> [f64; 6] {
+    [
         load.force.x,
         load.force.y,
         load.force.z,
         load.torque.x,
         load.torque.y,
         load.torque.z,
-    ];
-    for (s, v) in sum.iter_mut().zip(values) {
-        *s += v;
-    }
+    ]
 }
