@@ -282,7 +282,7 @@ impl Jumble {
             &self.walls,
             skin,
             &PairList::default(),
-            &WallPairList::default(),
+            &mut WallPairList::default(),
             crate::neighbour::Carry::Same,
             (&mut pairs, &mut wall_pairs),
             &mut crate::neighbour::ListScratch::default(),

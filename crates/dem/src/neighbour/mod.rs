@@ -138,7 +138,8 @@ pub(crate) enum PairSearch<'a> {
 /// Builds the candidate lists from the bodies binned for `search`.
 ///
 /// `carry` says how the bodies' indices relate to those of the previous lists
-/// `old_pairs`/`old_walls`, whose histories the new lists take over ([`Carry`]).
+/// `old_pairs`/`old_walls`, whose histories the new lists take over ([`Carry`]); the
+/// remembered contacts of curved and meshed walls are moved out of `old_walls`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn build_lists(
     search: PairSearch<'_>,
@@ -146,7 +147,7 @@ pub(crate) fn build_lists(
     walls: &[Option<Wall>],
     skin: f64,
     old_pairs: &PairList,
-    old_walls: &WallPairList,
+    old_walls: &mut WallPairList,
     carry: Carry<'_>,
     (pairs, wall_pairs): (&mut PairList, &mut WallPairList),
     scratch: &mut ListScratch,
@@ -220,11 +221,12 @@ pub(crate) fn build_lists(
             Carry::Same => &scratch.first,
             Carry::Moved(_) => &scratch.fill,
         };
-        let old = &old_walls.surfaces;
+        // Each old candidate is the source of one new one at most: moved, not copied.
+        let old = &mut old_walls.surfaces;
         wall_pairs.surfaces.extend(
             source
                 .iter()
-                .map(|&c| old.get(c as usize).cloned().unwrap_or_default()),
+                .map(|&c| old.get_mut(c as usize).map(std::mem::take).unwrap_or_default()),
         );
     }
 }

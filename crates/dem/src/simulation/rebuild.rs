@@ -45,7 +45,7 @@ impl Simulation {
         };
         // `build_lists` clears what it writes into; only the capacity of the spares is reused.
         let old_pairs = std::mem::replace(&mut s.pairs, std::mem::take(&mut self.spare_lists.0));
-        let old_walls =
+        let mut old_walls =
             std::mem::replace(&mut s.wall_pairs, std::mem::take(&mut self.spare_lists.1));
         build_lists(
             search,
@@ -53,7 +53,7 @@ impl Simulation {
             &s.walls,
             s.skin,
             &old_pairs,
-            &old_walls,
+            &mut old_walls,
             carry,
             (&mut s.pairs, &mut s.wall_pairs),
             &mut self.list_scratch,
