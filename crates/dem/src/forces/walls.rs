@@ -118,7 +118,8 @@ pub(super) fn wall_probes(walls: &[Option<Wall>], probes: &mut Vec<WallProbe>) {
     }));
 }
 
-/// Fills what every wall contact of a batch shares: a wall does not spin (§5), so ω_j = 0 in
+/// Fills what every wall contact of a batch shares: the walls of this loop do not spin (a
+/// spinning wall goes to the surface pass, §5.4), so ω_j = 0 in
 /// every slot, and equal spheres share one radius and mass.
 pub(super) fn prepare_wall_batch(input: &KernelInput, batch: &mut Batch) {
     for row in &mut batch.omega[1] {

@@ -223,10 +223,10 @@ pub(crate) fn build_lists(
         };
         // Each old candidate is the source of one new one at most: moved, not copied.
         let old = &mut old_walls.surfaces;
-        wall_pairs.surfaces.extend(
-            source
-                .iter()
-                .map(|&c| old.get_mut(c as usize).map(std::mem::take).unwrap_or_default()),
-        );
+        wall_pairs.surfaces.extend(source.iter().map(|&c| {
+            old.get_mut(c as usize)
+                .map(std::mem::take)
+                .unwrap_or_default()
+        }));
     }
 }
