@@ -152,7 +152,7 @@ class Run:
 
     @property
     def summary(self) -> Dict[str, Any]:
-        """summary.json as a dict (SI units; the keys are documented in docs/outputs.md)."""
+        """summary.json as a dict (SI units; docs/user-guide.md describes the run folder and its keys)."""
         if self._summary is None:
             with open(self.path / "summary.json", encoding="utf-8") as f:
                 self._summary = json.load(f)
