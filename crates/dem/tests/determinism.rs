@@ -4,7 +4,7 @@
 mod common;
 
 use common::{bits_by_tag, Gas};
-use dem::SimulationConfig;
+use dem::{Simulation, SimulationConfig};
 
 /// 1000 Table-1 spheres on a cubic lattice 3.1 mm apart with random velocities up to 0.5 m/s,
 /// falling into a closed box under gravity, with friction, rolling friction and e = 0.2.
@@ -18,10 +18,9 @@ pub fn pile(threads: usize) -> Gas {
     common::pile(config)
 }
 
-#[test]
-fn same_run_on_one_and_two_threads_is_bit_identical() {
-    let mut one = pile(1).build();
-    let mut two = pile(2).build();
+/// Runs `one` and `two` 20 × 100 steps side by side, requiring the same bits after each
+/// hundred; returns the most particle–particle contacts `one` had at those looks.
+fn run_side_by_side(one: &mut Simulation, two: &mut Simulation) -> usize {
     let mut contacts = 0;
     for _ in 0..20 {
         one.run(100).expect("serial run");
@@ -29,11 +28,19 @@ fn same_run_on_one_and_two_threads_is_bit_identical() {
         contacts = contacts.max(one.contacts().particle_particle);
         // Exact equality: the engine promises bit-identical sums at any thread count.
         assert!(
-            bits_by_tag(&one) == bits_by_tag(&two),
+            bits_by_tag(one) == bits_by_tag(two),
             "runs diverged by t = {} s",
             one.time()
         );
     }
+    contacts
+}
+
+#[test]
+fn same_run_on_one_and_two_threads_is_bit_identical() {
+    let mut one = pile(1).build();
+    let mut two = pile(2).build();
+    let contacts = run_side_by_side(&mut one, &mut two);
     assert!(
         contacts > 100,
         "the pile must collide for the comparison to mean anything ({contacts} contacts)"
@@ -217,18 +224,7 @@ fn a_bidisperse_bed_on_one_and_two_threads_is_bit_identical() {
     let mut one = bidisperse_pile(1);
     let mut two = bidisperse_pile(2);
     assert_eq!(one.particles().len(), 32 + 32 * 27);
-    let mut contacts = 0;
-    for _ in 0..20 {
-        one.run(100).expect("serial run");
-        two.run(100).expect("parallel run");
-        contacts = contacts.max(one.contacts().particle_particle);
-        // Exact equality: the engine promises bit-identical sums at any thread count.
-        assert!(
-            bits_by_tag(&one) == bits_by_tag(&two),
-            "runs diverged by t = {} s",
-            one.time()
-        );
-    }
+    let contacts = run_side_by_side(&mut one, &mut two);
     assert!(
         contacts > 100 && one.rebuilds() > 1,
         "the bed must collide and rebuild its lists for the comparison to mean anything \

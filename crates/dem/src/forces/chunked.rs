@@ -104,11 +104,7 @@ pub(crate) fn evaluate_chunk(
     };
     // The chunk's contacts with curved, meshed and spinning walls, after its others, as
     // the whole evaluation adds them.
-    if input.walls.iter().flatten().any(Wall::resolved_one_by_one) {
-        let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements, bodies);
-        eval.count.particle_wall += contacts;
-        eval.worst_wall = eval.worst_wall.merge(worst);
-    }
+    add_surface_contacts(&mut eval, input, wall_pairs, buffers, elements, bodies);
     eval
 }
 

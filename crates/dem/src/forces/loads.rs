@@ -83,15 +83,31 @@ pub(crate) type LoadSum = [i64; 6];
 /// force −F, torque about the origin −(x × F + M_i), the reaction of what the particle got.
 #[inline(always)]
 pub(crate) fn add_load(sum: &mut LoadSum, q: &LoadQuanta, x: DVec3, cf: &ContactForce) {
-    let f = cf.force;
-    let m = x.cross(f) + cf.torque_i;
-    let (a, b) = q.inverse;
-    for (s, v) in sum
-        .iter_mut()
-        .zip([f.x * a, f.y * a, f.z * a, m.x * b, m.y * b, m.z * b])
-    {
-        *s = s.wrapping_sub(quanta(v));
+    let share = shares(q, x.to_array(), cf.force.to_array(), cf.torque_i.to_array());
+    for (s, v) in sum.iter_mut().zip(share) {
+        *s = s.wrapping_sub(v);
     }
+}
+
+/// One contact's share in quanta, force F then torque x × F + M_i, for the particle at `x`
+/// [m] receiving force `f` [N] and torque `t` [N m]: the particle's side, whose negative
+/// the wall receives.
+#[inline(always)]
+fn shares(q: &LoadQuanta, x: [f64; 3], f: [f64; 3], t: [f64; 3]) -> [i64; 6] {
+    let (a, b) = q.inverse;
+    let moment = [
+        x[1] * f[2] - f[1] * x[2] + t[0],
+        x[2] * f[0] - f[2] * x[0] + t[1],
+        x[0] * f[1] - f[0] * x[1] + t[2],
+    ];
+    [
+        quanta(f[0] * a),
+        quanta(f[1] * a),
+        quanta(f[2] * a),
+        quanta(moment[0] * b),
+        quanta(moment[1] * b),
+        quanta(moment[2] * b),
+    ]
 }
 
 /// `v` rounded to the nearest integer (ties to even), clamped to ±[`LARGEST_SHARE`]; NaN
@@ -113,19 +129,13 @@ pub(crate) fn add_batch_loads(
     centres: &[[f64; BATCH]; 3],
     len: usize,
 ) {
-    let (a, b) = q.inverse;
     let (f, t, x) = (&batch.force, &batch.torque_i, centres);
+    let lane = |a: &[[f64; BATCH]; 3], m: usize| [a[0][m], a[1][m], a[2][m]];
     let mut acc = [0i64; 6];
     for m in 0..len.min(BATCH) {
-        // x × F + M_i, by components.
-        let moment = [
-            x[1][m] * f[2][m] - x[2][m] * f[1][m] + t[0][m],
-            x[2][m] * f[0][m] - x[0][m] * f[2][m] + t[1][m],
-            x[0][m] * f[1][m] - x[1][m] * f[0][m] + t[2][m],
-        ];
-        for k in 0..3 {
-            acc[k] = acc[k].wrapping_add(quanta(f[k][m] * a));
-            acc[3 + k] = acc[3 + k].wrapping_add(quanta(moment[k] * b));
+        let share = shares(q, lane(x, m), lane(f, m), lane(t, m));
+        for (s, v) in acc.iter_mut().zip(share) {
+            *s = s.wrapping_add(v);
         }
     }
     for (s, v) in sum.iter_mut().zip(acc) {

@@ -215,12 +215,8 @@ pub(crate) fn evaluate(
         Some(pool) => parallel::evaluate(input, pairs, wall_pairs, buffers, pool),
         None => planar_contacts(input, pairs, wall_pairs, buffers),
     };
-    if input.walls.iter().flatten().any(Wall::resolved_one_by_one) {
-        let everyone = 0..input.particles.len();
-        let (worst, contacts) = surface_contacts(input, wall_pairs, buffers, elements, everyone);
-        eval.count.particle_wall += contacts;
-        eval.worst_wall = eval.worst_wall.merge(worst);
-    }
+    let everyone = 0..input.particles.len();
+    add_surface_contacts(&mut eval, input, wall_pairs, buffers, elements, everyone);
     eval
 }
 
@@ -230,19 +226,23 @@ pub(crate) fn start_loads(buffers: &mut ForceBuffers, walls: usize) {
     buffers.loads.resize(walls, LoadSum::default());
 }
 
-/// The contacts of the curved, meshed and spinning walls with the particles of `bodies`,
-/// after all others ([`surfaces::surface_pass`]).
-fn surface_contacts(
+/// Adds to `eval` the contacts of the curved, meshed and spinning walls with the particles
+/// of `bodies`, after all others ([`surfaces::surface_pass`]), where there are such walls.
+fn add_surface_contacts(
+    eval: &mut Evaluation,
     input: &KernelInput,
     wall_pairs: &mut WallPairList,
     buffers: &mut ForceBuffers,
     elements: &mut [loads::SurfaceLoads],
     bodies: std::ops::Range<usize>,
-) -> (WorstOverlap, usize) {
+) {
+    if !crate::wall::any_resolved_one_by_one(input.walls) {
+        return;
+    }
     let len = wall_pairs.particle.len();
     // A wall that began to spin since the last build has no remembered contacts yet.
     wall_pairs.surfaces.resize_with(len, Default::default);
-    surfaces::surface_pass(
+    let (worst, contacts) = surfaces::surface_pass(
         input,
         (&wall_pairs.particle, &wall_pairs.wall),
         bodies,
@@ -255,7 +255,9 @@ fn surface_contacts(
             quanta: &input.quanta,
             elements,
         },
-    )
+    );
+    eval.count.particle_wall += contacts;
+    eval.worst_wall = eval.worst_wall.merge(worst);
 }
 
 /// Every contact but those of the curved, meshed and spinning walls, on this thread.

@@ -197,7 +197,7 @@ pub(crate) fn build_lists(
     }
     let ids = (&wall_pairs.wall[..], &wall_pairs.particle[..]);
     let old_ids = (&old_walls.wall[..], &old_walls.particle[..]);
-    let surfaces = walls.iter().flatten().any(Wall::resolved_one_by_one);
+    let surfaces = crate::wall::any_resolved_one_by_one(walls);
     let old = &old_walls.history;
     match carry {
         Carry::Same => {

@@ -71,6 +71,14 @@ impl WallShape {
     }
 }
 
+/// True when some wall of `walls` (by index, `None` where removed) is resolved one contact
+/// at a time ([`Wall::resolved_one_by_one`]): the surface pass and its remembered contacts
+/// are needed.
+#[inline]
+pub fn any_resolved_one_by_one(walls: &[Option<Wall>]) -> bool {
+    walls.iter().flatten().any(Wall::resolved_one_by_one)
+}
+
 /// Why a wall shape was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum WallError {
