@@ -229,13 +229,16 @@ impl Case {
 
     fn __repr__(&self) -> String {
         let g = &self.case.geometry;
+        let size = match g {
+            study::config::Geometry::Slab(s) => format!("L={} m", s.width),
+            study::config::Geometry::Cylinder(s) => format!("kind=cylinder, R={} m", s.radius),
+        };
         format!(
-            "Case(N={}, d={} m, L={} m, D={} m, alpha={}°, seed={})",
+            "Case(N={}, d={} m, {size}, D={} m, alpha={}°, seed={})",
             self.case.particles.count,
             self.case.particles.size.mean_diameter(),
-            g.width,
-            g.outlet_width,
-            g.hopper_angle_deg,
+            g.outlet_size(),
+            g.hopper_angle_deg(),
             self.case.seed
         )
     }

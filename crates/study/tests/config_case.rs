@@ -48,10 +48,10 @@ fn paper_base_case_matches_table_one() {
         case.particles.size,
         SizeDistribution::Monodisperse { diameter: 3.0e-3 }
     );
-    assert_eq!(case.geometry.width, 0.1);
-    assert_eq!(case.geometry.outlet_width, 0.03);
-    assert_eq!(case.geometry.hopper_angle_deg, 90.0);
-    assert_eq!(case.geometry.outlet_offset(), 0.0);
+    assert_eq!(case.geometry.slab().unwrap().width, 0.1);
+    assert_eq!(case.geometry.slab().unwrap().outlet_width, 0.03);
+    assert_eq!(case.geometry.slab().unwrap().hopper_angle_deg, 90.0);
+    assert_eq!(case.geometry.slab().unwrap().outlet_offset(), 0.0);
     assert_eq!(case.wall.interaction.friction, 0.5);
     assert_eq!(case.contact.particle.restitution, 0.2);
     // Physics spec §1.1: t_R = 2.5684e-5 s, so 2.5 µs is 0.0973 t_R (4 printed digits).
@@ -63,11 +63,11 @@ fn paper_base_case_matches_table_one() {
 fn resolved_case_round_trips_through_its_toml_text() {
     let mut case = Case::paper_base();
     case.seed = 987_654_321;
-    case.geometry = HopperGeometry {
+    case.geometry = study::config::Geometry::Slab(HopperGeometry {
         hopper_angle_deg: 30.0,
         outlet_gap: 0.006,
         ..HopperGeometry::paper()
-    };
+    });
     case.particles.size = SizeDistribution::Normal {
         mean: 2.9e-3,
         std_dev: 1.0e-4,
@@ -100,9 +100,9 @@ fn outlet_offset_is_converted_to_the_gap_from_the_left_wall() {
     let text = "version = 1\n[geometry]\noutlet_width = 0.03\noutlet_offset = 0.02\n";
     let case = parse_case(text, "e.toml", &[]).unwrap();
     // e + s = (L − D)/2 = 0.035 m, so s = 0.015 m; x_c = −e. Tolerance: a few ulps.
-    assert!((case.geometry.outlet_gap - 0.015).abs() < 1e-15);
-    assert!((case.geometry.outlet_centre() + 0.02).abs() < 1e-15);
-    let (left, right) = case.geometry.outlet_edges();
+    assert!((case.geometry.slab().unwrap().outlet_gap - 0.015).abs() < 1e-15);
+    assert!((case.geometry.slab().unwrap().outlet_centre() + 0.02).abs() < 1e-15);
+    let (left, right) = case.geometry.slab().unwrap().outlet_edges();
     assert!((left + 0.05 - 0.015).abs() < 1e-15 && (right - left - 0.03).abs() < 1e-15);
 }
 
@@ -116,7 +116,7 @@ fn set_overrides_replace_file_values_and_their_alternatives() {
     ];
     let case = parse_case(text, "case.toml", &sets).unwrap();
     // Setting the gap must drop the file's offset instead of reporting a conflict.
-    assert_eq!(case.geometry.outlet_gap, 0.0);
+    assert_eq!(case.geometry.slab().unwrap().outlet_gap, 0.0);
     assert_eq!(case.contact.tangential, TangentialLaw::MindlinDeresiewicz);
     assert_eq!(case.particles.count, 1500);
 }

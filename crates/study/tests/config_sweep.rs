@@ -61,14 +61,17 @@ fn fan2023_identifiers_name_the_grid_values() {
     };
     let angle = find("angle-a30-D045-r0");
     // Exact: the values are copied from the sweep file, not computed.
-    assert_eq!(angle.case.geometry.hopper_angle_deg, 30.0);
-    assert_eq!(angle.case.geometry.outlet_width, 0.045);
-    assert_eq!(angle.case.geometry.outlet_offset(), 0.0);
+    assert_eq!(angle.case.geometry.slab().unwrap().hopper_angle_deg, 30.0);
+    assert_eq!(angle.case.geometry.slab().unwrap().outlet_width, 0.045);
+    assert_eq!(angle.case.geometry.slab().unwrap().outlet_offset(), 0.0);
     assert_eq!(angle.labels["geometry.hopper_angle_deg"], "30");
 
     let eccentric = find("eccentric-s06-D018-r0");
-    assert_eq!(eccentric.case.geometry.outlet_gap, 0.006);
-    assert_eq!(eccentric.case.geometry.hopper_angle_deg, 90.0);
+    assert_eq!(eccentric.case.geometry.slab().unwrap().outlet_gap, 0.006);
+    assert_eq!(
+        eccentric.case.geometry.slab().unwrap().hopper_angle_deg,
+        90.0
+    );
 
     let wall = find("wallfriction-D030-r0");
     assert_eq!(wall.case.wall.interaction.friction, 0.01);
@@ -77,7 +80,7 @@ fn fan2023_identifiers_name_the_grid_values() {
     assert_eq!(wall.case.contact.particle.friction, 0.5);
 
     let thick = find("thickness-Z45-D060-r0");
-    assert_eq!(thick.case.geometry.thickness, 0.0045);
+    assert_eq!(thick.case.geometry.slab().unwrap().thickness, 0.0045);
     for case in &plan.cases {
         assert!(case
             .id
@@ -97,7 +100,7 @@ fn quick_preset_is_small_and_every_case_fits() {
         // The fill must leave head room below H for the particles to rain in.
         let fill = case.fill_height().expect("quick cases must fit");
         assert!(
-            fill < 0.8 * case.geometry.height,
+            fill < 0.8 * case.geometry.slab().unwrap().height,
             "{}: fill {fill}",
             sweep_case.id
         );
@@ -208,7 +211,7 @@ fn sweep_base_can_be_a_case_file_next_to_the_sweep() {
     let plan = load_sweep(&sweep, &["seed=7".to_string()]).unwrap();
     assert_eq!(plan.cases.len(), 2);
     assert_eq!(plan.cases[0].id, "n-a45-r0");
-    assert_eq!(plan.cases[0].case.geometry.width, 0.06);
+    assert_eq!(plan.cases[0].case.geometry.slab().unwrap().width, 0.06);
     assert_eq!(plan.cases[1].case.particles.count, 500);
     // The --set seed feeds the replica seeds, so they differ from the default-seed plan.
     let default_seed = load_sweep(&sweep, &[]).unwrap();
@@ -228,11 +231,11 @@ fn shipped_case_files_match_the_built_ins_and_are_valid() {
         Case::paper_base()
     );
     let alpha = load_case(&cases.join("alpha30.toml"), &[]).unwrap();
-    assert_eq!(alpha.geometry.hopper_angle_deg, 30.0);
+    assert_eq!(alpha.geometry.slab().unwrap().hopper_angle_deg, 30.0);
     // Plates of run 35 mm at 30° rise 35/tan 30° = 60.6 mm (0.1 mm tolerance: printed).
-    assert!((alpha.geometry.funnel_height() - 0.0606).abs() < 1e-4);
+    assert!((alpha.geometry.slab().unwrap().funnel_height() - 0.0606).abs() < 1e-4);
     let wall = load_case(&cases.join("eccentric-s0.toml"), &[]).unwrap();
-    assert_eq!(wall.geometry.outlet_gap, 0.0);
+    assert_eq!(wall.geometry.slab().unwrap().outlet_gap, 0.0);
     // x_c = −e = −(L − D)/2 = −35 mm, to rounding.
-    assert!((wall.geometry.outlet_centre() + 0.035).abs() < 1e-15);
+    assert!((wall.geometry.slab().unwrap().outlet_centre() + 0.035).abs() < 1e-15);
 }

@@ -15,6 +15,7 @@ fn outlet() -> OutletGeometry {
         centre: 0.0,
         half_width: 0.01,
         particle_diameter: D,
+        shape: study::measure::OutletShape::Slot,
     }
 }
 

@@ -14,6 +14,7 @@ fn geometry() -> OutletGeometry {
         centre: -0.01,
         half_width: 0.015,
         particle_diameter: D,
+        shape: study::measure::OutletShape::Slot,
     }
 }
 

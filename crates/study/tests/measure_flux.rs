@@ -23,6 +23,7 @@ fn geometry() -> OutletGeometry {
         centre: -0.004,
         half_width: 0.5 * COLUMNS as f64 * A,
         particle_diameter: D,
+        shape: study::measure::OutletShape::Slot,
     }
 }
 

@@ -15,6 +15,7 @@ fn geometry() -> OutletGeometry {
         centre: 0.002,
         half_width: 0.015,
         particle_diameter: D,
+        shape: study::measure::OutletShape::Slot,
     }
 }
 

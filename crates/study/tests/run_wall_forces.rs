@@ -176,7 +176,7 @@ fn wall_loads_of_the_settled_bed_carry_its_weight_and_the_gate_leaves_with_the_o
     // order of D/L; the middle of the floor is pressed harder than its edges, near the side
     // walls that hold part of the bed. Measured: 1.37 D/L. Half to twice D/L fails for a
     // gate that misses its load or takes another wall's.
-    let share = case.geometry.outlet_width / case.geometry.width;
+    let share = case.geometry.slab().unwrap().outlet_width / case.geometry.slab().unwrap().width;
     println!(
         "gate: fz = {:.6e} N, {:.4} of m g (outlet share of the width {share:.3})",
         gate.force[2],
@@ -209,12 +209,12 @@ fn wall_loads_of_the_settled_bed_carry_its_weight_and_the_gate_leaves_with_the_o
     );
     println!("gate's line of action: x = {x:.6e} m, y = {y:.6e} m");
     assert!(
-        y > 0.0 && y < case.geometry.thickness,
+        y > 0.0 && y < case.geometry.slab().unwrap().thickness,
         "the gate's load acts in the slab: y = {y} m"
     );
-    let centre = case.geometry.outlet_centre();
+    let centre = case.geometry.slab().unwrap().outlet_centre();
     assert!(
-        (x - centre).abs() < 0.5 * case.geometry.outlet_width,
+        (x - centre).abs() < 0.5 * case.geometry.slab().unwrap().outlet_width,
         "the gate's load acts over it: x = {x} m"
     );
 }

@@ -1,5 +1,5 @@
 //! Tessellated surfaces built in code, for engine tests and simple walls: a flat rectangle of
-//! many small triangles, a closed axis-aligned box, and the sides of a cylinder and of a cone
+//! many small triangles, a closed axis-aligned box, a flat ring with a hole, and the sides of a cylinder and of a cone
 //! frustum. All lengths are in metres [m]; every builder checks its arguments and returns only
 //! triangles that the reader accepts (distinct vertices, area / L² ≥
 //! [`crate::DEGENERACY_RATIO`]). Neighbouring triangles share bit-identical vertices, and each
@@ -8,11 +8,13 @@
 
 mod axis_aligned_box;
 mod error;
+mod flat_ring;
 mod rectangle;
 mod revolution;
 
 pub use axis_aligned_box::axis_aligned_box;
 pub use error::ShapeError;
+pub use flat_ring::{flat_ring, ring_hole};
 pub use rectangle::rectangle;
 pub use revolution::{cylinder_side, frustum_side};
 

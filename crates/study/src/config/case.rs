@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::geometry::HopperGeometry;
 use super::particles::{Material, ParticleSpec};
+use super::silo::Geometry;
 
 /// Version of the case-file format this code reads and writes.
 pub const CASE_FORMAT_VERSION: i64 = 1;
@@ -167,7 +168,8 @@ pub struct OutputSpec {
 pub struct Case {
     /// Seed of the random fill (≤ i64::MAX so that it can be written as a TOML integer).
     pub seed: u64,
-    pub geometry: HopperGeometry,
+    /// The container: the paper's slab hopper or a silo.
+    pub geometry: Geometry,
     pub particles: ParticleSpec,
     pub wall: WallSpec,
     pub contact: ContactSpec,
@@ -182,14 +184,14 @@ impl Case {
     /// The paper's base case: Table 1, α = 90°, D = 30 mm, centred outlet, 3000 spheres.
     pub fn paper_base() -> Self {
         let d = 3.0e-3;
-        let geometry = HopperGeometry::paper();
+        let slab = HopperGeometry::paper();
         Self {
             seed: 1,
             protocol: Protocol {
                 settle_kinetic_energy: 1.0e-9,
                 max_settle_time: 3.0,
                 fill_bottom: 0.0,
-                fill_top: geometry.height,
+                fill_top: slab.height,
                 fill_speed: 1.0,
                 deletion_depth: 5.0 * d,
                 // At the smallest outlet (D = 6 d) some 700 particles leave per second:
@@ -198,7 +200,7 @@ impl Case {
                 time_limit: 20.0,
                 stop_fraction: 1.0,
             },
-            geometry,
+            geometry: Geometry::Slab(slab),
             particles: ParticleSpec::paper(),
             wall: WallSpec {
                 material: WallMaterial::SameAsParticle,
@@ -234,31 +236,51 @@ impl Case {
         self.time_step / self.particles.rayleigh_time()
     }
 
-    /// Whether the slab is thick enough for two layers of spheres (then the case is a 3D
-    /// rectangular hopper and packing is judged by volume).
-    pub fn is_thick_slab(&self) -> bool {
-        self.geometry.thickness >= THICK_SLAB_DIAMETERS * self.particles.size.max_diameter()
+    /// The slab hopper of a slab case.
+    pub fn slab(&self) -> Option<&HopperGeometry> {
+        self.geometry.slab()
     }
 
-    /// In-plane container area the particles need at the densest assumed packing [m²].
+    /// Whether the slab is thick enough for two layers of spheres (then the case is a 3D
+    /// rectangular hopper and packing is judged by volume); false for a silo.
+    pub fn is_thick_slab(&self) -> bool {
+        self.slab().is_some_and(|g| {
+            g.thickness >= THICK_SLAB_DIAMETERS * self.particles.size.max_diameter()
+        })
+    }
+
+    /// In-plane container area the particles need at the densest assumed packing [m²]
+    /// (slab cases; NaN for a silo).
     ///
     /// Quasi-2D slab: disc area / `MONOLAYER_AREA_FRACTION`. Thick slab: sphere volume /
     /// (`BULK_VOLUME_FRACTION` · Z).
     pub fn packed_area(&self) -> f64 {
-        if self.is_thick_slab() {
-            self.particles.total_volume() / (BULK_VOLUME_FRACTION * self.geometry.thickness)
-        } else {
-            self.particles.total_disc_area() / MONOLAYER_AREA_FRACTION
+        match self.slab() {
+            Some(g) if self.is_thick_slab() => {
+                self.particles.total_volume() / (BULK_VOLUME_FRACTION * g.thickness)
+            }
+            Some(_) => self.particles.total_disc_area() / MONOLAYER_AREA_FRACTION,
+            None => f64::NAN,
         }
+    }
+
+    /// Container volume the particles need at the densest assumed packing, sphere volume /
+    /// `BULK_VOLUME_FRACTION` [m³] (silo cases).
+    pub fn packed_volume(&self) -> f64 {
+        self.particles.total_volume() / BULK_VOLUME_FRACTION
     }
 
     /// Estimated height of the settled fill above the outlet plane [m], or `None` when
     /// the particles cannot fit below H at the densest assumed packing.
     pub fn fill_height(&self) -> Option<f64> {
-        self.geometry.height_holding(self.packed_area())
+        match &self.geometry {
+            Geometry::Slab(g) => g.height_holding(self.packed_area()),
+            Geometry::Cylinder(g) => g.height_holding(self.packed_volume()),
+        }
     }
 
-    /// Whether N particles fit in the container below H (see [`Case::packed_area`]).
+    /// Whether N particles fit in the container below H (see [`Case::packed_area`] and
+    /// [`Case::packed_volume`]).
     pub fn particles_fit(&self) -> bool {
         self.fill_height().is_some()
     }

@@ -18,6 +18,8 @@ mod reader;
 mod resolve;
 mod resolve_particles;
 mod resolve_run;
+mod resolve_silo;
+mod silo;
 mod sweep;
 mod sweep_file;
 mod template;
@@ -38,6 +40,7 @@ pub use case::{
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::HopperGeometry;
 pub use particles::{Material, ParticleSpec, SizeDistribution};
+pub use silo::{CylinderSilo, Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
 pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
 pub use template::CASE_TEMPLATE;
 

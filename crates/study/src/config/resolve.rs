@@ -17,6 +17,7 @@ use super::particles::Material;
 use super::reader::Section;
 use super::resolve_particles::{read_material, read_particles, source};
 use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
+use super::silo::Geometry;
 
 /// Pairs of keys that are alternatives: giving one through `--set` or a sweep axis
 /// removes the other, and giving both in a file is an error.
@@ -24,6 +25,14 @@ pub(crate) const ALTERNATIVE_KEYS: &[(&str, &str)] = &[
     ("geometry.outlet_gap", "geometry.outlet_offset"),
     ("time.time_step", "time.rayleigh_fraction"),
     ("particles.diameter", "particles.size_distribution"),
+    (
+        "particles.material.shear_modulus",
+        "particles.material.youngs_modulus",
+    ),
+    (
+        "wall.material.shear_modulus",
+        "wall.material.youngs_modulus",
+    ),
 ];
 
 /// Largest particle count accepted; a guard against typos that would exhaust memory.
@@ -70,7 +79,7 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         .as_ref()
         .map_or(3.0e-3, |(p, _)| p.size.max_diameter());
     let d_max_source = particles.as_ref().map(|(_, s)| s.largest_diameter.as_str());
-    let geometry = read_geometry(
+    let geometry = read_container(
         &mut root.section("geometry", &mut errors),
         particles
             .as_ref()
@@ -84,7 +93,7 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         particles.as_ref(),
         &mut errors,
     );
-    let height = geometry.as_ref().map(|g| g.height);
+    let height = geometry.as_ref().map(Geometry::height);
     let protocol = read_protocol(
         &mut root.section("protocol", &mut errors),
         d_max,
@@ -96,7 +105,7 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         &mut root.section("measure", &mut errors),
         d_max,
         d_max_source,
-        geometry.as_ref().map(|g| g.outlet_width),
+        geometry.as_ref().map(|g| (g.outlet_size(), outlet_key(g))),
         time_step.as_ref(),
         protocol.as_ref().map(|p| p.stop_fraction),
         &mut errors,
@@ -166,8 +175,50 @@ fn read_interaction(
     })
 }
 
-/// Reads `[geometry]`; `d_max` is the largest particle diameter [m] with the key that set
-/// it, when the particles are valid.
+/// The geometry kinds `geometry.kind` accepts.
+const GEOMETRY_KINDS: &[&str] = &["slab", "cylinder"];
+
+/// The key of a geometry's outlet size D.
+pub(crate) fn outlet_key(geometry: &Geometry) -> &'static str {
+    match geometry {
+        Geometry::Slab(_) => "geometry.outlet_width",
+        Geometry::Cylinder(_) => "geometry.outlet_diameter",
+    }
+}
+
+/// Reads `[geometry]` of any kind (`kind`, default `"slab"`); `d_max` is the largest
+/// particle diameter [m] with the key that set it, when the particles are valid.
+fn read_container(
+    section: &mut Section<'_>,
+    d_max: Option<(f64, &str)>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<Geometry> {
+    let kind = section.string("kind", errors);
+    match kind.as_ref().map(|k| k.value.as_str()) {
+        None | Some("slab") => read_geometry(section, d_max, errors).map(Geometry::Slab),
+        Some("cylinder") => {
+            super::resolve_silo::read_cylinder(section, d_max, errors).map(Geometry::Cylinder)
+        }
+        Some(other) => {
+            let kind = kind.as_ref().expect("a kind was given");
+            let allowed: Vec<String> = GEOMETRY_KINDS.iter().map(|k| format!("\"{k}\"")).collect();
+            errors.push(ConfigError::new(
+                ErrorKind::Invalid,
+                kind.location.clone(),
+                kind.key.clone(),
+                Some(format!("\"{other}\"")),
+                format!(
+                    "unknown geometry kind; must be one of {}",
+                    allowed.join(", ")
+                ),
+            ));
+            None
+        }
+    }
+}
+
+/// Reads `[geometry]` of the slab hopper; `d_max` is the largest particle diameter [m] with
+/// the key that set it, when the particles are valid.
 fn read_geometry(
     section: &mut Section<'_>,
     d_max: Option<(f64, &str)>,
@@ -183,6 +234,7 @@ fn read_geometry(
     let offset = section.float("outlet_offset", "m", errors);
     section.finish(
         &[
+            "kind",
             "width",
             "height",
             "thickness",
@@ -362,7 +414,31 @@ fn check_particles_fit(
             .unwrap_or_else(|| geometry.default_value(name, value, unit));
         super::resolve_particles::source(&located)
     };
-    let g = &case.geometry;
+    let g = match &case.geometry {
+        Geometry::Slab(g) => g,
+        Geometry::Cylinder(silo) => {
+            let silo_keys = [
+                key("radius", "m", silo.radius),
+                key("height", "m", silo.height),
+                key("outlet_diameter", "m", silo.outlet_diameter),
+                key("hopper_angle_deg", "°", silo.hopper_angle_deg),
+            ]
+            .join(", ");
+            errors.push(count.error(
+                ErrorKind::DoesNotFit,
+                format!(
+                    "the particles cannot fit: their volume needs {} m³ of the silo at volume \
+                     fraction {}, but the silo below H holds {} m³; lower the count or enlarge \
+                     the silo (the need comes from the count and the sizes, the largest \
+                     diameter being {diameter_source}; the volume from {silo_keys})",
+                    rounded(case.packed_volume()),
+                    super::case::BULK_VOLUME_FRACTION,
+                    rounded(silo.volume()),
+                ),
+            ));
+            return;
+        }
+    };
     let hopper = [
         key("width", "m", g.width),
         key("height", "m", g.height),
@@ -391,7 +467,7 @@ fn check_particles_fit(
              but the hopper below H holds {} m²; lower the count or enlarge the hopper \
              (the need comes from the count and the sizes, {need}; the cross-section from {hopper})",
             rounded(case.packed_area()),
-            rounded(case.geometry.cross_section_area()),
+            rounded(g.cross_section_area()),
         ),
     ));
 }

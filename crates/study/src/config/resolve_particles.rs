@@ -38,15 +38,45 @@ pub(crate) fn read_material(
     errors: &mut Vec<ConfigError>,
 ) -> Option<(Material, MaterialSources)> {
     let density = section.float_or("density", "kg/m³", default.density, errors);
-    let shear = section.float_or("shear_modulus", "Pa", default.shear_modulus, errors);
     let poisson = section.float_or("poisson_ratio", "", default.poisson_ratio, errors);
-    let mut ok = density.require_positive(errors) & shear.require_positive(errors);
+    // G or E: the benchmark tables give Young's modulus, the paper gives G.
+    let youngs = section.float("youngs_modulus", "Pa", errors);
+    let given_shear = section.float("shear_modulus", "Pa", errors);
+    let mut ok = density.require_positive(errors);
     // A stable isotropic solid has −1 < ν < 0.5; ν = 0.5 would make the bulk modulus infinite.
     if !(poisson.value > -1.0 && poisson.value < 0.5) {
         errors.push(poisson.error(ErrorKind::Invalid, "must lie in (−1, 0.5)"));
         ok = false;
     }
-    section.finish(&["density", "shear_modulus", "poisson_ratio"], errors);
+    let shear = match (given_shear, youngs) {
+        (Some(g), Some(e)) => {
+            errors.push(e.error(
+                ErrorKind::Conflict,
+                format!("give either {} or {}, not both", g.key, e.key),
+            ));
+            ok = false;
+            g
+        }
+        (Some(g), None) => {
+            ok &= g.require_positive(errors);
+            g
+        }
+        (None, Some(e)) => {
+            ok &= e.require_positive(errors);
+            // G = E / (2 (1 + ν)); the key stays E's, so messages name what was written.
+            e.with_value(e.value / (2.0 * (1.0 + poisson.value)))
+        }
+        (None, None) => section.default_value("shear_modulus", default.shear_modulus, "Pa"),
+    };
+    section.finish(
+        &[
+            "density",
+            "shear_modulus",
+            "youngs_modulus",
+            "poisson_ratio",
+        ],
+        errors,
+    );
     ok.then(|| {
         (
             Material {

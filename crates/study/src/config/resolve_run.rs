@@ -201,7 +201,7 @@ pub(crate) fn read_measure(
     section: &mut Section<'_>,
     d_max: f64,
     d_max_source: Option<&str>,
-    outlet_width: Option<f64>,
+    outlet: Option<(f64, &str)>,
     time_step: Option<&TimeStep>,
     stop_fraction: Option<f64>,
     errors: &mut Vec<ConfigError>,
@@ -250,7 +250,7 @@ pub(crate) fn read_measure(
             }
         }
     }
-    if let Some(d) = outlet_width {
+    if let Some((d, outlet_key)) = outlet {
         if x_bin.value > d {
             // The default bin width is d/2: name the diameter's key when it applies.
             let origin = match d_max_source {
@@ -262,7 +262,7 @@ pub(crate) fn read_measure(
             errors.push(x_bin.error(
                 ErrorKind::Invalid,
                 format!(
-                    "must be ≤ geometry.outlet_width ({} m) to resolve a profile{origin}",
+                    "must be ≤ {outlet_key} ({} m) to resolve a profile{origin}",
                     number(d)
                 ),
             ));

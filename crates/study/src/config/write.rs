@@ -5,6 +5,7 @@ use std::fmt::Write;
 use super::case::{Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION};
 use super::error::rounded;
 use super::particles::{Material, SizeDistribution};
+use super::silo::{Geometry, WallSurface};
 
 /// A float in TOML syntax that parses back to the same bits: Rust prints the shortest
 /// representation that round-trips, `{:?}` always with a `.` or an exponent; large
@@ -36,6 +37,54 @@ fn material_lines(out: &mut String, material: &Material) {
     );
 }
 
+/// The `[geometry]` table of a resolved case. A slab writes no `kind`: it is the default, and
+/// its resolved text (which the summary's hash covers) stays what it always was.
+fn geometry_lines(out: &mut String, geometry: &Geometry) {
+    match geometry {
+        Geometry::Slab(g) => {
+            let _ = writeln!(out, "\n[geometry]");
+            let _ = writeln!(out, "width = {}  # L [m]", float(g.width));
+            let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
+            let _ = writeln!(out, "thickness = {}  # Z [m]", float(g.thickness));
+            let _ = writeln!(out, "outlet_width = {}  # D [m]", float(g.outlet_width));
+            let _ = writeln!(
+                out,
+                "hopper_angle_deg = {}  # α [°]",
+                float(g.hopper_angle_deg)
+            );
+            let _ = writeln!(
+                out,
+                "outlet_gap = {}  # s [m]; e = {} m",
+                float(g.outlet_gap),
+                rounded(g.outlet_offset())
+            );
+        }
+        Geometry::Cylinder(g) => {
+            let _ = writeln!(out, "\n[geometry]");
+            let _ = writeln!(out, "kind = \"cylinder\"");
+            let _ = writeln!(out, "radius = {}  # R [m]", float(g.radius));
+            let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
+            let _ = writeln!(
+                out,
+                "outlet_diameter = {}  # D [m]",
+                float(g.outlet_diameter)
+            );
+            let _ = writeln!(
+                out,
+                "hopper_angle_deg = {}  # θ [°]",
+                float(g.hopper_angle_deg)
+            );
+            let _ = writeln!(out, "outlet_offset = {}  # e [m]", float(g.outlet_offset));
+            let walls = match g.walls {
+                WallSurface::Smooth => "smooth",
+                WallSurface::Meshed => "meshed",
+            };
+            let _ = writeln!(out, "walls = \"{walls}\"");
+            let _ = writeln!(out, "mesh_segments = {}", g.mesh_segments);
+        }
+    }
+}
+
 impl Case {
     /// The resolved case as a case file: every key explicit, SI units, units in comments.
     ///
@@ -43,27 +92,11 @@ impl Case {
     /// hold the exact case it ran.
     pub fn to_toml_string(&self) -> String {
         let mut out = String::new();
-        let g = &self.geometry;
         let _ = writeln!(out, "# Resolved hopperflow case (SI units).");
         let _ = writeln!(out, "version = {CASE_FORMAT_VERSION}");
         let _ = writeln!(out, "seed = {}", self.seed);
 
-        let _ = writeln!(out, "\n[geometry]");
-        let _ = writeln!(out, "width = {}  # L [m]", float(g.width));
-        let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
-        let _ = writeln!(out, "thickness = {}  # Z [m]", float(g.thickness));
-        let _ = writeln!(out, "outlet_width = {}  # D [m]", float(g.outlet_width));
-        let _ = writeln!(
-            out,
-            "hopper_angle_deg = {}  # α [°]",
-            float(g.hopper_angle_deg)
-        );
-        let _ = writeln!(
-            out,
-            "outlet_gap = {}  # s [m]; e = {} m",
-            float(g.outlet_gap),
-            rounded(g.outlet_offset())
-        );
+        geometry_lines(&mut out, &self.geometry);
 
         let p = &self.particles;
         let _ = writeln!(out, "\n[particles]");

@@ -1,8 +1,14 @@
-//! The hopper case: walls, filling, settling and discharge (docs/physics.md §5, §7).
+//! The containers of a case (the slab hopper, the cylindrical silo): walls, filling,
+//! settling and discharge (docs/physics.md §5, §7).
 
 pub mod builder;
+pub mod container;
 pub mod fill;
 pub mod setup;
+pub mod silo_fill;
+pub mod silo_walls;
 
 pub use builder::{build_walls, outline, HopperWalls};
-pub use setup::{contact_laws, hopper_simulation, lattice_bed, sample_radius};
+pub use container::{build_container_walls, ContainerWalls, WALL_NAMES};
+pub use setup::{case_simulation, contact_laws, hopper_simulation, lattice_bed, sample_radius};
+pub use silo_walls::{build_silo_walls, silo_outline, silo_wall_polygons, SiloWalls};

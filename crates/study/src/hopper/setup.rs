@@ -6,7 +6,8 @@ use dem::{
 };
 use rand::Rng;
 
-use super::builder::{build_walls, HopperWalls};
+use super::builder::HopperWalls;
+use super::container::{build_container_walls, ContainerWalls};
 use crate::config::{self, Case, SizeDistribution};
 
 /// EPSD viscous damping ratio η_r: Ai et al. (2011) suggest 0.3 (docs/physics.md §4.1).
@@ -45,11 +46,11 @@ pub fn contact_laws(case: &Case) -> ContactLaws {
     }
 }
 
-/// A simulation holding the hopper's walls (gate closed) and the particle material.
-pub fn hopper_simulation(
+/// A simulation holding the container's walls (gate closed) and the particle material.
+pub fn case_simulation(
     case: &Case,
     threads: usize,
-) -> Result<(Simulation, HopperWalls, MaterialId), DemError> {
+) -> Result<(Simulation, ContainerWalls, MaterialId), DemError> {
     let mut config = SimulationConfig::new(case.time_step);
     config.laws = contact_laws(case);
     config.threads = threads;
@@ -63,13 +64,33 @@ pub fn hopper_simulation(
         config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
         config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(&m)),
     };
-    let walls = build_walls(
+    let walls = build_container_walls(
         &mut sim,
         &case.geometry,
         wall_material,
         engine_interaction(&case.wall.interaction),
     )?;
     Ok((sim, walls, id))
+}
+
+/// A simulation holding the slab hopper's walls (gate closed) and the particle material;
+/// refused for a case of another kind.
+pub fn hopper_simulation(
+    case: &Case,
+    threads: usize,
+) -> Result<(Simulation, HopperWalls, MaterialId), DemError> {
+    match case_simulation(case, threads)? {
+        (sim, ContainerWalls::Slab(walls), id) => Ok((sim, walls, id)),
+        _ => Err(not_a_slab(case)),
+    }
+}
+
+/// The refusal of a slab-only operation on a case of another kind.
+fn not_a_slab(case: &Case) -> DemError {
+    DemError::InvalidInput(format!(
+        "this needs the slab hopper (geometry.kind = \"slab\"), not a {} case",
+        case.geometry.kind()
+    ))
 }
 
 /// Draws one particle radius [m] from the case's size distribution.
@@ -122,7 +143,7 @@ pub fn lattice_bed(
     count: usize,
     rng: &mut impl Rng,
 ) -> Result<usize, DemError> {
-    let g = &case.geometry;
+    let g = case.slab().ok_or_else(|| not_a_slab(case))?;
     let r = 0.5 * case.particles.size.max_diameter();
     let spacing = 2.0 * r * 1.01;
     let row = spacing * 3f64.sqrt() / 2.0;

@@ -32,7 +32,8 @@ pub struct CrossingEvent {
     pub velocity_z: f64,
     /// Particle mass [kg].
     pub mass: f64,
-    /// Whether x lies within the orifice span [x_c − R, x_c + R].
+    /// Whether the crossing lies within the orifice: x within [x_c − R, x_c + R] for a
+    /// slot, (x, y) within R of the centre for a circular orifice.
     pub inside_outlet: bool,
     /// Interpolated horizontal velocity at the crossing [m/s].
     pub velocity_x: f64,
@@ -40,6 +41,10 @@ pub struct CrossingEvent {
     pub radius: f64,
     /// The particle's stable identifier.
     pub id: u64,
+    /// Interpolated position across the slab, or the second horizontal coordinate of a
+    /// silo, at the crossing [m].
+    #[serde(default)]
+    pub y: f64,
 }
 
 /// A count of crossings and the mass they carried.
@@ -357,6 +362,8 @@ impl CrossingRecord {
 struct Observation {
     time: f64,
     x: f64,
+    #[serde(default)]
+    y: f64,
     z: f64,
     velocity_z: f64,
     generation: u64,
@@ -407,11 +414,12 @@ impl CrossingProbe {
         let z_o = self.record.geometry.outlet_height;
         let first_new_event = self.record.events.len();
         for i in 0..frame.len() {
-            let [x, _, z] = frame.positions[i];
+            let [x, y, z] = frame.positions[i];
             let [velocity_x, _, velocity_z] = frame.velocities[i];
             let now = Observation {
                 time: frame.time,
                 x,
+                y,
                 z,
                 velocity_z,
                 generation,
@@ -422,15 +430,17 @@ impl CrossingProbe {
                     // Linear interpolation between the two observations.
                     let s = (before.z - z_o) / (before.z - z);
                     let x_cross = before.x + s * (x - before.x);
+                    let y_cross = before.y + s * (y - before.y);
                     self.record.events.push(CrossingEvent {
                         time: before.time + s * (frame.time - before.time),
                         x: x_cross,
                         velocity_z: before.velocity_z + s * (velocity_z - before.velocity_z),
                         mass: frame.mass(i),
-                        inside_outlet: self.record.geometry.spans(x_cross),
+                        inside_outlet: self.record.geometry.contains(x_cross, y_cross),
                         velocity_x: before.velocity_x + s * (velocity_x - before.velocity_x),
                         radius: frame.radii[i],
                         id: frame.ids[i],
+                        y: y_cross,
                     });
                 } else if before.z <= z_o && z > z_o {
                     self.record.upward.count += 1;

@@ -19,6 +19,22 @@ pub struct OutletGeometry {
     pub half_width: f64,
     /// Particle diameter d [m]; sets the default strip height and snapshot band.
     pub particle_diameter: f64,
+    /// The orifice's shape: a slot across the slab, or a circle.
+    #[serde(default)]
+    pub shape: OutletShape,
+}
+
+/// The shape of an orifice in the outlet plane.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub enum OutletShape {
+    /// A slot of half-width R about x = x_c, spanning the container in y.
+    #[default]
+    Slot,
+    /// A circle of radius R about (x_c, `centre_y`).
+    Circle {
+        /// y of the orifice centre [m].
+        centre_y: f64,
+    },
 }
 
 impl OutletGeometry {
@@ -57,6 +73,17 @@ impl OutletGeometry {
     /// Normalised coordinate x* = (x − x_c)/R; x* < 0 lies toward the left (near) wall.
     pub fn normalised(&self, x: f64) -> f64 {
         (x - self.centre) / self.half_width
+    }
+
+    /// Whether a crossing at (x, y) [m] lies within the orifice: its span in x for a slot,
+    /// the disc for a circle.
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        match self.shape {
+            OutletShape::Slot => self.spans(x),
+            OutletShape::Circle { centre_y } => {
+                (x - self.centre).hypot(y - centre_y) <= self.half_width
+            }
+        }
     }
 
     /// Whether a centre at horizontal position `x` [m] lies within the orifice span

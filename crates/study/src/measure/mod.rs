@@ -37,7 +37,7 @@ pub use crossing::{
 pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
 pub use error::MeasureError;
 pub use frame::{FrameView, TimeWindow};
-pub use geometry::{OutletBins, OutletGeometry, CENTRE_HALF_WIDTH};
+pub use geometry::{OutletBins, OutletGeometry, OutletShape, CENTRE_HALF_WIDTH};
 pub use strip::{
     AreaFractionBin, AreaFractionProfile, StripConfig, StripFrame, StripProbe, StripRecord,
 };

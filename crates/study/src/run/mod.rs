@@ -3,6 +3,7 @@
 mod checkpoint;
 mod outputs;
 mod protocol;
+mod remaining;
 mod wall_forces;
 
 use std::path::{Path, PathBuf};
@@ -37,6 +38,9 @@ pub enum RunError {
     /// The analysis of the measurements failed.
     #[error("analysis: {0}")]
     Analysis(#[from] analysis::AnalysisError),
+    /// A quantity this kind of container does not measure (yet).
+    #[error("not measured: {0}")]
+    NotMeasured(&'static str),
     /// Writing an output failed.
     #[error("output: {0}")]
     Output(#[from] OutputError),

@@ -10,11 +10,12 @@ use analysis::selfsimilar::{
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
 use super::protocol::{CaseRun, Phase};
+use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::RunError;
-use crate::config::Case;
-use crate::hopper::outline;
-use crate::measure::{CrossingRecord, OutletSummary, TimeWindow};
+use crate::config::{Case, Geometry};
+use crate::hopper::{outline, silo_outline, silo_wall_polygons};
+use crate::measure::{CrossingRecord, OutletShape, OutletSummary, TimeWindow};
 use crate::output::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, write_csv_table, write_frame_png, write_particles_vtu,
@@ -27,6 +28,7 @@ use crate::summary::{CaseSummary, ProfileRow, StopReason};
 pub(crate) const RESULT_FILES: &[&str] = &[
     "flow.csv",
     "wall_forces.csv",
+    "remaining.csv",
     "crossings.csv",
     "profiles.csv",
     "field.csv",
@@ -68,6 +70,9 @@ pub struct Pictures {
     walls: Vec<WallSegment>,
     geometry_height: f64,
     half_width: f64,
+    /// Half-thickness of the vertical cut y ∈ [−c, c] a frame of a silo draws [m]; `None`
+    /// for a slab, which is drawn whole.
+    cut: Option<f64>,
 }
 
 impl Pictures {
@@ -79,22 +84,34 @@ impl Pictures {
                 path: dir.clone(),
                 source,
             })?;
-            let polygons: Vec<Vec<[f64; 3]>> = outline(&case.geometry)
-                .iter()
-                .map(|s| {
-                    let (a, b) = (s[0], s[1]);
-                    let z = case.geometry.thickness;
-                    vec![
-                        [a.0, 0.0, a.1],
-                        [b.0, 0.0, b.1],
-                        [b.0, z, b.1],
-                        [a.0, z, a.1],
-                    ]
-                })
-                .collect();
+            let polygons: Vec<Vec<[f64; 3]>> = match &case.geometry {
+                Geometry::Slab(g) => outline(g)
+                    .iter()
+                    .map(|s| {
+                        let (a, b) = (s[0], s[1]);
+                        let z = g.thickness;
+                        vec![
+                            [a.0, 0.0, a.1],
+                            [b.0, 0.0, b.1],
+                            [b.0, z, b.1],
+                            [a.0, z, a.1],
+                        ]
+                    })
+                    .collect(),
+                Geometry::Cylinder(g) => silo_wall_polygons(g),
+            };
             write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
         }
-        let walls = outline(&case.geometry)
+        let (segments, half_width, cut) = match &case.geometry {
+            Geometry::Slab(g) => (outline(g), 0.5 * g.width, None),
+            // A cut two mean diameters thick: one layer of spheres about the axis.
+            Geometry::Cylinder(g) => (
+                silo_outline(g),
+                g.radius,
+                Some(case.particles.size.mean_diameter()),
+            ),
+        };
+        let walls = segments
             .iter()
             .map(|s| WallSegment {
                 start: [s[0].0, s[0].1],
@@ -110,8 +127,9 @@ impl Pictures {
             next_frame: f64::NAN,
             frames: 0,
             walls,
-            geometry_height: case.geometry.height,
-            half_width: 0.5 * case.geometry.width,
+            geometry_height: case.geometry.height(),
+            half_width,
+            cut,
         })
     }
 
@@ -168,7 +186,9 @@ impl Pictures {
             }
             if t >= self.next_frame {
                 self.next_frame += FRAME_INTERVAL;
+                let cut = self.cut;
                 let particles: Vec<FrameParticle> = (0..p.len())
+                    .filter(|&k| cut.is_none_or(|c| p.positions()[k].y.abs() <= c))
                     .map(|k| FrameParticle {
                         x: p.positions()[k].x,
                         z: p.positions()[k].z,
@@ -218,12 +238,15 @@ pub(crate) const CROSSING_COLUMNS: [&str; 8] = [
 /// downward; physics spec §7.2), with the particle's radius, mass, material (its density:
 /// a case has one particle material, `particles.material`) and identifier. The record is
 /// part of the checkpointed run state, so a resumed run writes the same file.
+///
+/// A circular orifice adds the crossing's y as a last column, `y_m`.
 fn write_crossings(path: &Path, record: &CrossingRecord, density: f64) -> Result<(), RunError> {
+    let circular = matches!(record.geometry.shape, OutletShape::Circle { .. });
     let rows: Vec<Vec<Cell>> = record
         .events
         .iter()
         .map(|e| {
-            vec![
+            let mut row = vec![
                 e.time.into(),
                 e.x.into(),
                 e.velocity_x.into(),
@@ -232,10 +255,18 @@ fn write_crossings(path: &Path, record: &CrossingRecord, density: f64) -> Result
                 e.mass.into(),
                 density.into(),
                 Cell::Text(e.id.to_string()),
-            ]
+            ];
+            if circular {
+                row.push(e.y.into());
+            }
+            row
         })
         .collect();
-    write_csv_table(path, &CROSSING_COLUMNS, &rows)?;
+    let mut columns = CROSSING_COLUMNS.to_vec();
+    if circular {
+        columns.push("y_m");
+    }
+    write_csv_table(path, &columns, &rows)?;
     Ok(())
 }
 
@@ -307,10 +338,19 @@ pub fn finish(
         .and_then(|w| TimeWindow::new(opened + w.start_time, opened + w.end_time).ok());
     let density = case.particles.material.density;
     let d = case.particles.size.mean_diameter();
-    let outlet = outlet_window
-        .and_then(|w| OutletSummary::new(record, state.strip.record(), w, density).ok());
+    let outlet = outlet_window.and_then(|w| {
+        let strip = state.strip.as_ref()?;
+        OutletSummary::new(record, strip.record(), w, density).ok()
+    });
 
     write_crossings(&out_dir.join("crossings.csv"), record, density)?;
+
+    // remaining.csv: N(t), the particles still above the orifice plane.
+    write_csv_table(
+        out_dir.join("remaining.csv"),
+        &REMAINING_COLUMNS,
+        &state.remaining.table(),
+    )?;
 
     let mut profile_rows = Vec::new();
     if let Some(o) = &outlet {
@@ -371,8 +411,8 @@ pub fn finish(
     write_csv_table(out_dir.join("profiles.csv"), &headers, &rows)?;
 
     // field.csv: coarse-grained velocity around the outlet over the steady window (Fig. 9).
-    if let Some(w) = outlet_window {
-        if let Ok(field) = state.field.record().field(w) {
+    if let (Some(w), Some(probe)) = (outlet_window, &state.field) {
+        if let Ok(field) = probe.record().field(w) {
             let rows: Vec<Vec<Cell>> = field
                 .cells
                 .iter()
@@ -405,18 +445,20 @@ pub fn finish(
         )?;
     }
 
-    let g = &case.geometry;
     let bulk = state.bulk.as_ref();
+    // A silo has no slab width, thickness or gap: NaN, written as null.
+    let slab = case.slab();
+    let of_slab = |f: fn(&crate::config::HopperGeometry) -> f64| slab.map_or(f64::NAN, f);
     Ok(CaseSummary {
         version: env!("CARGO_PKG_VERSION").to_string(),
         seed: case.seed,
         config_hash: hash.to_string(),
-        outlet_width: g.outlet_width,
-        hopper_angle_deg: g.hopper_angle_deg,
-        outlet_gap: g.outlet_gap,
-        dimensionless_gap: g.dimensionless_gap(),
-        width: g.width,
-        thickness: g.thickness,
+        outlet_width: case.geometry.outlet_size(),
+        hopper_angle_deg: case.geometry.hopper_angle_deg(),
+        outlet_gap: of_slab(|g| g.outlet_gap),
+        dimensionless_gap: of_slab(|g| g.dimensionless_gap()),
+        width: of_slab(|g| g.width),
+        thickness: of_slab(|g| g.thickness),
         particle_diameter: d,
         particle_density: density,
         particles: case.particles.count,

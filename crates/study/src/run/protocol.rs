@@ -8,14 +8,16 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use crate::config::Case;
-use crate::hopper::{fill::insert_batch, hopper_simulation, sample_radius, HopperWalls};
+use crate::config::{Case, Geometry};
+use crate::hopper::silo_fill::insert_silo_batch;
+use crate::hopper::{case_simulation, fill::insert_batch, sample_radius, ContainerWalls};
 use crate::measure::{
     BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView, Kernel,
-    OutletBins, OutletGeometry, StripConfig, StripProbe, VelocityFieldProbe,
+    OutletBins, OutletGeometry, OutletShape, StripConfig, StripProbe, VelocityFieldProbe,
 };
 use crate::summary::StopReason;
 
+use super::remaining::RemainingRecorder;
 use super::wall_forces::WallForceRecorder;
 use super::RunError;
 
@@ -68,13 +70,15 @@ pub enum Phase {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RunState {
     pub(crate) sim: SimulationState,
-    pub(crate) walls: HopperWalls,
+    pub(crate) walls: ContainerWalls,
     pub(crate) material: MaterialId,
     pub(crate) rng: Xoshiro256PlusPlus,
     pub(crate) phase: Phase,
     pub(crate) crossing: CrossingProbe,
-    pub(crate) strip: StripProbe,
-    pub(crate) field: VelocityFieldProbe,
+    /// φ(x) on the outlet strip of a slab (`None` for a silo).
+    pub(crate) strip: Option<StripProbe>,
+    /// The coarse-grained x–z field of a slab (`None` for a silo).
+    pub(crate) field: Option<VelocityFieldProbe>,
     pub(crate) bulk: Option<BulkMeasurement>,
     pub(crate) settled_kinetic_energy: f64,
     pub(crate) settled: bool,
@@ -85,6 +89,8 @@ pub struct RunState {
     pub(crate) fill_mass: f64,
     /// The loads on the walls, by window (`wall_forces.csv`).
     pub(crate) wall_forces: WallForceRecorder,
+    /// The particles left in the container against time (`remaining.csv`).
+    pub(crate) remaining: RemainingRecorder,
 }
 
 /// A case being run.
@@ -96,30 +102,54 @@ pub struct CaseRun {
 
 /// The outlet geometry of a case for the probes.
 pub fn outlet_geometry(case: &Case) -> OutletGeometry {
-    OutletGeometry {
-        outlet_height: 0.0,
-        centre: case.geometry.outlet_centre(),
-        half_width: case.geometry.outlet_radius(),
-        particle_diameter: case.particles.size.mean_diameter(),
+    let particle_diameter = case.particles.size.mean_diameter();
+    match &case.geometry {
+        Geometry::Slab(g) => OutletGeometry {
+            outlet_height: 0.0,
+            centre: g.outlet_centre(),
+            half_width: g.outlet_radius(),
+            particle_diameter,
+            shape: OutletShape::Slot,
+        },
+        Geometry::Cylinder(g) => OutletGeometry {
+            outlet_height: 0.0,
+            centre: g.outlet_offset,
+            half_width: g.outlet_radius(),
+            particle_diameter,
+            shape: OutletShape::Circle { centre_y: 0.0 },
+        },
     }
 }
 
 impl CaseRun {
     /// A fresh run: walls built, gate closed, no particles yet.
     pub fn new(case: &Case, threads: usize) -> Result<Self, RunError> {
-        let (sim, walls, material) = hopper_simulation(case, threads)?;
+        let (sim, walls, material) = case_simulation(case, threads)?;
         let outlet = outlet_geometry(case);
-        let bins = OutletBins::with_width(&outlet, case.measure.x_bin_width)?;
-        let mut strip = StripConfig::new(outlet, bins);
-        strip.strip_height = case.measure.strip_height;
-        let d = outlet.particle_diameter;
-        let grid = FieldGrid::new(
-            -0.5 * case.geometry.width,
-            0.5 * case.geometry.width,
-            -3.0 * d,
-            (2.0 * case.geometry.width).min(case.geometry.height),
-            d,
-        )?;
+        let (strip, field) = match &case.geometry {
+            Geometry::Slab(g) => {
+                let bins = OutletBins::with_width(&outlet, case.measure.x_bin_width)?;
+                let mut strip = StripConfig::new(outlet, bins);
+                strip.strip_height = case.measure.strip_height;
+                let d = outlet.particle_diameter;
+                let grid = FieldGrid::new(
+                    -0.5 * g.width,
+                    0.5 * g.width,
+                    -3.0 * d,
+                    (2.0 * g.width).min(g.height),
+                    d,
+                )?;
+                (
+                    Some(StripProbe::new(strip)?),
+                    Some(VelocityFieldProbe::new(
+                        grid,
+                        Kernel::Box,
+                        case.measure.rate_bin_width,
+                    )?),
+                )
+            }
+            Geometry::Cylinder(_) => (None, None),
+        };
         let wall_forces =
             WallForceRecorder::new(&sim, &walls, case.measure.rate_bin_width, case.time_step);
         let state = RunState {
@@ -132,8 +162,8 @@ impl CaseRun {
                 last_insert: 0.0,
             },
             crossing: CrossingProbe::new(outlet)?,
-            strip: StripProbe::new(strip)?,
-            field: VelocityFieldProbe::new(grid, Kernel::Box, case.measure.rate_bin_width)?,
+            strip,
+            field,
             bulk: None,
             settled_kinetic_energy: f64::NAN,
             settled: false,
@@ -142,6 +172,7 @@ impl CaseRun {
             discharged_mass: 0.0,
             fill_mass: 0.0,
             wall_forces,
+            remaining: RemainingRecorder::new(case.measure.rate_bin_width),
         };
         Ok(Self {
             case: case.clone(),
@@ -220,21 +251,37 @@ impl CaseRun {
         let mut last = last_insert;
         if t >= self.state.next_check {
             self.state.next_check = t + INSERT_INTERVAL;
-            let top = self.case.protocol.fill_top.min(self.case.geometry.height);
+            let top = self.case.protocol.fill_top.min(self.case.geometry.height());
             let band = ((top - INSERT_BAND).max(self.case.protocol.fill_bottom), top);
             let want = total - inserted;
             let size = self.case.particles.size.clone();
-            let n = insert_batch(
-                &mut self.sim,
-                &self.case.geometry,
-                &mut self.state.rng,
-                want,
-                |rng| sample_radius(&size, rng),
-                self.state.material,
-                band,
-                DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed),
-                20 * want + 1000,
-            )?;
+            let v0 = DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed);
+            let attempts = 20 * want + 1000;
+            let n = match &self.case.geometry {
+                Geometry::Slab(g) => insert_batch(
+                    &mut self.sim,
+                    g,
+                    &mut self.state.rng,
+                    want,
+                    |rng| sample_radius(&size, rng),
+                    self.state.material,
+                    band,
+                    v0,
+                    attempts,
+                )?,
+                Geometry::Cylinder(g) => insert_silo_batch(
+                    &mut self.sim,
+                    g,
+                    &mut self.state.rng,
+                    want,
+                    |rng| sample_radius(&size, rng),
+                    0.5 * size.max_diameter(),
+                    self.state.material,
+                    band,
+                    v0,
+                    attempts,
+                )?,
+            };
             if n > 0 {
                 inserted += n;
                 last = t;
@@ -283,7 +330,8 @@ impl CaseRun {
             self.state.settled_kinetic_energy = ke;
             self.state.bulk = self.measure_bulk().ok();
             self.state.fill_mass = self.sim.particles().masses().iter().sum();
-            self.sim.remove_wall(self.state.walls.gate)?;
+            self.sim.remove_wall(self.state.walls.gate())?;
+            self.state.remaining.open(t);
             // The gate's last window ends with it; the next ones lie on the W(t) bins.
             self.state.wall_forces.close(self.sim.steps());
             self.state.next_frame = t;
@@ -297,7 +345,9 @@ impl CaseRun {
     }
 
     fn measure_bulk(&self) -> Result<BulkMeasurement, RunError> {
-        let g = &self.case.geometry;
+        let Geometry::Slab(g) = &self.case.geometry else {
+            return Err(RunError::NotMeasured("the settled bulk fraction of a silo"));
+        };
         let outlet = outlet_geometry(&self.case);
         let outline = ContainerOutline::hopper(g.width, &outlet, g.hopper_angle(), g.height)?;
         let (x0, x1) = outline.x_range();
@@ -332,12 +382,17 @@ impl CaseRun {
             if state.crossing.observe(&frame.view(t, density))? > 0 {
                 last_crossing = t;
             }
+            state.remaining.observe(seen);
             if t >= state.next_frame {
                 state.next_frame += case.measure.frame_interval;
-                let strip = Frame::of(seen, |x| x.z.abs() < d);
-                state.strip.observe(&strip.view(t, density))?;
-                let all = Frame::of(seen, |_| true);
-                state.field.observe(&all.view(t, density))?;
+                if let Some(probe) = &mut state.strip {
+                    let strip = Frame::of(seen, |x| x.z.abs() < d);
+                    probe.observe(&strip.view(t, density))?;
+                }
+                if let Some(probe) = &mut state.field {
+                    let all = Frame::of(seen, |_| true);
+                    probe.observe(&all.view(t, density))?;
+                }
             }
             Ok(())
         })?;
@@ -418,7 +473,11 @@ impl CaseRun {
         (0..p.len()).any(|k| {
             let x = p.positions()[k];
             let r = p.radii()[k];
-            (x.x - o.centre).abs() < o.half_width - 0.5 * r
+            let off_axis = match o.shape {
+                OutletShape::Slot => (x.x - o.centre).abs(),
+                OutletShape::Circle { centre_y } => (x.x - o.centre).hypot(x.y - centre_y),
+            };
+            off_axis < o.half_width - 0.5 * r
                 && x.z > 0.0
                 && x.z < 2.0 * o.half_width + o.particle_diameter
         })

@@ -18,22 +18,19 @@
 use dem::{WallId, WallLoad, Watched};
 use serde::{Deserialize, Serialize};
 
-use crate::hopper::HopperWalls;
+use crate::hopper::{ContainerWalls, WALL_NAMES};
 use crate::output::Cell;
 
 /// Columns of `wall_forces.csv`; units in the module's and the docs' description.
 pub(crate) const WALL_FORCE_COLUMNS: [&str; 8] =
     ["time", "wall", "fx", "fy", "fz", "tx", "ty", "tz"];
 
-/// A hopper wall's name in `wall_forces.csv`.
-const NAMES: [&str; 5] = ["left", "right", "plate_left", "plate_right", "gate"];
-
 /// One finished window of one wall.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 struct WallForceRow {
     /// Middle of the window [s from the start of the run].
     time: f64,
-    /// Index into [`NAMES`].
+    /// Index into [`WALL_NAMES`].
     wall: u8,
     /// Mean force [N] then mean torque about the origin [N m] over the window's steps.
     load: [f64; 6],
@@ -45,7 +42,7 @@ struct WallForceRow {
 pub struct WallForceRecorder {
     /// Steps of a whole window.
     window_steps: u64,
-    /// The walls recorded: index into [`NAMES`] and the engine's id.
+    /// The walls recorded: index into [`WALL_NAMES`] and the engine's id.
     walls: Vec<(u8, WallId)>,
     /// Finished rows, in time order and, within a window, in the order of `walls`.
     rows: Vec<WallForceRow>,
@@ -62,18 +59,11 @@ pub struct WallForceRecorder {
 impl WallForceRecorder {
     /// A recorder for the walls of `walls` that sum their load in `sim`, with windows of
     /// `window` [s] at steps of `dt` [s] (at least one step).
-    pub(crate) fn new(sim: &dem::Simulation, walls: &HopperWalls, window: f64, dt: f64) -> Self {
-        let named = [
-            Some(walls.sides[0]),
-            Some(walls.sides[1]),
-            walls.plates[0],
-            walls.plates[1],
-            Some(walls.gate),
-        ];
-        let walls: Vec<(u8, WallId)> = named
-            .iter()
-            .enumerate()
-            .filter_map(|(k, id)| Some((k as u8, (*id)?)))
+    pub(crate) fn new(sim: &dem::Simulation, walls: &ContainerWalls, window: f64, dt: f64) -> Self {
+        let walls: Vec<(u8, WallId)> = walls
+            .named()
+            .into_iter()
+            .filter_map(|(k, id)| Some((k, id?)))
             .filter(|(_, id)| sim.wall(*id).is_some_and(|w| w.sums_load))
             .collect();
         let start = sim.watched();
@@ -142,8 +132,10 @@ impl WallForceRecorder {
             .copied()
             .chain(self.open_rows())
             .map(|r| {
-                let mut row: Vec<Cell> =
-                    vec![r.time.into(), Cell::Text(NAMES[r.wall as usize].into())];
+                let mut row: Vec<Cell> = vec![
+                    r.time.into(),
+                    Cell::Text(WALL_NAMES[r.wall as usize].into()),
+                ];
                 row.extend(r.load.iter().map(|&v| Cell::from(v)));
                 row
             })

@@ -150,6 +150,8 @@ impl ResultRow {
     /// The row of a case that produced no summary: inputs filled in, measurements NaN.
     pub fn failed(case: &SweepCase) -> Self {
         let geometry = &case.case.geometry;
+        let of_slab =
+            |f: fn(&crate::config::HopperGeometry) -> f64| geometry.slab().map_or(f64::NAN, f);
         let labels = case
             .labels
             .iter()
@@ -166,13 +168,13 @@ impl ResultRow {
                 .and_then(|r| r.parse().ok())
                 .unwrap_or(0),
             labels,
-            outlet_width: geometry.outlet_width,
-            hopper_angle_deg: geometry.hopper_angle_deg,
-            outlet_gap: geometry.outlet_gap,
-            dimensionless_gap: geometry.dimensionless_gap(),
-            thickness: geometry.thickness,
+            outlet_width: geometry.outlet_size(),
+            hopper_angle_deg: geometry.hopper_angle_deg(),
+            outlet_gap: of_slab(|g| g.outlet_gap),
+            dimensionless_gap: of_slab(|g| g.dimensionless_gap()),
+            thickness: of_slab(|g| g.thickness),
             wall_friction: case.case.wall.interaction.friction,
-            width: geometry.width,
+            width: of_slab(|g| g.width),
             particle_diameter: case.case.particles.size.mean_diameter(),
             particle_density: case.case.particles.material.density,
             particles: case.case.particles.count,

@@ -134,7 +134,7 @@ impl CaseRunner for FakeRunner {
 }
 
 fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
-    let g = &case.case.geometry;
+    let g = case.case.geometry.slab().expect("a slab case");
     let d = case.case.particles.size.mean_diameter();
     let rho = case.case.particles.material.density;
     let radius = 0.5 * g.outlet_width;

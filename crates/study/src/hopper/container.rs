@@ -1,0 +1,74 @@
+//! The walls of any container kind, as the run protocol sees them: a gate to open and the
+//! walls whose loads it records.
+
+use dem::{DemError, Interaction, Simulation, WallId, WallMaterial};
+use serde::{Deserialize, Serialize};
+
+use super::builder::{build_walls, HopperWalls};
+use super::silo_walls::{build_silo_walls, SiloWalls};
+use crate::config::Geometry;
+
+/// The names of walls in `wall_forces.csv`, indexed by [`ContainerWalls::named`].
+pub const WALL_NAMES: [&str; 8] = [
+    "left",
+    "right",
+    "plate_left",
+    "plate_right",
+    "gate",
+    "cylinder",
+    "hopper",
+    "bottom",
+];
+
+/// Handles of a container's walls in the simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ContainerWalls {
+    /// The slab hopper's walls.
+    Slab(HopperWalls),
+    /// A cylindrical silo's walls.
+    Silo(SiloWalls),
+}
+
+impl ContainerWalls {
+    /// The removable plate under the outlet.
+    pub fn gate(&self) -> WallId {
+        match self {
+            Self::Slab(w) => w.gate,
+            Self::Silo(w) => w.gate,
+        }
+    }
+
+    /// The walls that may record loads, each with its index into [`WALL_NAMES`]; absent
+    /// walls (a plate where the outlet touches the side wall) are `None`.
+    pub fn named(&self) -> Vec<(u8, Option<WallId>)> {
+        match self {
+            Self::Slab(w) => vec![
+                (0, Some(w.sides[0])),
+                (1, Some(w.sides[1])),
+                (2, w.plates[0]),
+                (3, w.plates[1]),
+                (4, Some(w.gate)),
+            ],
+            Self::Silo(w) => vec![
+                (5, Some(w.cylinder)),
+                (if w.conical { 6 } else { 7 }, Some(w.bottom)),
+                (4, Some(w.gate)),
+            ],
+        }
+    }
+}
+
+/// Adds the walls of `geometry`, gate closed, to `sim`.
+pub fn build_container_walls(
+    sim: &mut Simulation,
+    geometry: &Geometry,
+    material: WallMaterial,
+    interaction: Interaction,
+) -> Result<ContainerWalls, DemError> {
+    Ok(match geometry {
+        Geometry::Slab(g) => ContainerWalls::Slab(build_walls(sim, g, material, interaction)?),
+        Geometry::Cylinder(g) => {
+            ContainerWalls::Silo(build_silo_walls(sim, g, material, interaction)?)
+        }
+    })
+}
