@@ -133,6 +133,26 @@ pub struct CaseSummary {
     /// The same exponent for the crossing number-density profile [-]; `null` as above.
     #[serde(default)]
     pub crossing_area_fraction_exponent: Option<f64>,
+    /// The self-similar fits of a circular orifice's radial profiles (absent for a slot).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radial_fit: Option<RadialFit>,
+}
+
+/// The self-similar fits v(r) = v_c (1 − r*²)^a and φ(r) = φ_c (1 − r*²)^b over a circular
+/// orifice (Janda et al. 2012 in 3D, docs/physics.md §7.6), each value with its standard
+/// error; `null` where the fit failed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RadialFit {
+    /// Centre velocity v_c [m/s] and its error.
+    pub centre_velocity: [f64; 2],
+    /// Velocity exponent a [-] and its error.
+    pub velocity_exponent: [f64; 2],
+    /// Centre volume fraction φ_c [-] and its error.
+    pub centre_volume_fraction: [f64; 2],
+    /// Packing exponent b [-] and its error.
+    pub packing_exponent: [f64; 2],
+    /// W = π R² ρ_p φ_c v_c / (1 + a + b) from the fitted profiles [kg/s] and its error.
+    pub profile_rate: [f64; 2],
 }
 
 /// One x-bin of the outlet profiles (`profiles.csv`).

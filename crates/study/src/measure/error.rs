@@ -68,6 +68,9 @@ pub enum MeasureError {
     /// Two profiles that must share their bins do not.
     #[error("velocity and area-fraction profiles use different x-bins; build both from the same `OutletBins`")]
     BinsMismatch,
+    /// A numerical routine of the analysis refused the frame's data.
+    #[error("analysis of the frame: {0}")]
+    Analysis(String),
     /// A polygon outline with fewer than three vertices.
     #[error("container outline needs at least 3 vertices, got {0}")]
     DegenerateOutline(usize),

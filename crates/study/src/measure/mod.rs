@@ -24,6 +24,8 @@ mod disc_area;
 mod error;
 mod frame;
 mod geometry;
+mod radial;
+mod silo_bulk;
 mod strip;
 mod summary;
 mod velocity_field;
@@ -38,6 +40,8 @@ pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
 pub use error::MeasureError;
 pub use frame::{FrameView, TimeWindow};
 pub use geometry::{OutletBins, OutletGeometry, OutletShape, CENTRE_HALF_WIDTH};
+pub use radial::{radial_profiles, RadialBin, RadialBins, RadialPackingProbe};
+pub use silo_bulk::silo_bulk;
 pub use strip::{
     AreaFractionBin, AreaFractionProfile, StripConfig, StripFrame, StripProbe, StripRecord,
 };

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use analysis::flowrate::{axisymmetric_discharge_rate, AxisymmetricFlowParameters};
 use analysis::profile::BinnedProfile;
 use analysis::selfsimilar::{
     fit_collapsed_power_profile, fit_power_profile, power_profile, PROFILE_FIT_HALF_WIDTH,
@@ -15,14 +16,16 @@ use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::RunError;
 use crate::config::{Case, Geometry};
 use crate::hopper::{outline, silo_outline, silo_wall_polygons};
-use crate::measure::{CrossingRecord, OutletShape, OutletSummary, TimeWindow};
+use crate::measure::{
+    radial_profiles, CrossingRecord, OutletShape, OutletSummary, RadialBin, TimeWindow,
+};
 use crate::output::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, write_csv_table, write_frame_png, write_particles_vtu,
     write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView, ParticleFields, Profile,
     PvdCollection, PvdEntry, WallSegment,
 };
-use crate::summary::{CaseSummary, ProfileRow, StopReason};
+use crate::summary::{CaseSummary, ProfileRow, RadialFit, StopReason};
 
 /// The results a finished run writes beside its summary, besides the snapshot folder.
 pub(crate) const RESULT_FILES: &[&str] = &[
@@ -408,7 +411,20 @@ pub fn finish(
             ]
         })
         .collect();
-    write_csv_table(out_dir.join("profiles.csv"), &headers, &rows)?;
+    let mut radial_fit = None;
+    // What the profile figures draw: the slot's bins, or a circle's annuli mirrored to ±r*.
+    let mut plotted = profile_rows.clone();
+    match (&state.radial, outlet_window) {
+        // A circular orifice: the radial profiles replace the slot's x-profiles.
+        (Some(packing), window) => {
+            let bins = window.map(|w| radial_profiles(record, packing, w));
+            let bins = bins.unwrap_or_default();
+            write_radial_profiles(&out_dir.join("profiles.csv"), &bins)?;
+            radial_fit = fit_radial(&bins, packing.bins().radius, density);
+            plotted = mirrored(&bins);
+        }
+        (None, _) => write_csv_table(out_dir.join("profiles.csv"), &headers, &rows)?,
+    }
 
     // field.csv: coarse-grained velocity around the outlet over the steady window (Fig. 9).
     if let (Some(w), Some(probe)) = (outlet_window, &state.field) {
@@ -441,7 +457,7 @@ pub fn finish(
             &series,
             window.as_ref().map(|w| (w.start_time, w.end_time)),
             rate.as_ref().map(|r| r.rate.value),
-            &profile_rows,
+            &plotted,
         )?;
     }
 
@@ -498,6 +514,94 @@ pub fn finish(
         crossing_area_fraction_exponent: packing_exponent(&profile_rows, |r| {
             (r.crossing_area_fraction, r.crossing_area_fraction_error)
         }),
+        radial_fit,
+    })
+}
+
+/// Columns of `profiles.csv` for a circular orifice: the annulus's area-weighted mean
+/// radius (over R, and in m), v(r) [m/s] with its error, the crossings counted, and φ(r) [-]
+/// with its error.
+const RADIAL_COLUMNS: [&str; 7] = [
+    "r_star",
+    "r",
+    "velocity",
+    "velocity_error",
+    "crossings",
+    "volume_fraction",
+    "volume_fraction_error",
+];
+
+fn write_radial_profiles(path: &Path, bins: &[RadialBin]) -> Result<(), RunError> {
+    let rows: Vec<Vec<Cell>> = bins
+        .iter()
+        .map(|b| {
+            vec![
+                b.r_star.into(),
+                b.r.into(),
+                b.velocity.into(),
+                b.velocity_error.into(),
+                (b.crossings as f64).into(),
+                b.volume_fraction.into(),
+                b.volume_fraction_error.into(),
+            ]
+        })
+        .collect();
+    write_csv_table(path, &RADIAL_COLUMNS, &rows)?;
+    Ok(())
+}
+
+/// A circle's annuli as profile rows at −r* and r* (the volume fraction in the area
+/// fraction's place), so that the profile figures show the whole orifice.
+fn mirrored(bins: &[RadialBin]) -> Vec<ProfileRow> {
+    let row = |b: &RadialBin, sign: f64| ProfileRow {
+        x_star: sign * b.r_star,
+        x: sign * b.r,
+        velocity: b.velocity,
+        velocity_error: b.velocity_error,
+        crossings: b.crossings as usize,
+        area_fraction: b.volume_fraction,
+        area_fraction_error: b.volume_fraction_error,
+        area_fraction_velocity: f64::NAN,
+        snapshot_velocity: f64::NAN,
+        crossing_area_fraction: f64::NAN,
+        crossing_area_fraction_error: f64::NAN,
+    };
+    let mut rows: Vec<ProfileRow> = bins.iter().rev().map(|b| row(b, -1.0)).collect();
+    rows.extend(bins.iter().map(|b| row(b, 1.0)));
+    rows
+}
+
+/// The self-similar fits of the radial profiles (bins r* ≤ 0.9, as for the slot, weighted by
+/// the bins' errors) and the flow rate they give; `None` when either fit fails.
+fn fit_radial(bins: &[RadialBin], radius: f64, density: f64) -> Option<RadialFit> {
+    let fit = |value: fn(&RadialBin) -> (f64, f64)| {
+        let good: Vec<&RadialBin> = bins.iter().filter(|b| value(b).0.is_finite()).collect();
+        let centres = good.iter().map(|b| b.r_star).collect();
+        let (values, errors): (Vec<f64>, Vec<f64>) = good.iter().map(|b| value(b)).unzip();
+        let counts = vec![1u64; values.len()];
+        let profile = BinnedProfile::new(centres, values, counts, errors).ok()?;
+        fit_power_profile(&profile, PROFILE_FIT_HALF_WIDTH).ok()
+    };
+    let v = fit(|b| (b.velocity, b.velocity_error))?;
+    let phi = fit(|b| (b.volume_fraction, b.volume_fraction_error))?;
+    let rate = axisymmetric_discharge_rate(
+        &AxisymmetricFlowParameters {
+            centre_velocity: v.amplitude,
+            velocity_exponent: v.exponent,
+            centre_fraction: phi.amplitude,
+            packing_exponent: phi.exponent,
+            particle_density: density,
+        },
+        radius,
+    )
+    .ok()?;
+    let pair = |e: analysis::Estimate| [e.value, e.standard_error];
+    Some(RadialFit {
+        centre_velocity: pair(v.amplitude),
+        velocity_exponent: pair(v.exponent),
+        centre_volume_fraction: pair(phi.amplitude),
+        packing_exponent: pair(phi.exponent),
+        profile_rate: pair(rate),
     })
 }
 

@@ -12,8 +12,9 @@ use crate::config::{Case, Geometry};
 use crate::hopper::silo_fill::insert_silo_batch;
 use crate::hopper::{case_simulation, fill::insert_batch, sample_radius, ContainerWalls};
 use crate::measure::{
-    BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView, Kernel,
-    OutletBins, OutletGeometry, OutletShape, StripConfig, StripProbe, VelocityFieldProbe,
+    silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView,
+    Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe, StripConfig,
+    StripProbe, VelocityFieldProbe,
 };
 use crate::summary::StopReason;
 
@@ -79,6 +80,8 @@ pub struct RunState {
     pub(crate) strip: Option<StripProbe>,
     /// The coarse-grained x–z field of a slab (`None` for a silo).
     pub(crate) field: Option<VelocityFieldProbe>,
+    /// φ(r) on the outlet slab of a circular orifice (`None` for a slot).
+    pub(crate) radial: Option<RadialPackingProbe>,
     pub(crate) bulk: Option<BulkMeasurement>,
     pub(crate) settled_kinetic_energy: f64,
     pub(crate) settled: bool,
@@ -150,6 +153,18 @@ impl CaseRun {
             }
             Geometry::Cylinder(_) => (None, None),
         };
+        let radial = match outlet.shape {
+            OutletShape::Circle { centre_y } => Some(RadialPackingProbe::new(
+                RadialBins::with_width(
+                    [outlet.centre, centre_y],
+                    outlet.half_width,
+                    case.measure.x_bin_width,
+                )?,
+                outlet.outlet_height,
+                case.measure.strip_height,
+            )?),
+            OutletShape::Slot => None,
+        };
         let wall_forces =
             WallForceRecorder::new(&sim, &walls, case.measure.rate_bin_width, case.time_step);
         let state = RunState {
@@ -164,6 +179,7 @@ impl CaseRun {
             crossing: CrossingProbe::new(outlet)?,
             strip,
             field,
+            radial,
             bulk: None,
             settled_kinetic_energy: f64::NAN,
             settled: false,
@@ -345,8 +361,19 @@ impl CaseRun {
     }
 
     fn measure_bulk(&self) -> Result<BulkMeasurement, RunError> {
-        let Geometry::Slab(g) = &self.case.geometry else {
-            return Err(RunError::NotMeasured("the settled bulk fraction of a silo"));
+        let g = match &self.case.geometry {
+            Geometry::Slab(g) => g,
+            Geometry::Cylinder(silo) => {
+                let p = self.sim.particles();
+                let centres: Vec<[f64; 3]> = p.positions().iter().map(|x| x.to_array()).collect();
+                return Ok(silo_bulk(
+                    &centres,
+                    p.radii(),
+                    silo.radius,
+                    self.case.particles.size.mean_diameter(),
+                    |h| silo.volume_below(h),
+                )?);
+            }
         };
         let outlet = outlet_geometry(&self.case);
         let outline = ContainerOutline::hopper(g.width, &outlet, g.hopper_angle(), g.height)?;
@@ -392,6 +419,13 @@ impl CaseRun {
                 if let Some(probe) = &mut state.field {
                     let all = Frame::of(seen, |_| true);
                     probe.observe(&all.view(t, density))?;
+                }
+                if let Some(probe) = &mut state.radial {
+                    // Spheres reaching into the slab |z| ≤ h/2 have |z| < h/2 + r_max.
+                    let reach =
+                        0.5 * case.measure.strip_height + case.particles.size.max_diameter();
+                    let slab = Frame::of(seen, |x| x.z.abs() < reach);
+                    probe.observe(&slab.view(t, density))?;
                 }
             }
             Ok(())
