@@ -64,7 +64,6 @@ pub fn silo_bulk(
     let particle_volume: f64 = centres
         .iter()
         .zip(radii)
-        .filter(|(c, _)| c[2] > -1.0 * diameter)
         .map(|(c, &r)| sphere_volume_below(r, cut_height - c[2]) - sphere_volume_below(r, -c[2]))
         .sum();
     let container_volume = volume_below(cut_height);
