@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use study::config::{default_case, load_case, Case, CASE_TEMPLATE};
+use study::config::{default_case, load_case, template, Case, CASE_TEMPLATE};
 use study::output::write_atomic;
 use study::run::{occupant, run_case, Occupant, Progress, RunError, RunOptions, RunOutcome};
 
@@ -56,6 +56,9 @@ pub struct CheckArgs {
 pub struct InitArgs {
     /// Where to write the commented case file (default: print it).
     file: Option<PathBuf>,
+    /// The geometry kind of the template: slab (the paper's hopper) or cylinder (a silo).
+    #[arg(long, default_value = "slab", value_parser = ["slab", "cylinder"])]
+    kind: String,
 }
 
 fn load(case: Option<&PathBuf>, sets: &[String]) -> Result<Case, i32> {
@@ -80,9 +83,11 @@ pub fn check(args: CheckArgs) -> i32 {
 }
 
 pub fn init(args: InitArgs) -> i32 {
+    // clap has checked the kind against the same list.
+    let text = template(&args.kind).unwrap_or(CASE_TEMPLATE);
     match args.file {
         None => {
-            print!("{CASE_TEMPLATE}");
+            print!("{text}");
             0
         }
         Some(path) => {
@@ -90,7 +95,7 @@ pub fn init(args: InitArgs) -> i32 {
                 eprintln!("error: {} exists; not overwriting it", path.display());
                 return EXIT_BAD_INPUT;
             }
-            match write_atomic(&path, CASE_TEMPLATE.as_bytes()) {
+            match write_atomic(&path, text.as_bytes()) {
                 Ok(()) => {
                     eprintln!("wrote {}", path.display());
                     0

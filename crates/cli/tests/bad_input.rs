@@ -354,6 +354,26 @@ fn init_without_a_file_prints_a_template_that_check_accepts() {
     );
 }
 
+/// `init --kind cylinder` prints a silo template that `check` accepts as a cylinder case;
+/// an unknown kind is refused with the list of kinds.
+#[test]
+fn init_writes_a_template_per_geometry_kind() {
+    let init = hopperflow(&["init", "--kind", "cylinder"]);
+    assert_eq!(init.status.code(), Some(0), "{}", stderr_of(&init));
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let path = dir.path().join("silo.toml");
+    std::fs::write(&path, &init.stdout).expect("write printed template");
+    let check = hopperflow(&["check", path.to_str().expect("UTF-8 test path")]);
+    assert_eq!(check.status.code(), Some(0), "{}", stderr_of(&check));
+    let resolved = String::from_utf8(check.stdout).expect("UTF-8");
+    assert!(resolved.contains("kind = \"cylinder\""), "{resolved}");
+    assert_refused(
+        &hopperflow(&["init", "--kind", "hexagon"]),
+        "an unknown kind",
+        &["hexagon", "slab", "cylinder"],
+    );
+}
+
 #[test]
 fn unknown_subcommand_and_missing_argument_exit_with_code_two() {
     assert_refused(

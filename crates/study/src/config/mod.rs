@@ -42,7 +42,7 @@ pub use geometry::HopperGeometry;
 pub use particles::{Material, ParticleSpec, SizeDistribution};
 pub use silo::{CylinderSilo, Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
 pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
-pub use template::CASE_TEMPLATE;
+pub use template::{template, CASE_TEMPLATE, CYLINDER_TEMPLATE};
 
 use document::parse_document;
 use error::ErrorKind as Kind;

@@ -19,6 +19,8 @@ version = 1    # case-file format version
 seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
 
 [geometry]
+# kind = "slab"          # "slab" (this hopper, the default) or "cylinder" (a silo; see
+#                        # `hopperflow init --kind cylinder` for its commented template)
 # Coordinates: x from the hopper axis, z up from the outlet plane, y across the slab.
 width = 0.1              # L [m], distance between the side walls
 height = 0.4             # H [m], height of the side walls above the outlet plane
@@ -90,3 +92,93 @@ vtu_interval = 0.1       # [s], time between VTU particle snapshots (particles.p
 checkpoint_interval = 1.0  # [s], simulated time between checkpoints; 0 writes none
 plots = true             # draw the per-case plots
 "#;
+
+/// A case file of a cylindrical silo with every key explained (`hopperflow init --kind
+/// cylinder`): the benchmark silo of Dosta et al. (2024) with its large orifice, reduced to
+/// 20 000 spheres of its material M1 in steel walls.
+pub const CYLINDER_TEMPLATE: &str = r#"# hopperflow case file: a cylindrical silo.
+#
+# Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
+# carry `_deg` in their key. The values below are the open DEM benchmark silo of Dosta et al.
+# (2024), Computer Physics Communications 296, 109066, with its large orifice and material M1,
+# reduced to 20 000 spheres (the benchmark fills 100 000). Check a file with
+# `hopperflow check FILE`; override a key with `--set geometry.outlet_diameter=0.04`.
+
+version = 1    # case-file format version
+seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+
+[geometry]
+kind = "cylinder"
+# Coordinates: z up from the orifice plane z = 0, the silo's axis on z (x = y = 0).
+radius = 0.1             # R [m], inner radius of the cylinder
+height = 0.2354          # H [m], top of the cylinder above the orifice plane
+outlet_diameter = 0.06   # D [m], the circular orifice; ≥ 3 particle diameters, |e| + D/2 < R
+hopper_angle_deg = 45.0  # θ [°], the cone's half-angle from the vertical, in (0, 90]; 90 = flat bottom
+outlet_offset = 0.0      # e [m], the orifice centre's offset along x; flat bottom only
+walls = "smooth"         # "smooth" (exact cylinder and cone) or "meshed" (triangle meshes)
+mesh_segments = 96       # segments around the axis of meshed walls and of the orifice's polygon, in [12, 4096]
+
+[particles]
+count = 20000            # N; they must fit below H at volume fraction 0.64
+diameter = 0.004         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+
+[particles.material]     # M1
+density = 2500.0         # ρ_p [kg/m³]
+youngs_modulus = 1.0e9   # E [Pa]; or shear_modulus = G [Pa], not both
+poisson_ratio = 0.2      # ν [-], in (−1, 0.5)
+
+[wall]                   # steel walls and the M1–steel pair
+friction = 0.2           # μ_s particle–wall [-], ≥ 0
+rolling_friction = 0.0   # μ_r particle–wall [-], ≥ 0
+restitution = 0.4        # e particle–wall [-], in (0, 1]
+
+[wall.material]          # or material = "same" / "rigid" instead of this table
+density = 7200.0         # [kg/m³]
+youngs_modulus = 210.0e9 # E [Pa]
+poisson_ratio = 0.2      # ν [-]
+
+[contact]                # the M1–M1 pair
+friction = 0.3           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.0   # μ_r particle–particle [-], ≥ 0
+restitution = 0.5        # e particle–particle [-], in (0, 1]
+tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
+rolling = "constant_torque"      # "constant_torque" or "epsd"
+normal_clamp = false     # clamp the normal force to ≥ 0
+
+[time]
+time_step = 1.5e-6       # Δt [s], at most 0.2 Rayleigh times (the benchmark's for M1)
+
+[protocol]
+settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
+max_settle_time = 3.0    # [s], longest simulated settling time
+fill_bottom = 0.0        # [m], bottom of the insertion region above the orifice plane
+# fill_top = 0.2354      # [m], top of the insertion region; default H
+fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
+deletion_depth = 0.02    # [m], particles this far below the orifice are removed (the benchmark's)
+clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
+time_limit = 5.0         # [s], longest simulated discharge after the gate opens
+stop_fraction = 1.0      # [-], stop once this fraction of the fill has left and the steady window is complete
+
+[measure]
+rate_bin_width = 0.01    # [s], time bins of W(t) and the samples of N(t) (remaining.csv)
+# x_bin_width = 0.002    # [m], width of the annuli of v(r) and φ(r); default d/2, ≤ D
+# strip_height = 0.004   # [m], height h of the slab at the orifice for φ(r); default d
+frame_interval = 0.001   # [s], time between the frames that measure φ(r), ≥ Δt
+crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
+steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
+steady_end_fraction = 0.7     # [-], and ends at this fraction
+
+[output]
+vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+checkpoint_interval = 0.25  # [s], simulated time between checkpoints; 0 writes none
+plots = true             # draw the plots and the frames of a vertical cut through the axis
+"#;
+
+/// The commented template of a geometry kind, by its `geometry.kind` name.
+pub fn template(kind: &str) -> Option<&'static str> {
+    match kind {
+        "slab" => Some(CASE_TEMPLATE),
+        "cylinder" => Some(CYLINDER_TEMPLATE),
+        _ => None,
+    }
+}
