@@ -101,47 +101,57 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed), super::GRAVITY
     )));
 
-    doc.push(Block::Heading(2, "Comparison with the paper".into()));
-    doc.push(Block::Paragraph(format!(
+    if analysis.has_slabs {
+        doc.push(Block::Heading(2, "Comparison with the paper".into()));
+        doc.push(Block::Paragraph(format!(
         "Items of the acceptance list (physics spec §9 B3). The angle items use series '{}', the eccentric item series '{}'. 'not measured' means the study has too few cases for the fit (the reason is given).",
         super::ANGLE_SERIES, super::ECCENTRIC_SERIES
     )));
-    doc.push(Block::Paragraph(format!(
+        doc.push(Block::Paragraph(format!(
         "Beverloo k: the paper's k = 1.55 (Fig. 2b) is one line through the W(D) points of all hopper angles together, so the compared item is our fit over the centred outlets of every angle of series '{}'. The flat-bottom (α = 90°) fit stands beside it as a reference row: the paper gives no 90°-only k, and {} with the same contact law give k = {} at 90°.",
         super::ANGLE_SERIES,
         super::OTHER_CODES_K_90.iter().map(|(c, _)| *c).collect::<Vec<_>>().join(" and "),
         super::OTHER_CODES_K_90.iter().map(|(_, k)| k.to_string()).collect::<Vec<_>>().join(" and "),
     )));
-    doc.push(Block::Paragraph("Outlet fraction profile φ(x): its exponent b (φ/φ_c = (1 − x*²)^b, paper Eq. 11) depends on how φ is defined, so it is fitted under two definitions. Strip: the area of the bin covered by the particles' mid-plane discs in the strip |z − z_o| < h/2, averaged over frames (physics spec §7.3; the paper's image measure). Crossing: the number density of centres crossing the outlet line, Σ π r²/|v_z| over a bin's crossings divided by the window and the bin width (each grain counted once, at its centre). The paper's b can be compared only as a trend: it rises with α for α ≥ 30° (Table 2: 0.19, 0.30, 0.38, 0.39).".into()));
-    doc.push(tables::comparison_table(&items));
+        doc.push(Block::Paragraph("Outlet fraction profile φ(x): its exponent b (φ/φ_c = (1 − x*²)^b, paper Eq. 11) depends on how φ is defined, so it is fitted under two definitions. Strip: the area of the bin covered by the particles' mid-plane discs in the strip |z − z_o| < h/2, averaged over frames (physics spec §7.3; the paper's image measure). Crossing: the number density of centres crossing the outlet line, Σ π r²/|v_z| over a bin's crossings divided by the window and the bin width (each grain counted once, at its centre). The paper's b can be compared only as a trend: it rises with α for α ≥ 30° (Table 2: 0.19, 0.30, 0.38, 0.39).".into()));
+        doc.push(tables::comparison_table(&items));
 
-    doc.push(Block::Heading(
-        2,
-        "Table 2: centred outlets by hopper angle".into(),
-    ));
-    doc.push(Block::Paragraph("a and b: exponents of (1 − x*²)^p fitted to the velocity and area-fraction profiles of all widths of one angle, each divided by its centre value (|x*| < 0.1), bins |x*| ≤ 0.9, each bin weighted by its error (over replicas: the larger of their spread and the runs' own bin errors carried to the mean). γ: least squares of v_c = √(2γgR), equal weights. φ∞, τ₁, τ₂: Eq. 12 over φ_c(R), R in mm, equal weights (needs four widths).".into()));
-    doc.push(tables::table2(&analysis));
-    doc.push(Block::Paragraph("γ_D = v_c²/(2gR) of each width alone, beside the fitted γ (error from v_c's). Where γ_D rises with D, v_c grows faster than √R, and the fitted γ depends on which widths enter the fit.".into()));
-    doc.push(tables::width_gamma_table(&analysis));
-    doc.push(Block::Heading(2, "Beverloo constants".into()));
-    doc.push(Block::Paragraph("Weighted straight line of (W/Z)^(2/3) against D (W's error over replicas: the larger of their spread and the runs' own blocking errors carried to the mean); k from the x-intercept, C from the slope under three densities (physics spec §8.2): bulk φ_B ρ_p (φ_B the measured settled fraction), particle ρ_p, and ρ_p φ_2D with φ_2D the mean measured centre area fraction. Intervals are 95 %.".into()));
-    doc.push(tables::beverloo_table(&analysis));
-    doc.push(Block::Heading(2, "Eq. 14 against the measured rate".into()));
-    doc.push(tables::eq14_table(&analysis));
-    doc.push(Block::Heading(2, "Hopper angle: W(α)/W(90°)".into()));
-    doc.push(Block::Paragraph(format!(
-        "Rose–Tanaka is evaluated at β_d = {}° (not stated in the paper).",
-        super::centred::STAGNANT_ZONE_ANGLE_DEG
-    )));
-    doc.push(tables::angle_ratio_table(&analysis));
-    doc.push(Block::Heading(2, "Table 3: off-centred outlets".into()));
-    doc.push(Block::Paragraph("Eq. 16 on v/√(2gR) and Eq. 17 on φ/φ_max (ε_s2 held at 1), all widths of one gap pooled, bins |x*| ≤ 0.9, x* < 0 on the near-wall side.".into()));
-    doc.push(tables::table3(&analysis));
-    for block in tables::eccentric_fit_blocks(&analysis) {
+        doc.push(Block::Heading(
+            2,
+            "Table 2: centred outlets by hopper angle".into(),
+        ));
+        doc.push(Block::Paragraph("a and b: exponents of (1 − x*²)^p fitted to the velocity and area-fraction profiles of all widths of one angle, each divided by its centre value (|x*| < 0.1), bins |x*| ≤ 0.9, each bin weighted by its error (over replicas: the larger of their spread and the runs' own bin errors carried to the mean). γ: least squares of v_c = √(2γgR), equal weights. φ∞, τ₁, τ₂: Eq. 12 over φ_c(R), R in mm, equal weights (needs four widths).".into()));
+        doc.push(tables::table2(&analysis));
+        doc.push(Block::Paragraph("γ_D = v_c²/(2gR) of each width alone, beside the fitted γ (error from v_c's). Where γ_D rises with D, v_c grows faster than √R, and the fitted γ depends on which widths enter the fit.".into()));
+        doc.push(tables::width_gamma_table(&analysis));
+        doc.push(Block::Heading(2, "Beverloo constants".into()));
+        doc.push(Block::Paragraph("Weighted straight line of (W/Z)^(2/3) against D (W's error over replicas: the larger of their spread and the runs' own blocking errors carried to the mean); k from the x-intercept, C from the slope under three densities (physics spec §8.2): bulk φ_B ρ_p (φ_B the measured settled fraction), particle ρ_p, and ρ_p φ_2D with φ_2D the mean measured centre area fraction. Intervals are 95 %.".into()));
+        doc.push(tables::beverloo_table(&analysis));
+        doc.push(Block::Heading(2, "Eq. 14 against the measured rate".into()));
+        doc.push(tables::eq14_table(&analysis));
+        doc.push(Block::Heading(2, "Hopper angle: W(α)/W(90°)".into()));
+        doc.push(Block::Paragraph(format!(
+            "Rose–Tanaka is evaluated at β_d = {}° (not stated in the paper).",
+            super::centred::STAGNANT_ZONE_ANGLE_DEG
+        )));
+        doc.push(tables::angle_ratio_table(&analysis));
+        doc.push(Block::Heading(2, "Table 3: off-centred outlets".into()));
+        doc.push(Block::Paragraph("Eq. 16 on v/√(2gR) and Eq. 17 on φ/φ_max (ε_s2 held at 1), all widths of one gap pooled, bins |x*| ≤ 0.9, x* < 0 on the near-wall side.".into()));
+        doc.push(tables::table3(&analysis));
+        for block in tables::eccentric_fit_blocks(&analysis) {
+            doc.push(block);
+        }
+        doc.push(Block::Heading(2, "Eq. 18 and W/W0".into()));
+        doc.push(tables::eccentric_rate_table(&analysis));
+    }
+    if !analysis.has_slabs {
+        doc.push(Block::Heading(2, "Comparison".into()));
+        doc.push(Block::Paragraph("The paper's items (Fan et al. 2023) apply to the slab hopper; this study holds no slab case, so none of them is listed. The items below are those of silos with circular orifices.".into()));
+        doc.push(tables::comparison_table(&items));
+    }
+    for block in silo_blocks(&analysis.silo) {
         doc.push(block);
     }
-    doc.push(Block::Heading(2, "Eq. 18 and W/W0".into()));
-    doc.push(tables::eccentric_rate_table(&analysis));
 
     doc.push(Block::Heading(2, "Figures".into()));
     let mut figure_files = Vec::new();
@@ -180,4 +190,113 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
             .as_bytes(),
     )?;
     Ok(files)
+}
+
+/// The silo sections: the 3D Beverloo fits and the radial profile fits.
+fn silo_blocks(silo: &super::silo::SiloAnalysis) -> Vec<Block> {
+    use super::silo::{CLASSIC_C, CLASSIC_K};
+    let mut blocks = Vec::new();
+    if !silo.beverloo.is_empty() {
+        blocks.push(Block::Heading(2, "3D Beverloo constants".into()));
+        blocks.push(Block::Paragraph(format!(
+            "W = C ρ_b √g (D − k d)^(5/2) for circular orifices: a weighted straight line of W^(2/5) against D (W's error over replicas, floored at the runs' own blocking errors); k from the x-intercept, C from the slope with ρ_b = φ_B ρ_p, φ_B the mean settled bulk fraction of the group's cases. Intervals are 95 %. The classic ranges for spheres are C ≈ {}–{} and k ≈ {}–{}.",
+            CLASSIC_C.0, CLASSIC_C.1, CLASSIC_K.0, CLASSIC_K.1
+        )));
+        let rows = silo
+            .beverloo
+            .iter()
+            .map(|g| {
+                let (c, k) = match &g.fit {
+                    Ok(f) => (
+                        format!(
+                            "{:.3} [{:.3}, {:.3}]",
+                            f.coefficient.value,
+                            f.coefficient_interval.lower,
+                            f.coefficient_interval.upper
+                        ),
+                        format!(
+                            "{:.2} [{:.2}, {:.2}]",
+                            f.k.value, f.k_interval.lower, f.k_interval.upper
+                        ),
+                    ),
+                    Err(why) => (why.clone(), String::new()),
+                };
+                let points = g
+                    .points
+                    .iter()
+                    .map(|(d, w)| {
+                        format!(
+                            "{:.1} mm: {:.4} ± {:.4} kg/s",
+                            d * 1e3,
+                            w.value,
+                            w.standard_error
+                        )
+                    })
+                    .collect::<Vec<_>>()
+                    .join("; ");
+                vec![
+                    g.series.clone(),
+                    format!("{}", g.hopper_angle_deg),
+                    format!("{:.0}", g.bulk_density),
+                    c,
+                    k,
+                    points,
+                ]
+            })
+            .collect();
+        blocks.push(Block::Table {
+            headers: [
+                "series",
+                "θ [°]",
+                "ρ_b [kg/m³]",
+                "C [95 %]",
+                "k [95 %]",
+                "D: W",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows,
+        });
+    }
+    if !silo.profiles.is_empty() {
+        blocks.push(Block::Heading(2, "Radial outlet profiles".into()));
+        blocks.push(Block::Paragraph("v(r) = v_c (1 − r*²)^a from the crossings and φ(r) = φ_c (1 − r*²)^b from the volume fraction on the slab |z| ≤ h/2 at the orifice (annuli up to r* = 0.9, weighted by their errors), and the rate they give, W = π R² ρ_p φ_c v_c / (1 + a + b) (docs/physics.md §7.6). First replica of each point.".into()));
+        let rows = silo
+            .profiles
+            .iter()
+            .map(|p| {
+                let pm = |v: [f64; 2], digits: usize| {
+                    format!("{:.*} ± {:.*}", digits, v[0], digits, v[1])
+                };
+                vec![
+                    p.key.clone(),
+                    format!("{:.1}", p.outlet_diameter * 1e3),
+                    pm(p.fit.centre_velocity, 3),
+                    pm(p.fit.velocity_exponent, 2),
+                    pm(p.fit.centre_volume_fraction, 3),
+                    pm(p.fit.packing_exponent, 2),
+                    format!("{:.4}", p.rate.value),
+                    pm(p.fit.profile_rate, 4),
+                    format!("{:+.1} %", 100.0 * p.relative_difference()),
+                ]
+            })
+            .collect();
+        blocks.push(Block::Table {
+            headers: [
+                "case",
+                "D [mm]",
+                "v_c [m/s]",
+                "a",
+                "φ_c",
+                "b",
+                "W [kg/s]",
+                "W profiles [kg/s]",
+                "difference",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows,
+        });
+    }
+    blocks
 }

@@ -250,6 +250,8 @@ mod tests {
             area_fraction_profile: None,
             crossing_area_fraction_profile: None,
             flow: None,
+            kind: "slab".into(),
+            radial_fit: None,
         }
     }
 

@@ -226,8 +226,21 @@ fn flat(item: &str, paper: &str, values: &[(f64, f64)]) -> ComparisonItem {
     }
 }
 
-/// The comparison items of physics spec §9 B3 and the issue, in a fixed order.
+/// The comparison items that apply to the study, in a fixed order: the paper's (physics
+/// spec §9 B3) when it holds slab cases, then the 3D silo items when it holds silos. A study
+/// of silos alone lists none of the paper's slab items.
 pub fn compare_with_paper(analysis: &StudyAnalysis) -> Vec<ComparisonItem> {
+    let mut items = if analysis.has_slabs {
+        paper_items(analysis)
+    } else {
+        Vec::new()
+    };
+    items.extend(super::silo::silo_items(&analysis.silo));
+    items
+}
+
+/// The paper's items, for the slab cases.
+fn paper_items(analysis: &StudyAnalysis) -> Vec<ComparisonItem> {
     let mut items = Vec::new();
     // Fig. 2b fits one line through the W(D) points of every hopper angle ("for different
     // hopper angles … C = 0.58 and k = 1.55"), so the paper's k is compared with ours pooled

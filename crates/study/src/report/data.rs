@@ -75,6 +75,10 @@ pub struct GridPoint {
     pub crossing_area_fraction_profile: Option<BinnedProfile>,
     /// W(t) of the first replica: times [s] and rates [kg/s], when `flow.csv` was saved.
     pub flow: Option<(Vec<f64>, Vec<f64>)>,
+    /// The geometry kind of the case (`geometry.kind`: "slab", "cylinder").
+    pub kind: String,
+    /// The first replica's radial profile fits (circular orifices only).
+    pub radial_fit: Option<crate::summary::RadialFit>,
 }
 
 impl GridPoint {
@@ -199,6 +203,29 @@ fn average_profiles(
     BinnedProfile::new(centres, values, counts, errors).ok()
 }
 
+/// The geometry kind of a case from the resolved `case.toml` its run wrote; a case folder
+/// without one is told by its row: only a slab has a slab width.
+fn case_kind(dir: &Path, row: &ResultRow) -> String {
+    std::fs::read_to_string(dir.join("case.toml"))
+        .ok()
+        .and_then(|text| crate::config::parse_case(&text, "case.toml", &[]).ok())
+        .map(|case| case.geometry.kind().to_string())
+        .unwrap_or_else(|| {
+            if row.width.is_finite() {
+                "slab"
+            } else {
+                "cylinder"
+            }
+            .to_string()
+        })
+}
+
+/// A case's `summary.json`, when it reads.
+fn read_summary(dir: &Path) -> Option<crate::summary::CaseSummary> {
+    let text = std::fs::read_to_string(dir.join(crate::run::SUMMARY_FILE)).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
 /// Loads a study directory: `results.csv` (required), `study.json` and each case's
 /// `profiles.csv` and `flow.csv` (optional).
 pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
@@ -288,6 +315,8 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             area_fraction_profile,
             crossing_area_fraction_profile,
             flow: read_flow(&paths.case_dir(&first.id).join("flow.csv")),
+            kind: case_kind(&paths.case_dir(&first.id), first),
+            radial_fit: read_summary(&paths.case_dir(&first.id)).and_then(|s| s.radial_fit),
         });
     }
     Ok(StudyData {

@@ -18,6 +18,7 @@ mod data;
 mod document;
 pub mod eccentric;
 mod figures;
+pub mod silo;
 mod tables;
 
 use analysis::Estimate;
@@ -48,15 +49,27 @@ pub struct StudyAnalysis {
     pub angle_ratios: Vec<centred::AngleRatio>,
     /// Off-centre outlets.
     pub eccentric: eccentric::EccentricAnalysis,
+    /// Silos with circular orifices.
+    pub silo: silo::SiloAnalysis,
+    /// Whether the study holds slab cases, to which the paper's items apply.
+    pub has_slabs: bool,
 }
 
-/// Fits everything that the grid points allow.
+/// Fits everything that the grid points allow: the paper's fits on the slab cases, the 3D
+/// fits on the silos.
 pub fn analyse_study(points: &[GridPoint]) -> StudyAnalysis {
+    let slabs: Vec<GridPoint> = points
+        .iter()
+        .filter(|p| p.kind == "slab")
+        .cloned()
+        .collect();
     StudyAnalysis {
-        beverloo: beverloo::fit_beverloo_groups(points),
-        angles: centred::fit_angles(points),
-        angle_ratios: centred::angle_ratios(points),
-        eccentric: eccentric::analyse_eccentric(points),
+        beverloo: beverloo::fit_beverloo_groups(&slabs),
+        angles: centred::fit_angles(&slabs),
+        angle_ratios: centred::angle_ratios(&slabs),
+        eccentric: eccentric::analyse_eccentric(&slabs),
+        silo: silo::analyse_silos(points),
+        has_slabs: !slabs.is_empty(),
     }
 }
 
