@@ -104,7 +104,9 @@ pub(crate) fn evaluate_chunk(
     };
     // The chunk's contacts with curved, meshed and spinning walls, after its others, as
     // the whole evaluation adds them.
-    add_surface_contacts(&mut eval, input, wall_pairs, buffers, elements, bodies);
+    add_surface_contacts(
+        &mut eval, input, wall_pairs, buffers, elements, bodies, None,
+    );
     eval
 }
 

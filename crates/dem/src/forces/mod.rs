@@ -28,6 +28,7 @@ pub(crate) mod loads;
 mod pairs;
 mod parallel;
 pub(crate) mod surfaces;
+mod surfaces_parallel;
 #[cfg(test)]
 pub(super) mod tests;
 mod walls;
@@ -126,6 +127,8 @@ pub(crate) struct ForceBuffers {
     wall_probes: Vec<WallProbe>,
     /// Working arrays of the surface pass.
     surface: surfaces::SurfaceScratch,
+    /// Working arrays of the surface pass's ranges on several threads.
+    surface_ranges: Vec<surfaces::SurfaceScratch>,
     /// Each wall's load of the evaluation, in fixed point (by wall index).
     pub loads: Vec<LoadSum>,
     /// Scratch of the body ranges (several threads only).
@@ -216,7 +219,9 @@ pub(crate) fn evaluate(
         None => planar_contacts(input, pairs, wall_pairs, buffers),
     };
     let everyone = 0..input.particles.len();
-    add_surface_contacts(&mut eval, input, wall_pairs, buffers, elements, everyone);
+    add_surface_contacts(
+        &mut eval, input, wall_pairs, buffers, elements, everyone, pool,
+    );
     eval
 }
 
@@ -235,6 +240,7 @@ fn add_surface_contacts(
     buffers: &mut ForceBuffers,
     elements: &mut [loads::SurfaceLoads],
     bodies: std::ops::Range<usize>,
+    pool: Option<&rayon::ThreadPool>,
 ) {
     if !crate::wall::any_resolved_one_by_one(input.walls) {
         return;
@@ -242,20 +248,35 @@ fn add_surface_contacts(
     let len = wall_pairs.particle.len();
     // A wall that began to spin since the last build has no remembered contacts yet.
     wall_pairs.surfaces.resize_with(len, Default::default);
-    let (worst, contacts) = surfaces::surface_pass(
-        input,
-        (&wall_pairs.particle, &wall_pairs.wall),
-        bodies,
-        &mut wall_pairs.surfaces,
-        &mut buffers.surface,
-        &mut surfaces::SurfaceSinks {
-            force: &mut buffers.force,
-            torque: &mut buffers.torque,
-            loads: &mut buffers.loads,
-            quanta: &input.quanta,
-            elements,
-        },
-    );
+    let mut sinks = surfaces::SurfaceSinks {
+        force: &mut buffers.force,
+        torque: &mut buffers.torque,
+        loads: &mut buffers.loads,
+        quanta: &input.quanta,
+        elements,
+    };
+    let ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
+    let (worst, contacts) = match pool {
+        // The whole body set on several threads, the same bits as one.
+        Some(pool) if bodies == (0..input.particles.len()) => {
+            surfaces_parallel::surface_pass_parallel(
+                input,
+                ids,
+                &mut wall_pairs.surfaces,
+                &mut buffers.surface_ranges,
+                &mut sinks,
+                pool,
+            )
+        }
+        _ => surfaces::surface_pass(
+            input,
+            ids,
+            bodies,
+            &mut wall_pairs.surfaces,
+            &mut buffers.surface,
+            &mut sinks,
+        ),
+    };
     eval.count.particle_wall += contacts;
     eval.worst_wall = eval.worst_wall.merge(worst);
 }

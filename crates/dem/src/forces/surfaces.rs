@@ -58,7 +58,6 @@ pub(crate) fn surface_pass(
 ) -> (WorstOverlap, usize) {
     let mut worst = WorstOverlap::default();
     let mut count = 0;
-    let p = input.particles;
     for (w, run) in walls::wall_runs(pw) {
         let w = w as usize;
         let Some(wall) = input.walls[w].as_ref().filter(|w| w.resolved_one_by_one()) else {
@@ -70,61 +69,101 @@ pub(crate) fn surface_pass(
         let ids = &pi[run.clone()];
         let from = run.start + ids.partition_point(|&i| (i as usize) < bodies.start);
         let to = run.start + ids.partition_point(|&i| (i as usize) < bodies.end);
+        let mut elements = sinks.elements.get_mut(w);
         for k in from..to {
             let i = pi[k] as usize;
-            let (x, r) = (p.position[i], p.radius[i]);
-            let slot = &mut slots[k];
-            touching(wall, (x, r), bands, slot, scratch);
-            let slot = &mut slot.contacts;
-            if scratch.contacts.is_empty() {
-                slot.clear();
-                continue;
-            }
-            scratch.previous.clear();
-            scratch.previous.extend_from_slice(slot);
-            scratch.taken.clear();
-            scratch.taken.resize(slot.len(), false);
-            slot.clear();
-            let sphere = Sphere {
-                radius: r,
-                mass: p.mass[i],
-                inertia: p.inertia[i],
+            let target = Target {
+                force: &mut sinks.force[i],
+                torque: &mut sinks.torque[i],
+                sum: &mut sum,
+                quanta: sinks.quanta,
             };
-            let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
-            let bi = BodyMotion {
-                velocity: p.velocity[i],
-                omega: p.omega[i],
-            };
-            for contact in &scratch.contacts {
-                let g = sphere_wall(contact.normal, contact.distance, &sphere);
-                worst.see(g.overlap / r, k);
-                let mut h = continued(contact.normal, &scratch.previous, &mut scratch.taken);
-                let bw = BodyMotion {
-                    velocity: wall.velocity_at(contact.point),
-                    omega: wall.angular_velocity,
-                };
-                let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
-                sinks.force[i] += cf.force;
-                sinks.torque[i] += cf.torque_i;
-                add_load(&mut sum, sinks.quanta, x, &cf);
-                if let Some(loads) = sinks.elements.get_mut(w) {
-                    loads.book(
-                        contact.triangle as usize,
-                        contact.normal,
-                        cf.force,
-                        input.dt,
-                    );
-                }
-                slot.push(SurfaceContact {
-                    normal: contact.normal,
-                    history: h,
-                });
-                count += 1;
-            }
+            count += resolve_candidate(
+                input,
+                (wall, w, bands),
+                (i, k),
+                &mut slots[k],
+                scratch,
+                target,
+                &mut worst,
+                |triangle, normal, force| {
+                    if let Some(loads) = elements.as_deref_mut() {
+                        loads.book(triangle as usize, normal, force, input.dt);
+                    }
+                },
+            );
         }
         super::loads::merge_loads(&mut sinks.loads[w..=w], &[sum]);
     }
     (worst, count)
+}
+
+/// Where one candidate's contacts go: its particle's force and torque, and its wall's
+/// fixed-point load.
+pub(super) struct Target<'a> {
+    pub force: &'a mut DVec3,
+    pub torque: &'a mut DVec3,
+    pub sum: &'a mut LoadSum,
+    pub quanta: &'a LoadQuanta,
+}
+
+/// Resolves candidate `k` (particle `i`) of wall `w`: finds where the sphere touches the
+/// wall, continues each contact's history from `slot` by its normal, and adds each force to
+/// `target`; `book` receives each contact's element (triangle or band), normal and force on
+/// the particle. Returns the number of contacts.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn resolve_candidate(
+    input: &KernelInput,
+    (wall, w, bands): (&Wall, usize, usize),
+    (i, k): (usize, usize),
+    slot: &mut SurfaceSlot,
+    scratch: &mut SurfaceScratch,
+    target: Target,
+    worst: &mut WorstOverlap,
+    mut book: impl FnMut(u32, DVec3, DVec3),
+) -> usize {
+    let p = input.particles;
+    let (x, r) = (p.position[i], p.radius[i]);
+    touching(wall, (x, r), bands, slot, scratch);
+    let slot = &mut slot.contacts;
+    if scratch.contacts.is_empty() {
+        slot.clear();
+        return 0;
+    }
+    scratch.previous.clear();
+    scratch.previous.extend_from_slice(slot);
+    scratch.taken.clear();
+    scratch.taken.resize(slot.len(), false);
+    slot.clear();
+    let sphere = Sphere {
+        radius: r,
+        mass: p.mass[i],
+        inertia: p.inertia[i],
+    };
+    let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
+    let bi = BodyMotion {
+        velocity: p.velocity[i],
+        omega: p.omega[i],
+    };
+    for contact in &scratch.contacts {
+        let g = sphere_wall(contact.normal, contact.distance, &sphere);
+        worst.see(g.overlap / r, k);
+        let mut h = continued(contact.normal, &scratch.previous, &mut scratch.taken);
+        let bw = BodyMotion {
+            velocity: wall.velocity_at(contact.point),
+            omega: wall.angular_velocity,
+        };
+        let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
+        *target.force += cf.force;
+        *target.torque += cf.torque_i;
+        add_load(target.sum, target.quanta, x, &cf);
+        book(contact.triangle, contact.normal, cf.force);
+        slot.push(SurfaceContact {
+            normal: contact.normal,
+            history: h,
+        });
+    }
+    scratch.contacts.len()
 }
 
 /// The contacts of a sphere at `x` with radius `r` [m] with `wall`, into
