@@ -136,6 +136,27 @@ pub struct CaseSummary {
     /// The self-similar fits of a circular orifice's radial profiles (absent for a slot).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radial_fit: Option<RadialFit>,
+    /// Janssen's law fitted to the settled bed's pressure on a silo's cylinder (absent for
+    /// a slab, or when too few zones lie in the bed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub janssen: Option<JanssenSummary>,
+}
+
+/// Janssen's law p_w(h) = p_sat (1 − exp(−2Kμ_w h/R)) fitted to the settled bed's wall
+/// pressure against depth h below the bed's surface (docs/physics.md §7.7), each value with
+/// its standard error.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct JanssenSummary {
+    /// Saturation pressure p_sat [Pa].
+    pub saturation_pressure: [f64; 2],
+    /// Kμ_w [-].
+    pub k_mu: [f64; 2],
+    /// μ_w = ρ_b g R/(2 p_sat) [-].
+    pub wall_friction: [f64; 2],
+    /// K = Kμ_w/μ_w [-].
+    pub stress_ratio: [f64; 2],
+    /// Zones of the cylinder fitted.
+    pub zones: usize,
 }
 
 /// The self-similar fits v(r) = v_c (1 − r*²)^a and φ(r) = φ_c (1 − r*²)^b over a circular

@@ -87,6 +87,34 @@ fn conical_silo_discharge_conserves_its_particles() {
             row[1]
         );
     }
+    // The settled bed presses on the cone and on the cylinder only below its surface: a
+    // zone wholly above the bed (plus one diameter for the surface's roughness) carries no
+    // load, and the lowest cone zone carries some.
+    let text = std::fs::read_to_string(dir.join("wall_pressure.csv")).expect("wall_pressure.csv");
+    let settled: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|r| r[1] == "settled")
+        .collect();
+    assert!(!settled.is_empty(), "no settled pressures");
+    let number = |s: &str| s.parse::<f64>().unwrap();
+    for r in &settled {
+        let (low, pressure) = (number(r[3]), number(r[5]));
+        assert!(pressure >= 0.0, "a negative pressure: {r:?}");
+        if low > summary.bed_height + 0.004 {
+            assert_eq!(pressure, 0.0, "load above the bed: {r:?}");
+        }
+    }
+    let bottom = settled
+        .iter()
+        .filter(|r| r[2] == "hopper")
+        .min_by(|a, b| number(a[3]).total_cmp(&number(b[3])))
+        .expect("cone zones");
+    assert!(
+        number(bottom[5]) > 0.0,
+        "the bed rests on the cone: {bottom:?}"
+    );
     // φ_B of a poured bed of spheres lies between loose random packing and the 0.64 of
     // random close packing, lowered a little by the wall layer of this narrow silo.
     assert!(

@@ -302,8 +302,52 @@ pub fn hopper_benchmark(
     threads: usize,
     cache: Option<&std::path::Path>,
 ) -> Result<BenchResult, crate::run::RunError> {
+    let window = (HOPPER_WINDOW_START, HOPPER_WINDOW);
+    discharge_benchmark(&Case::paper_base(), "hopper", window, threads, cache)
+}
+
+/// Simulated time after the gate opens at which the silo benchmark's window starts [s],
+/// past the first surge of the opening.
+pub const SILO_WINDOW_START: f64 = 0.05;
+/// Length of the silo benchmark's window [s]: 20 000 steps of 1.5 µs, the window of the
+/// LIGGGHTS side-by-side input (`bench/liggghts/silo`).
+pub const SILO_WINDOW: f64 = 0.03;
+
+/// Times the benchmark silo of Dosta et al. (2024), reduced to `particles` spheres of its
+/// material M1 with the large orifice (`hopperflow init --kind cylinder`), with smooth or
+/// meshed walls, over [`SILO_WINDOW`] from [`SILO_WINDOW_START`] after the opening; the
+/// settled silo is cached in `cache`.
+pub fn silo_benchmark(
+    particles: usize,
+    meshed: bool,
+    threads: usize,
+    cache: Option<&std::path::Path>,
+) -> Result<BenchResult, crate::run::RunError> {
+    let sets = [
+        format!("particles.count={particles}"),
+        format!(
+            "geometry.walls=\"{}\"",
+            if meshed { "meshed" } else { "smooth" }
+        ),
+    ];
+    let case = crate::config::parse_case(crate::config::CYLINDER_TEMPLATE, "silo", &sets)
+        .map_err(|e| DemError::InvalidInput(e.to_string()))?;
+    let label = if meshed { "silo-meshed" } else { "silo" };
+    let window = (SILO_WINDOW_START, SILO_WINDOW);
+    discharge_benchmark(&case, label, window, threads, cache)
+}
+
+/// Times `case` over the window (`start` after the gate opens, `length` long) [s], probes and
+/// particle deletion included; the filled, settled case is cached in `cache`.
+pub fn discharge_benchmark(
+    case: &Case,
+    label: &str,
+    (window_start, window_length): (f64, f64),
+    threads: usize,
+    cache: Option<&std::path::Path>,
+) -> Result<BenchResult, crate::run::RunError> {
     use crate::run::{CaseRun, Phase, RunState};
-    let case = Case::paper_base();
+    let case = case.clone();
     let cached: Option<RunState> = cache
         .and_then(|p| std::fs::read(p).ok())
         .and_then(|bytes| postcard::from_bytes(&bytes).ok());
@@ -327,10 +371,10 @@ pub fn hopper_benchmark(
     };
     let Phase::Discharge { opened, .. } = run.phase() else {
         return Err(crate::run::RunError::Engine(DemError::InvalidInput(
-            "the hopper emptied before the benchmark window".into(),
+            "the container emptied before the benchmark window".into(),
         )));
     };
-    while run.simulation().time() < opened + HOPPER_WINDOW_START {
+    while run.simulation().time() < opened + window_start {
         run.advance()?;
     }
     let rebuilds = run.simulation().rebuilds();
@@ -340,7 +384,7 @@ pub fn hopper_benchmark(
     let (mut contacts, mut wall_contacts, mut candidates) = (0.0, 0.0, 0.0);
     let cpu0 = thread_cpu_ns();
     let start = Instant::now();
-    let end = opened + HOPPER_WINDOW_START + HOPPER_WINDOW;
+    let end = opened + window_start + window_length;
     while run.simulation().time() < end - 0.5 * case.time_step {
         let before = run.simulation().steps();
         let n = run.simulation().particles().len() as f64;
@@ -359,7 +403,7 @@ pub fn hopper_benchmark(
     };
     let steps = run.simulation().steps() - steps0;
     Ok(BenchResult {
-        case: "hopper".into(),
+        case: label.into(),
         threads,
         particles: (particle_steps / steps.max(1) as f64).round() as usize,
         steps,

@@ -5,6 +5,7 @@ mod outputs;
 mod protocol;
 mod remaining;
 mod wall_forces;
+mod wall_pressure;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

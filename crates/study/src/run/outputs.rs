@@ -13,6 +13,7 @@ use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOp
 use super::protocol::{CaseRun, Phase};
 use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
+use super::wall_pressure::PRESSURE_COLUMNS;
 use super::RunError;
 use crate::config::{Case, Geometry};
 use crate::hopper::{outline, silo_outline, silo_wall_polygons};
@@ -32,6 +33,7 @@ pub(crate) const RESULT_FILES: &[&str] = &[
     "flow.csv",
     "wall_forces.csv",
     "remaining.csv",
+    "wall_pressure.csv",
     "crossings.csv",
     "profiles.csv",
     "field.csv",
@@ -348,6 +350,15 @@ pub fn finish(
 
     write_crossings(&out_dir.join("crossings.csv"), record, density)?;
 
+    // wall_pressure.csv: a silo's wall pressure against height, settled and discharging.
+    if let Some(p) = &state.pressure {
+        write_csv_table(
+            out_dir.join("wall_pressure.csv"),
+            &PRESSURE_COLUMNS,
+            &p.table(),
+        )?;
+    }
+
     // remaining.csv: N(t), the particles still above the orifice plane.
     write_csv_table(
         out_dir.join("remaining.csv"),
@@ -515,6 +526,16 @@ pub fn finish(
             (r.crossing_area_fraction, r.crossing_area_fraction_error)
         }),
         radial_fit,
+        janssen: match (&state.pressure, case.geometry.cylinder(), bulk) {
+            (Some(p), Some(silo), Some(b)) => p.janssen(
+                silo.radius,
+                silo.cone_height(),
+                (b.bed_height, d),
+                b.volume_fraction * density,
+                crate::report::GRAVITY,
+            ),
+            _ => None,
+        },
     })
 }
 

@@ -20,6 +20,7 @@ use crate::summary::StopReason;
 
 use super::remaining::RemainingRecorder;
 use super::wall_forces::WallForceRecorder;
+use super::wall_pressure::WallPressureRecorder;
 use super::RunError;
 
 /// Height of the insertion band below the fill top [m]: tall enough for a few hundred
@@ -35,6 +36,12 @@ const CHECK_INTERVAL: f64 = 0.0025;
 /// Particles observed by the crossing probe lie within this many diameters of the outlet
 /// line: between two observations (≤ 100 steps) a particle moves far less than that.
 const CROSSING_BAND_DIAMETERS: f64 = 2.0;
+/// Height of a silo wall's pressure zones, in mean diameters: fine enough for the Janssen
+/// profile (decay lengths of tens of diameters), coarse enough that a zone holds many
+/// contacts.
+const PRESSURE_ZONE_DIAMETERS: f64 = 2.0;
+/// The discharge's pressure windows, in W(t) bins.
+const PRESSURE_WINDOW_BINS: f64 = 10.0;
 
 /// Phase of the protocol.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -94,6 +101,8 @@ pub struct RunState {
     pub(crate) wall_forces: WallForceRecorder,
     /// The particles left in the container against time (`remaining.csv`).
     pub(crate) remaining: RemainingRecorder,
+    /// Wall pressure against height of a silo (`wall_pressure.csv`; `None` for a slab).
+    pub(crate) pressure: Option<WallPressureRecorder>,
 }
 
 /// A case being run.
@@ -127,7 +136,7 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
 impl CaseRun {
     /// A fresh run: walls built, gate closed, no particles yet.
     pub fn new(case: &Case, threads: usize) -> Result<Self, RunError> {
-        let (sim, walls, material) = case_simulation(case, threads)?;
+        let (mut sim, walls, material) = case_simulation(case, threads)?;
         let outlet = outlet_geometry(case);
         let (strip, field) = match &case.geometry {
             Geometry::Slab(g) => {
@@ -165,6 +174,23 @@ impl CaseRun {
             )?),
             OutletShape::Slot => None,
         };
+        let pressure = match walls {
+            ContainerWalls::Silo(_) => {
+                let recorded: Vec<(u8, dem::WallId)> = walls
+                    .named()
+                    .into_iter()
+                    .filter_map(|(name, id)| Some((name, id?)))
+                    .filter(|(_, id)| *id != walls.gate())
+                    .collect();
+                Some(WallPressureRecorder::new(
+                    &mut sim,
+                    &recorded,
+                    PRESSURE_ZONE_DIAMETERS * case.particles.size.mean_diameter(),
+                    PRESSURE_WINDOW_BINS * case.measure.rate_bin_width,
+                )?)
+            }
+            ContainerWalls::Slab(_) => None,
+        };
         let wall_forces =
             WallForceRecorder::new(&sim, &walls, case.measure.rate_bin_width, case.time_step);
         let state = RunState {
@@ -189,6 +215,7 @@ impl CaseRun {
             fill_mass: 0.0,
             wall_forces,
             remaining: RemainingRecorder::new(case.measure.rate_bin_width),
+            pressure,
         };
         Ok(Self {
             case: case.clone(),
@@ -339,6 +366,9 @@ impl CaseRun {
         if t < self.state.next_check {
             return Ok(());
         }
+        if let Some(p) = &mut self.state.pressure {
+            p.observe_settling(&mut self.sim);
+        }
         let ke = self.mean_kinetic_energy();
         let calm = ke < self.case.protocol.settle_kinetic_energy;
         if calm || t - since > self.case.protocol.max_settle_time {
@@ -348,6 +378,9 @@ impl CaseRun {
             self.state.fill_mass = self.sim.particles().masses().iter().sum();
             self.sim.remove_wall(self.state.walls.gate())?;
             self.state.remaining.open(t);
+            if let Some(p) = &mut self.state.pressure {
+                p.open(&mut self.sim, t);
+            }
             // The gate's last window ends with it; the next ones lie on the W(t) bins.
             self.state.wall_forces.close(self.sim.steps());
             self.state.next_frame = t;
@@ -430,6 +463,9 @@ impl CaseRun {
             }
             Ok(())
         })?;
+        if let Some(p) = &mut self.state.pressure {
+            p.observe_discharge(&mut self.sim);
+        }
         // Delete particles well below the outlet (docs/physics.md §5: about 5 d).
         let depth = self.case.protocol.deletion_depth;
         let removed = self

@@ -287,5 +287,6 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         area_fraction_exponent: (!eccentric).then_some(b),
         crossing_area_fraction_exponent: None,
         radial_fit: None,
+        janssen: None,
     }
 }
