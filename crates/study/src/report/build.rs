@@ -155,7 +155,13 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
 
     doc.push(Block::Heading(2, "Figures".into()));
     let mut figure_files = Vec::new();
-    for figure in report_figures(&analysis) {
+    // The figures are the paper's (Figs. 2, 5, 8, 11): they need slab cases.
+    let figures = if analysis.has_slabs {
+        report_figures(&analysis)
+    } else {
+        Vec::new()
+    };
+    for figure in figures {
         let png = figures_dir.join(format!("{}.png", figure.name));
         let svg = figures_dir.join(format!("{}.svg", figure.name));
         plot_png(&figure.figure, &png, FIGURE_SIZE.0, FIGURE_SIZE.1)?;
