@@ -133,6 +133,10 @@ pub struct CaseSummary {
     /// The same exponent for the crossing number-density profile [-]; `null` as above.
     #[serde(default)]
     pub crossing_area_fraction_exponent: Option<f64>,
+    /// What the run started from instead of its own fill: a saved bed or a packing file,
+    /// by SHA-256 (`run::StartRecord`); absent for a run that filled its container.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<crate::run::StartRecord>,
 }
 
 /// One x-bin of the outlet profiles (`profiles.csv`).

@@ -498,6 +498,7 @@ pub fn finish(
         crossing_area_fraction_exponent: packing_exponent(&profile_rows, |r| {
             (r.crossing_area_fraction, r.crossing_area_fraction_error)
         }),
+        start: None,
     })
 }
 

@@ -286,5 +286,6 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         settled: true,
         area_fraction_exponent: (!eccentric).then_some(b),
         crossing_area_fraction_exponent: None,
+        start: None,
     }
 }
