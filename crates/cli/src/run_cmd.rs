@@ -5,9 +5,13 @@ use std::sync::Arc;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use study::config::{default_case, load_case, template, Case, CASE_TEMPLATE};
+use study::config::{default_case, load_case, parse_case, template, Case, CASE_TEMPLATE};
+use study::hopper::read_packing;
 use study::output::write_atomic;
-use study::run::{occupant, run_case, Occupant, Progress, RunError, RunOptions, RunOutcome};
+use study::run::{
+    bed_header, check_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError,
+    RunOptions, RunOutcome, Start, BED_CASE_FILE, BED_FILE,
+};
 
 /// Exit code for bad input (a malformed case file or override).
 pub const EXIT_BAD_INPUT: i32 = 2;
@@ -41,6 +45,23 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Save the settled bed into DIR when the gate opens (bed.bin, the engine's whole state,
+    /// and case.toml), for later runs with --from-bed. Refused when DIR holds a bed already,
+    /// unless --restart (which replaces it) or --resume of the run that saved it.
+    #[arg(long, value_name = "DIR", conflicts_with = "from_bed")]
+    save_bed: Option<PathBuf>,
+    /// Start from a bed saved by --save-bed: no fill and no settling, the gate opens at
+    /// once. The case may differ from the bed's only in the outlet (size and position, flat
+    /// bottoms only), the discharge rules and [measure]/[output] keys; without CASE the
+    /// bed's own case is the base for --set. Replicas from one bed share its packing.
+    #[arg(long, value_name = "DIR", conflicts_with = "packing")]
+    from_bed: Option<PathBuf>,
+    /// Start from a packing file instead of the fill: CSV with the columns
+    /// x,y,z,radius,material (SI units) or a VTU with points and a `radius` array, as
+    /// hopperflow writes them. The particles are placed at rest, settle with the gate
+    /// closed, and the run goes on.
+    #[arg(long, value_name = "FILE")]
+    packing: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -125,9 +146,109 @@ fn refuse_occupied(out: &std::path::Path) -> Option<i32> {
     Some(EXIT_BAD_INPUT)
 }
 
+/// The case and what the run starts from, or the exit code of the refusal: a bed that
+/// cannot be read or was settled under other inputs, a packing file with problems.
+fn case_and_start(args: &RunArgs) -> Result<(Case, Start), i32> {
+    let refuse = |e: &dyn std::fmt::Display| {
+        eprintln!("error: {e}");
+        EXIT_BAD_INPUT
+    };
+    let bed = match &args.from_bed {
+        Some(dir) => Some(read_bed(dir).map_err(|e| refuse(&e))?),
+        None => None,
+    };
+    let case = match (&bed, &args.case) {
+        // Without a case file the bed's own resolved case is the base for --set.
+        (Some(bed), None) => {
+            let name = bed_case_file(bed).display().to_string();
+            parse_case(bed.case_text(), &name, &args.sets).map_err(|errors| {
+                eprintln!("{errors}");
+                EXIT_BAD_INPUT
+            })?
+        }
+        _ => load(args.case.as_ref(), &args.sets)?,
+    };
+    if let Some(bed) = bed {
+        check_bed(&bed, &case).map_err(|e| refuse(&e))?;
+        if args.case.is_none() {
+            note_uncentred(args, &bed, &case);
+        }
+        return Ok((case, Start::Bed(Box::new(bed))));
+    }
+    if let Some(file) = &args.packing {
+        let packing = read_packing(file, &case).map_err(|e| refuse(&e))?;
+        return Ok((case, Start::Packing(Box::new(packing))));
+    }
+    Ok((case, Start::Fill))
+}
+
+/// What the run's case came from, in words: the case file, the bed's case, or the base case.
+fn case_name(args: &RunArgs, start: &Start) -> String {
+    match (&args.case, start) {
+        (Some(path), _) => path.display().to_string(),
+        (None, Start::Bed(bed)) => format!("the bed's case ({})", bed_case_file(bed).display()),
+        (None, _) => "paper base case".into(),
+    }
+}
+
+/// The `case.toml` beside a bed's `bed.bin`.
+fn bed_case_file(bed: &Bed) -> PathBuf {
+    bed.path().with_file_name(BED_CASE_FILE)
+}
+
+/// A note when a slab outlet centred in the bed's case is no longer centred because only
+/// its width was set: the bed's resolved case names the outlet's position (`outlet_gap`),
+/// which a new width keeps.
+fn note_uncentred(args: &RunArgs, bed: &Bed, case: &Case) {
+    let placed = args.sets.iter().any(|s| {
+        let key = s.split('=').next().unwrap_or("").trim();
+        key == "geometry.outlet_gap" || key == "geometry.outlet_offset"
+    });
+    let Ok(old) = parse_case(bed.case_text(), "bed", &[]) else {
+        return;
+    };
+    if let (false, Some(was), Some(now)) = (placed, old.slab(), case.slab()) {
+        if was.outlet_offset() == 0.0 && now.outlet_offset() != 0.0 {
+            eprintln!(
+                "note: the outlet is no longer centred: the bed's case places its left edge at \
+                 outlet_gap = {} m, which the new width keeps; --set geometry.outlet_offset=0 \
+                 centres it",
+                now.outlet_gap
+            );
+        }
+    }
+}
+
+/// Refuses (exit 2) a bed folder for --save-bed that holds a bed already, unless --restart
+/// replaces it or --resume continues the run of the same case that saved it.
+fn refuse_saved_bed(args: &RunArgs, case: &Case) -> Option<i32> {
+    let dir = args.save_bed.as_ref()?;
+    if args.restart || !dir.join(BED_FILE).exists() {
+        return None;
+    }
+    let header = bed_header(dir);
+    let same_case = header
+        .as_ref()
+        .is_some_and(|h| h.case_text == case.to_toml_string());
+    if args.resume && same_case {
+        return None;
+    }
+    match header {
+        Some(h) => eprintln!(
+            "error: {} holds a saved bed already ({h}); --restart replaces it, or choose another folder",
+            dir.display()
+        ),
+        None => eprintln!(
+            "error: {} holds a {BED_FILE} that is not a readable bed of this version; remove it or choose another folder",
+            dir.display()
+        ),
+    }
+    Some(EXIT_BAD_INPUT)
+}
+
 pub fn run(args: RunArgs) -> i32 {
     // Validate everything before touching the output directory: bad input leaves nothing.
-    let case = match load(args.case.as_ref(), &args.sets) {
+    let (case, start) = match case_and_start(&args) {
         Ok(c) => c,
         Err(code) => return code,
     };
@@ -135,6 +256,9 @@ pub fn run(args: RunArgs) -> i32 {
         if let Some(code) = refuse_occupied(&args.out) {
             return code;
         }
+    }
+    if let Some(code) = refuse_saved_bed(&args, &case) {
+        return code;
     }
     let bar = if args.quiet {
         ProgressBar::hidden()
@@ -166,18 +290,26 @@ pub fn run(args: RunArgs) -> i32 {
         pictures: true,
         chunk_limit: None,
         stop: Some(crate::signals::stop_flag()),
+        save_bed: args.save_bed.clone(),
     };
     let started = std::time::Instant::now();
-    let outcome = run_case(&case, &args.out, &options);
+    let outcome = run_case_from(&case, &args.out, &options, &start);
     bar.finish_and_clear();
     match outcome {
         Ok(RunOutcome::Finished(s)) => {
-            println!(
-                "case      {}",
-                args.case
-                    .as_ref()
-                    .map_or("paper base case".into(), |p| p.display().to_string())
-            );
+            println!("case      {}", case_name(&args, &start));
+            match &start {
+                Start::Fill => {}
+                Start::Bed(bed) => println!("start     bed {}", bed.header()),
+                Start::Packing(p) => println!(
+                    "start     packing {} ({} particles)",
+                    p.source().display(),
+                    p.particles().len()
+                ),
+            }
+            if let Some(dir) = &args.save_bed {
+                println!("bed       {}", dir.display());
+            }
             println!("output    {}", args.out.display());
             println!(
                 "W         {:.2} ± {:.2} g/s (steady window {:.3}–{:.3} s after opening{})",
@@ -221,8 +353,13 @@ pub fn run(args: RunArgs) -> i32 {
             );
             crate::signals::EXIT_STOPPED
         }
+        Err(e @ (RunError::Bed(_) | RunError::Packing(_) | RunError::BedTooLate { .. })) => {
+            eprintln!("error: {e}");
+            EXIT_BAD_INPUT
+        }
         Err(
             e @ (RunError::OtherInputs { .. }
+            | RunError::OtherStart { .. }
             | RunError::BadCheckpoint { .. }
             | RunError::BadSummary { .. }),
         ) => {

@@ -116,6 +116,7 @@ pub fn run_case(
         pictures,
         chunk_limit,
         stop: Some(Arc::clone(&stop)),
+        save_bed: None,
     };
     let (done_tx, done_rx) = mpsc::channel();
     // Behind a mutex so that the waiting closure, which runs without the GIL, is `Send`.

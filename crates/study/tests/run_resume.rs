@@ -29,6 +29,7 @@ fn recording_options(
         pictures: false,
         chunk_limit,
         stop: None,
+        save_bed: None,
     };
     (options, phases)
 }

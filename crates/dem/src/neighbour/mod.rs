@@ -77,6 +77,19 @@ impl WallPairList {
         self.permuted(&order)
     }
 
+    /// The candidates of every wall but `wall`: what a wall put in another's place
+    /// ([`crate::Simulation::replace_wall`]) starts from, so that the next build finds its
+    /// candidates without a history to carry. The others keep theirs, in the same order.
+    pub(crate) fn without_wall(self, wall: u32) -> Self {
+        if !self.wall.contains(&wall) {
+            return self;
+        }
+        let keep: Vec<usize> = (0..self.wall.len())
+            .filter(|&k| self.wall[k] != wall)
+            .collect();
+        self.permuted(&keep)
+    }
+
     /// The candidates in the order `order` (indices into this list) gives.
     fn permuted(&self, order: &[usize]) -> Self {
         Self {

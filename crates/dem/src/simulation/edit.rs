@@ -244,6 +244,41 @@ impl Simulation {
         Ok(wall)
     }
 
+    /// Puts `wall` in the place of wall `id` (present or removed), under the same handle:
+    /// what a container rebuilt around particles that stay needs (a hopper's new outlet).
+    ///
+    /// The contacts with the old wall forget their history: the next list build finds the
+    /// new wall's candidates afresh, as for a wall just added. The new wall's per-material
+    /// interactions, element loads and time-integrated load (`wall_impulse`) start from
+    /// nothing. The other walls, the particles and every particle–particle history are left
+    /// as they are, and so are the histories of contacts with the other walls, bit for bit.
+    pub fn replace_wall(&mut self, id: WallId, wall: Wall) -> Result<(), DemError> {
+        let k = id.0 as usize;
+        if k >= self.state.walls.len() {
+            return Err(DemError::UnknownWall(id.0));
+        }
+        check_interaction(&wall.interaction)?;
+        if let WallMaterial::Elastic(material) = &wall.material {
+            check_material(material)?;
+        }
+        self.state.surface_loads[k] = Self::fresh_surface_loads(&wall);
+        self.state.walls[k] = Some(wall);
+        self.state.wall_interactions[k].clear();
+        if let Some(impulse) = self.state.wall_impulses.get_mut(k) {
+            *impulse = Default::default();
+        }
+        self.state.wall_pairs = std::mem::take(&mut self.state.wall_pairs).without_wall(id.0);
+        self.state.needs_rebuild = true;
+        self.unprepare();
+        Ok(())
+    }
+
+    /// How many wall handles have been given out, removed walls included: the handles are
+    /// `WallId(0)` to `WallId(wall_slots() − 1)`.
+    pub fn wall_slots(&self) -> usize {
+        self.state.walls.len()
+    }
+
     /// The wall `id`, if it is present.
     pub(super) fn wall_mut(&mut self, id: WallId) -> Result<&mut Wall, DemError> {
         self.state

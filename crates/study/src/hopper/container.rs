@@ -38,6 +38,20 @@ impl ContainerWalls {
         }
     }
 
+    /// The name of wall `id` among these walls: a [`WALL_NAMES`] entry, or `front` and
+    /// `back` for a slab's faces; `None` for a handle that is none of them.
+    pub fn name_of(&self, id: WallId) -> Option<&'static str> {
+        if let Self::Slab(w) = self {
+            if let Some(k) = w.faces.iter().position(|f| *f == id) {
+                return Some(["front", "back"][k]);
+            }
+        }
+        self.named()
+            .into_iter()
+            .find(|(_, wall)| *wall == Some(id))
+            .map(|(k, _)| WALL_NAMES[k as usize])
+    }
+
     /// The walls that may record loads, each with its index into [`WALL_NAMES`]; absent
     /// walls (a plate where the outlet touches the side wall) are `None`.
     pub fn named(&self) -> Vec<(u8, Option<WallId>)> {
@@ -71,4 +85,44 @@ pub fn build_container_walls(
             ContainerWalls::Silo(build_silo_walls(sim, g, material, interaction)?)
         }
     })
+}
+
+/// Makes the walls of `sim` those of `target`, handle by handle, keeping the particles: a
+/// container rebuilt around a settled bed for another outlet (`run --from-bed`,
+/// docs/user-guide.md §5).
+///
+/// A wall equal to `target`'s under the same handle stays as it is, with the histories of
+/// its contacts, its time-integrated load and its element loads; a wall that differs is
+/// replaced ([`Simulation::replace_wall`]: its contacts start without history), one that
+/// `target` has removed is removed, and one only `target` has is added. The particles and
+/// every particle–particle history are untouched. Returns the handles that changed.
+///
+/// `target` must hold no removed wall beyond `sim`'s handles (a freshly built container
+/// holds none), since a handle cannot be given out empty.
+pub fn adopt_walls(sim: &mut Simulation, target: &Simulation) -> Result<Vec<WallId>, DemError> {
+    let mut changed = Vec::new();
+    for k in 0..sim.wall_slots().max(target.wall_slots()) {
+        let id = WallId(k as u32);
+        let (old, new) = (sim.wall(id), target.wall(id));
+        if old == new {
+            continue;
+        }
+        changed.push(id);
+        match new {
+            Some(wall) if k < sim.wall_slots() => sim.replace_wall(id, wall.clone())?,
+            Some(wall) => {
+                let added = sim.add_wall(wall.clone())?;
+                debug_assert_eq!(added, id);
+            }
+            None if k < sim.wall_slots() => {
+                sim.remove_wall(id)?;
+            }
+            None => {
+                return Err(DemError::InvalidInput(format!(
+                    "wall {k} is removed in the target but was never added here"
+                )))
+            }
+        }
+    }
+    Ok(changed)
 }

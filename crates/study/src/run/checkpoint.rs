@@ -22,10 +22,12 @@ use sha2::{Digest, Sha256};
 
 use super::outputs::PictureSchedule;
 use super::protocol::RunState;
+use super::start::StartRecord;
 use crate::output::{write_atomic, OutputError};
 
-/// The first eight bytes of every checkpoint: a name and the layout's version.
-pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x07";
+/// The first eight bytes of every checkpoint: a name and the layout's version (8: the
+/// header records how the run started, [`CheckpointHeader::start`]).
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x08";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;
 /// Bytes of the trailing SHA-256.
@@ -52,6 +54,9 @@ pub struct CheckpointHeader {
     pub phase: String,
     /// Simulated time when it was written [s].
     pub time: f64,
+    /// What the run started from instead of a fill (a saved bed, a packing file); `None`
+    /// for a run that filled its container.
+    pub start: Option<StartRecord>,
 }
 
 /// Why a checkpoint file cannot be resumed from.
@@ -101,21 +106,44 @@ pub(crate) fn write_checkpoint(
     let state = postcard::to_allocvec(&(state, pictures))
         .map_err(|e| OutputError::invalid(path, format!("checkpoint state: {e}")))?;
     body.extend_from_slice(&state);
-    let mut bytes = Vec::with_capacity(PREFIX + body.len() + DIGEST);
-    bytes.extend_from_slice(&MAGIC);
-    bytes.extend_from_slice(&(body.len() as u64).to_le_bytes());
-    bytes.extend_from_slice(&body);
-    bytes.extend_from_slice(&Sha256::digest(&body));
-    write_atomic(path, &bytes)
+    write_atomic(path, &framed(&MAGIC, &body))
 }
 
-/// The verified body of a checkpoint file's bytes.
-fn body_of(bytes: &[u8]) -> Result<&[u8], CheckpointError> {
-    if bytes.len() < MAGIC.len() || bytes[..MAGIC.len()] != MAGIC {
-        return Err(CheckpointError::Foreign);
+/// A body framed as a checkpoint is, behind `magic`: the magic, the body's length, the body
+/// and its SHA-256 (the layout in the module comment). Saved beds share it
+/// (`run::bed`), with a magic of their own.
+pub(crate) fn framed(magic: &[u8; 8], body: &[u8]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(PREFIX + body.len() + DIGEST);
+    bytes.extend_from_slice(magic);
+    bytes.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(body);
+    bytes.extend_from_slice(&Sha256::digest(body));
+    bytes
+}
+
+/// Why framed bytes are not a whole, intact body behind the expected magic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FrameFault {
+    /// Another signature: not this kind of file.
+    Foreign,
+    /// Shorter than the length it states.
+    Truncated {
+        /// Bytes the frame promises.
+        expected: u64,
+        /// Bytes there are.
+        found: u64,
+    },
+    /// Longer than it states, or the checksum does not match.
+    Corrupt,
+}
+
+/// The verified body of bytes framed by [`framed`] behind `magic`.
+pub(crate) fn unframed<'a>(magic: &[u8; 8], bytes: &'a [u8]) -> Result<&'a [u8], FrameFault> {
+    if bytes.len() < magic.len() || bytes[..magic.len()] != magic[..] {
+        return Err(FrameFault::Foreign);
     }
-    let Some(length) = bytes.get(MAGIC.len()..PREFIX) else {
-        return Err(CheckpointError::Truncated {
+    let Some(length) = bytes.get(magic.len()..PREFIX) else {
+        return Err(FrameFault::Truncated {
             expected: PREFIX as u64,
             found: bytes.len() as u64,
         });
@@ -125,21 +153,30 @@ fn body_of(bytes: &[u8]) -> Result<&[u8], CheckpointError> {
     let body_length = u64::from_le_bytes(le);
     let expected = body_length.saturating_add((PREFIX + DIGEST) as u64);
     if (bytes.len() as u64) < expected {
-        return Err(CheckpointError::Truncated {
+        return Err(FrameFault::Truncated {
             expected,
             found: bytes.len() as u64,
         });
     }
     if (bytes.len() as u64) > expected {
         // Trailing bytes: the length field or the file was altered.
-        return Err(CheckpointError::Corrupt);
+        return Err(FrameFault::Corrupt);
     }
     let end = PREFIX + body_length as usize;
     let (body, digest) = (&bytes[PREFIX..end], &bytes[end..]);
     if Sha256::digest(body).as_slice() != digest {
-        return Err(CheckpointError::Corrupt);
+        return Err(FrameFault::Corrupt);
     }
     Ok(body)
+}
+
+/// The verified body of a checkpoint file's bytes.
+fn body_of(bytes: &[u8]) -> Result<&[u8], CheckpointError> {
+    unframed(&MAGIC, bytes).map_err(|fault| match fault {
+        FrameFault::Foreign => CheckpointError::Foreign,
+        FrameFault::Truncated { expected, found } => CheckpointError::Truncated { expected, found },
+        FrameFault::Corrupt => CheckpointError::Corrupt,
+    })
 }
 
 /// A checkpoint's content.
@@ -281,10 +318,7 @@ mod tests {
     #[test]
     fn damaged_bodies_are_told_apart() {
         let body = b"some body".to_vec();
-        let mut bytes = MAGIC.to_vec();
-        bytes.extend_from_slice(&(body.len() as u64).to_le_bytes());
-        bytes.extend_from_slice(&body);
-        bytes.extend_from_slice(&Sha256::digest(&body));
+        let bytes = framed(&MAGIC, &body);
         assert_eq!(body_of(&bytes), Ok(&body[..]));
         // Every proper prefix is truncated (or, shorter than the magic, foreign).
         for cut in 0..bytes.len() {

@@ -1,9 +1,11 @@
 //! Running one hopper case end to end: protocol, checkpoints, measurements and outputs.
 
+mod bed;
 mod checkpoint;
 mod outputs;
 mod protocol;
 mod remaining;
+mod start;
 mod wall_forces;
 mod wall_pressure;
 
@@ -13,14 +15,20 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::config::Case;
+use crate::hopper::PackingError;
 use crate::output::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
 use crate::summary::CaseSummary;
 
+pub use bed::{
+    bed_header, check_bed, check_bed_case, read_bed, Bed, BedError, BedHeader, BedReuse,
+    BED_CASE_FILE, BED_FILE, BED_MAGIC,
+};
 pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
     KeyChange, MAGIC as CHECKPOINT_MAGIC,
 };
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
+pub use start::{Start, StartKind, StartRecord, START_FILE};
 
 /// Name of the checkpoint file inside a run directory.
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
@@ -78,6 +86,34 @@ pub enum RunError {
         /// The keys that differ, earlier value first.
         changes: Vec<KeyChange>,
     },
+    /// The output directory holds a run that started otherwise (from another bed or
+    /// packing, or from its own fill): resuming it would mix two starts. Nothing was written.
+    #[error("{} holds a run that started from {} (per its {file}); this run starts from {}; nothing was changed", .dir.display(), start::describe(.found.as_ref()), start::describe(.expected.as_ref()))]
+    OtherStart {
+        /// The output directory.
+        dir: PathBuf,
+        /// The file that records the other start.
+        file: &'static str,
+        /// What that run started from (`None`: its own fill).
+        found: Option<StartRecord>,
+        /// What this run starts from.
+        expected: Option<StartRecord>,
+    },
+    /// A saved bed cannot be read, or the case may not reuse it. Nothing was written.
+    #[error("{0}")]
+    Bed(#[from] BedError),
+    /// A packing file is not valid for the case. Nothing was written.
+    #[error("{0}")]
+    Packing(#[from] PackingError),
+    /// A run resumed past its gate's opening was asked to save its bed, which it no longer
+    /// has. Nothing was written.
+    #[error("the run in {} opened its gate before its checkpoint, and {} holds no bed of this case: the bed can no longer be saved from it; --restart runs the case again and saves it", .dir.display(), .bed_dir.display())]
+    BedTooLate {
+        /// The output directory.
+        dir: PathBuf,
+        /// Where the bed was to be saved.
+        bed_dir: PathBuf,
+    },
     /// The hopper could not take all particles.
     #[error("could only insert {inserted} of {total} particles: no free space in the insertion band for 1 s")]
     CannotFill {
@@ -130,6 +166,10 @@ pub struct RunOptions {
     /// Set from outside (a signal handler: SIGTERM from a scheduler, Ctrl-C) to stop the run
     /// after its current protocol chunk, with a checkpoint written.
     pub stop: Option<Arc<AtomicBool>>,
+    /// Save the settled bed into this folder when the gate opens ([`BED_FILE`] and
+    /// [`BED_CASE_FILE`], each written atomically, replacing a bed there), for runs that
+    /// start from it ([`Start::Bed`]).
+    pub save_bed: Option<PathBuf>,
 }
 
 impl Default for RunOptions {
@@ -141,6 +181,7 @@ impl Default for RunOptions {
             pictures: false,
             chunk_limit: None,
             stop: None,
+            save_bed: None,
         }
     }
 }
@@ -196,10 +237,21 @@ fn case_text_of(file_text: &str) -> &str {
     }
 }
 
-/// What `out_dir` holds that a resume of the case with `case_text` (hash `hash`) may continue,
-/// or why it must not: a summary, checkpoint or case file of other inputs, or a damaged
-/// summary or checkpoint. Reads only.
-fn prior_run(out_dir: &Path, case_text: &str, hash: &str) -> Result<Prior, RunError> {
+/// What `out_dir` holds that a resume of the case with `case_text` (hash `hash`), started
+/// from `start`, may continue, or why it must not: a summary, checkpoint or case file of
+/// other inputs or of another start, or a damaged summary or checkpoint. Reads only.
+fn prior_run(
+    out_dir: &Path,
+    case_text: &str,
+    hash: &str,
+    start: Option<&StartRecord>,
+) -> Result<Prior, RunError> {
+    let other_start = |file: &'static str, found: Option<StartRecord>| RunError::OtherStart {
+        dir: out_dir.into(),
+        file,
+        found,
+        expected: start.cloned(),
+    };
     let other = |file: &'static str, found: String, old_text: &str| RunError::OtherInputs {
         dir: out_dir.into(),
         file,
@@ -228,6 +280,9 @@ fn prior_run(out_dir: &Path, case_text: &str, hash: &str) -> Result<Prior, RunEr
                 recorded_text.unwrap_or(""),
             ));
         }
+        if summary.start.as_ref() != start {
+            return Err(other_start(SUMMARY_FILE, summary.start));
+        }
         return Ok(Prior::Finished(Box::new(summary)));
     }
     let checkpoint_path = out_dir.join(CHECKPOINT_FILE);
@@ -246,7 +301,16 @@ fn prior_run(out_dir: &Path, case_text: &str, hash: &str) -> Result<Prior, RunEr
                 &header.case_text,
             ));
         }
+        if header.start.as_ref() != start {
+            return Err(other_start(CHECKPOINT_FILE, header.start.clone()));
+        }
         return Ok(Prior::Checkpoint(Box::new(saved)));
+    }
+    // A run killed before its first checkpoint: its start file says how it started (none:
+    // from its own fill), if it got as far as its case file.
+    let recorded_start = read_start_file(out_dir);
+    if recorded_text.is_some() && recorded_start.as_ref() != start {
+        return Err(other_start(START_FILE, recorded_start));
     }
     // A run killed before its first checkpoint left only its case file: nothing to continue,
     // but a folder of other inputs all the same.
@@ -296,11 +360,25 @@ pub fn occupant(dir: &Path) -> Option<Occupant> {
 /// a summary, checkpoint or case file of other inputs, or a damaged summary or checkpoint
 /// (the errors [`run_case`] would return with `resume`). A missing `dir` is fine.
 pub fn check_run_dir(case: &Case, dir: &Path) -> Result<(), RunError> {
+    check_run_dir_from(case, dir, &Start::Fill)
+}
+
+/// [`check_run_dir`] for a run that starts from `start`: also refuses a folder whose run
+/// started otherwise.
+pub fn check_run_dir_from(case: &Case, dir: &Path, start: &Start) -> Result<(), RunError> {
     if !dir.is_dir() {
         return Ok(());
     }
     let text = case.to_toml_string();
-    prior_run(dir, &text, &config_hash(&text)).map(|_| ())
+    prior_run(dir, &text, &config_hash(&text), start.record().as_ref()).map(|_| ())
+}
+
+/// The start recorded in `dir`'s [`START_FILE`]; `None` when there is none (or it cannot be
+/// read, which only a damaged folder shows: then the case file decides).
+fn read_start_file(dir: &Path) -> Option<StartRecord> {
+    let text = std::fs::read_to_string(dir.join(START_FILE)).ok()?;
+    let value: serde_json::Value = serde_json::from_str(&text).ok()?;
+    serde_json::from_value(value.get("start")?.clone()).ok()
 }
 
 /// Removes what a previous run left in `out_dir`, the files that mark its state first
@@ -312,9 +390,15 @@ fn clear_previous_run(out_dir: &Path) -> Result<(), RunError> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
         Err(source) => Err(RunError::Directory { path, source }),
     };
-    for name in [SUMMARY_FILE, CHECKPOINT_FILE, CASE_FILE, "timing.json"]
-        .iter()
-        .chain(outputs::RESULT_FILES)
+    for name in [
+        SUMMARY_FILE,
+        CHECKPOINT_FILE,
+        CASE_FILE,
+        START_FILE,
+        "timing.json",
+    ]
+    .iter()
+    .chain(outputs::RESULT_FILES)
     {
         remove(out_dir.join(name))?;
     }
@@ -330,7 +414,13 @@ fn clear_previous_run(out_dir: &Path) -> Result<(), RunError> {
 }
 
 /// What a checkpoint written now records of the run.
-fn checkpoint_header(case: &Case, case_text: &str, hash: &str, run: &CaseRun) -> CheckpointHeader {
+fn checkpoint_header(
+    case: &Case,
+    case_text: &str,
+    hash: &str,
+    run: &CaseRun,
+    start: Option<&StartRecord>,
+) -> CheckpointHeader {
     CheckpointHeader {
         program_version: env!("CARGO_PKG_VERSION").to_string(),
         config_hash: hash.to_string(),
@@ -338,6 +428,7 @@ fn checkpoint_header(case: &Case, case_text: &str, hash: &str, run: &CaseRun) ->
         case_text: case_text.to_string(),
         phase: phase_name(run.phase()).to_string(),
         time: run.simulation().time(),
+        start: start.cloned(),
     }
 }
 
@@ -366,15 +457,52 @@ fn write_checkpoint(
 ///
 /// Temporary files that a killed write left behind are removed either way.
 pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<RunOutcome, RunError> {
+    run_case_from(case, out_dir, options, &Start::Fill)
+}
+
+/// [`run_case`] from `start`: its own fill, a saved bed ([`Start::Bed`]: no fill and no
+/// settling, the gate opens at once) or a packing ([`Start::Packing`]: no fill, the
+/// particles settle from where the file puts them).
+///
+/// The start is checked against the case before anything is written: a bed settled under
+/// other inputs ([`check_bed`]) or a packing that does not fit the case is refused
+/// ([`RunError::Bed`], [`RunError::Packing`]). The run folder records the start (the
+/// checkpoints, `summary.json` and [`START_FILE`]), and a resume refuses a folder whose run
+/// started otherwise ([`RunError::OtherStart`]).
+pub fn run_case_from(
+    case: &Case,
+    out_dir: &Path,
+    options: &RunOptions,
+    start: &Start,
+) -> Result<RunOutcome, RunError> {
     let case_text = case.to_toml_string();
     let hash = config_hash(&case_text);
+    let record = start.record();
+    let reuse = match start {
+        Start::Fill => None,
+        Start::Bed(bed) => Some(check_bed(bed, case)?),
+        Start::Packing(packing) => {
+            packing.check(case)?;
+            None
+        }
+    };
     let prior = if options.resume && out_dir.is_dir() {
-        prior_run(out_dir, &case_text, &hash)?
+        prior_run(out_dir, &case_text, &hash, record.as_ref())?
     } else {
         Prior::Nothing
     };
     if let Prior::Finished(summary) = prior {
         return Ok(RunOutcome::Finished(summary));
+    }
+    if let (Some(bed_dir), Prior::Checkpoint(saved)) = (&options.save_bed, &prior) {
+        let opened = matches!(saved.header.phase.as_str(), "discharge" | "done");
+        let saved_bed = bed_header(bed_dir).is_some_and(|h| bed::is_bed_of(&h, &case_text));
+        if opened && !saved_bed {
+            return Err(RunError::BedTooLate {
+                dir: out_dir.into(),
+                bed_dir: bed_dir.clone(),
+            });
+        }
     }
     std::fs::create_dir_all(out_dir).map_err(|source| RunError::Directory {
         path: out_dir.into(),
@@ -390,21 +518,37 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         "{CASE_HEADER}{}; config hash {hash}\n",
         env!("CARGO_PKG_VERSION")
     );
-    write_atomic(
-        out_dir.join(CASE_FILE),
-        format!("{header}{case_text}").as_bytes(),
-    )?;
+    let case_file_text = format!("{header}{case_text}");
 
     let draw = options.pictures && case.output.plots;
     let mut pictures = outputs::Pictures::new(out_dir, case, draw)?;
+    let fresh = matches!(prior, Prior::Nothing);
     let mut run = match prior {
         Prior::Checkpoint(saved) => {
             let saved = *saved;
             pictures.resume(saved.pictures);
             CaseRun::resume(case, saved.state, options.threads)?
         }
-        _ => CaseRun::new(case, options.threads)?,
+        _ => match start {
+            Start::Fill => CaseRun::new(case, options.threads)?,
+            Start::Bed(bed) => CaseRun::from_bed(case, bed.state.clone(), options.threads)?,
+            Start::Packing(packing) => CaseRun::from_packing(case, packing, options.threads)?,
+        },
     };
+    // The start file before the case file: a folder with a case file always says how its
+    // run started.
+    if fresh {
+        if let Some(record) = &record {
+            write_json_atomic(
+                out_dir.join(START_FILE),
+                &start_file(record, start, reuse.as_ref(), &run),
+            )?;
+        }
+    }
+    write_atomic(out_dir.join(CASE_FILE), case_file_text.as_bytes())?;
+    if options.save_bed.is_some() {
+        run.keep_bed();
+    }
     let started = Instant::now();
     // Where this process's time goes, for timing.json: by protocol phase here, by phase of
     // the step in the engine (which only reads the clock for it, changing no bit).
@@ -427,11 +571,23 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
         let chunk_started = Instant::now();
         run.advance()?;
         chunks += 1;
+        if let (Some(state), Some(dir)) = (run.take_bed(), &options.save_bed) {
+            let bed = BedHeader {
+                program_version: env!("CARGO_PKG_VERSION").to_string(),
+                config_hash: hash.clone(),
+                seed: case.seed,
+                case_text: case_text.clone(),
+                time: run.simulation().time(),
+                particles: run.simulation().particles().len(),
+                settled: state.settled,
+            };
+            bed::write_bed(dir, &bed, &state, &case_file_text)?;
+        }
         let t = run.simulation().time();
         pictures.observe(&run)?;
         if case.output.checkpoint_interval > 0.0 && t >= next_checkpoint {
             next_checkpoint = t + case.output.checkpoint_interval;
-            let header = checkpoint_header(case, &case_text, &hash, &run);
+            let header = checkpoint_header(case, &case_text, &hash, &run, record.as_ref());
             write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
         }
         if let Some(report) = &options.progress {
@@ -463,12 +619,13 @@ pub fn run_case(case: &Case, out_dir: &Path, options: &RunOptions) -> Result<Run
             .as_ref()
             .is_some_and(|flag| flag.load(Ordering::Relaxed));
         if stopped || options.chunk_limit.is_some_and(|limit| chunks >= limit) {
-            let header = checkpoint_header(case, &case_text, &hash, &run);
+            let header = checkpoint_header(case, &case_text, &hash, &run, record.as_ref());
             write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
             return Ok(RunOutcome::Interrupted);
         }
     }
-    let summary = outputs::finish(&run, out_dir, &hash, draw)?;
+    let mut summary = outputs::finish(&run, out_dir, &hash, draw)?;
+    summary.start = record;
     let engine = run.simulation().phase_times().unwrap_or_default();
     write_json_atomic(
         out_dir.join("timing.json"),
@@ -511,4 +668,44 @@ impl ProtocolTime {
 /// Mass of all particles of a case, estimated from the mean sphere volume [kg].
 fn total_mass(case: &Case) -> f64 {
     case.particles.total_volume() * case.particles.material.density
+}
+
+/// The content of [`START_FILE`]: the start's identity (what a resume compares), where it
+/// was read from, and for a bed what the reuse changed and what it kept.
+fn start_file(
+    record: &StartRecord,
+    start: &Start,
+    reuse: Option<&BedReuse>,
+    run: &CaseRun,
+) -> serde_json::Value {
+    let mut value = serde_json::json!({ "start": record });
+    match start {
+        Start::Fill => {}
+        Start::Bed(bed) => {
+            let changes: Vec<String> = reuse
+                .map(|r| r.changes.iter().map(ToString::to_string).collect())
+                .unwrap_or_default();
+            value["source"] = bed.path().display().to_string().into();
+            value["bed"] = serde_json::json!({
+                "config_hash": bed.header().config_hash,
+                "time_s": bed.header().time,
+                "particles": bed.header().particles,
+                "settled": bed.header().settled,
+            });
+            value["changed_keys"] = changes.into();
+            value["walls_rebuilt"] = run.rebuilt_walls().to_vec().into();
+            value["kept"] = "positions, velocities, spins and forces of every particle; every \
+                particle-particle contact history; the histories of contacts with the walls \
+                not rebuilt; the time and step count"
+                .into();
+        }
+        Start::Packing(packing) => {
+            value["source"] = packing.source().display().to_string().into();
+            value["particles"] = packing.particles().len().into();
+            if let Some(material) = packing.material() {
+                value["material"] = material.into();
+            }
+        }
+    }
+    value
 }

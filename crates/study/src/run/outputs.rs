@@ -536,6 +536,7 @@ pub fn finish(
             ),
             _ => None,
         },
+        start: None,
     })
 }
 

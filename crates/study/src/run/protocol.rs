@@ -3,14 +3,16 @@
 
 use analysis::series::RateSeries;
 use analysis::AnalysisError;
-use dem::{DVec3, MaterialId, Simulation, SimulationState, Watched};
+use dem::{DVec3, MaterialId, ParticleInit, Simulation, SimulationState, Watched};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
 use crate::config::{Case, Geometry};
 use crate::hopper::silo_fill::insert_silo_batch;
-use crate::hopper::{case_simulation, fill::insert_batch, sample_radius, ContainerWalls};
+use crate::hopper::{
+    adopt_walls, case_simulation, fill::insert_batch, sample_radius, ContainerWalls, Packing,
+};
 use crate::measure::{
     silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView,
     Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe, StripConfig,
@@ -110,6 +112,36 @@ pub struct CaseRun {
     pub(crate) case: Case,
     pub(crate) sim: Simulation,
     pub(crate) state: RunState,
+    /// Whether to keep the state at the end of the settling ([`CaseRun::keep_bed`]).
+    keep_bed: bool,
+    /// The state kept at the end of the settling, gate closed, until taken.
+    bed: Option<Box<RunState>>,
+    /// The walls a run from a bed rebuilt for its case ([`CaseRun::from_bed`]), by name.
+    rebuilt: Vec<&'static str>,
+}
+
+/// The wall-pressure recorder of a silo's walls in `sim` (its gate left out); `None` for a
+/// slab.
+fn pressure_recorder(
+    case: &Case,
+    walls: &ContainerWalls,
+    sim: &mut Simulation,
+) -> Result<Option<WallPressureRecorder>, RunError> {
+    let ContainerWalls::Silo(_) = walls else {
+        return Ok(None);
+    };
+    let recorded: Vec<(u8, dem::WallId)> = walls
+        .named()
+        .into_iter()
+        .filter_map(|(name, id)| Some((name, id?)))
+        .filter(|(_, id)| *id != walls.gate())
+        .collect();
+    Ok(Some(WallPressureRecorder::new(
+        sim,
+        &recorded,
+        PRESSURE_ZONE_DIAMETERS * case.particles.size.mean_diameter(),
+        PRESSURE_WINDOW_BINS * case.measure.rate_bin_width,
+    )?))
 }
 
 /// The outlet geometry of a case for the probes.
@@ -174,23 +206,7 @@ impl CaseRun {
             )?),
             OutletShape::Slot => None,
         };
-        let pressure = match walls {
-            ContainerWalls::Silo(_) => {
-                let recorded: Vec<(u8, dem::WallId)> = walls
-                    .named()
-                    .into_iter()
-                    .filter_map(|(name, id)| Some((name, id?)))
-                    .filter(|(_, id)| *id != walls.gate())
-                    .collect();
-                Some(WallPressureRecorder::new(
-                    &mut sim,
-                    &recorded,
-                    PRESSURE_ZONE_DIAMETERS * case.particles.size.mean_diameter(),
-                    PRESSURE_WINDOW_BINS * case.measure.rate_bin_width,
-                )?)
-            }
-            ContainerWalls::Slab(_) => None,
-        };
+        let pressure = pressure_recorder(case, &walls, &mut sim)?;
         let wall_forces =
             WallForceRecorder::new(&sim, &walls, case.measure.rate_bin_width, case.time_step);
         let state = RunState {
@@ -221,6 +237,9 @@ impl CaseRun {
             case: case.clone(),
             sim,
             state,
+            keep_bed: false,
+            bed: None,
+            rebuilt: Vec::new(),
         })
     }
 
@@ -231,7 +250,96 @@ impl CaseRun {
             case: case.clone(),
             sim,
             state,
+            keep_bed: false,
+            bed: None,
+            rebuilt: Vec::new(),
         })
+    }
+
+    /// A run of `case` from a bed: the state `bed` that a run kept at the end of its
+    /// settling ([`CaseRun::take_bed`]), its gate opened at once. `case` may differ from the
+    /// bed's case only where `run::check_bed` allows (the caller checks).
+    ///
+    /// The engine state is the bed's, bit for bit: positions, velocities, spins, forces, the
+    /// neighbour lists and every contact history, the time and the step count. The walls
+    /// become `case`'s, handle by handle ([`adopt_walls`]): equal walls stay with their
+    /// contacts' histories; a wall that differs (the bottom plates or flat bottom and the
+    /// gate, for another outlet) is replaced, and its contacts start without history. The
+    /// probes, the wall-load windows and N(t) are `case`'s, started at the bed's time, and the
+    /// settled bulk fraction is measured again in `case`'s container. With the bed's own
+    /// case nothing changes, and the discharge is the saving run's, bit for bit.
+    pub fn from_bed(case: &Case, bed: RunState, threads: usize) -> Result<Self, RunError> {
+        let mut run = Self::new(case, 1)?;
+        let mut sim = Simulation::from_state(bed.sim, threads)?;
+        let changed = adopt_walls(&mut sim, &run.sim)?;
+        run.rebuilt = changed
+            .iter()
+            .map(|&id| {
+                run.state
+                    .walls
+                    .name_of(id)
+                    .or_else(|| bed.walls.name_of(id))
+                    .unwrap_or("unnamed")
+            })
+            .collect();
+        run.sim = sim;
+        // Zones and bands on the walls the run now holds; the settled bed's pressure window
+        // belongs to the run that saved the bed.
+        run.state.pressure = pressure_recorder(case, &run.state.walls, &mut run.sim)?;
+        let state = &mut run.state;
+        state.material = bed.material;
+        state.rng = bed.rng;
+        state.settled = bed.settled;
+        state.settled_kinetic_energy = bed.settled_kinetic_energy;
+        state.fill_mass = bed.fill_mass;
+        state.wall_forces = WallForceRecorder::new(
+            &run.sim,
+            &state.walls,
+            case.measure.rate_bin_width,
+            case.time_step,
+        );
+        run.state.bulk = run.measure_bulk().ok();
+        run.open_gate()?;
+        run.state.sim = run.sim.state().clone();
+        Ok(run)
+    }
+
+    /// A run of `case` from a checked packing: its particles placed at rest, in file order,
+    /// in the container with its gate closed; the run then settles (the first check after
+    /// `MIN_SETTLE_AFTER_FILL`, as after a fill) and goes on as usual.
+    pub fn from_packing(case: &Case, packing: &Packing, threads: usize) -> Result<Self, RunError> {
+        let mut run = Self::new(case, threads)?;
+        for p in packing.particles() {
+            run.sim.add_particle(ParticleInit::at_rest(
+                p.position,
+                p.radius,
+                run.state.material,
+            ))?;
+        }
+        let t = run.sim.time();
+        run.state.next_check = t + MIN_SETTLE_AFTER_FILL;
+        run.state.phase = Phase::Settle { since: t };
+        run.state.sim = run.sim.state().clone();
+        Ok(run)
+    }
+
+    /// The walls that a run from a bed rebuilt for its case, by name (`gate`,
+    /// `plate_left`, `bottom`, …); empty when the bed's walls were all kept.
+    pub fn rebuilt_walls(&self) -> &[&'static str] {
+        &self.rebuilt
+    }
+
+    /// Keeps the run's state at the end of the settling, before the gate opens, for
+    /// [`CaseRun::take_bed`].
+    pub fn keep_bed(&mut self) {
+        self.keep_bed = true;
+    }
+
+    /// The state kept at the end of the settling (gate closed), once, after the chunk in
+    /// which the gate opened; `None` before, after it was taken, or without
+    /// [`CaseRun::keep_bed`].
+    pub fn take_bed(&mut self) -> Option<RunState> {
+        self.bed.take().map(|b| *b)
     }
 
     /// The state to checkpoint (the engine state is refreshed first).
@@ -376,20 +484,31 @@ impl CaseRun {
             self.state.settled_kinetic_energy = ke;
             self.state.bulk = self.measure_bulk().ok();
             self.state.fill_mass = self.sim.particles().masses().iter().sum();
-            self.sim.remove_wall(self.state.walls.gate())?;
-            self.state.remaining.open(t);
-            if let Some(p) = &mut self.state.pressure {
-                p.open(&mut self.sim, t);
+            if self.keep_bed {
+                // The bed: everything a run from it needs to discharge as this one will.
+                self.bed = Some(Box::new(self.checkpoint().clone()));
             }
-            // The gate's last window ends with it; the next ones lie on the W(t) bins.
-            self.state.wall_forces.close(self.sim.steps());
-            self.state.next_frame = t;
-            self.state.next_check = t;
-            self.state.phase = Phase::Discharge {
-                opened: t,
-                last_crossing: t,
-            };
+            self.open_gate()?;
         }
+        Ok(())
+    }
+
+    /// Removes the gate at the current time and starts the discharge.
+    fn open_gate(&mut self) -> Result<(), RunError> {
+        let t = self.sim.time();
+        self.sim.remove_wall(self.state.walls.gate())?;
+        self.state.remaining.open(t);
+        if let Some(p) = &mut self.state.pressure {
+            p.open(&mut self.sim, t);
+        }
+        // The gate's last window ends with it; the next ones lie on the W(t) bins.
+        self.state.wall_forces.close(self.sim.steps());
+        self.state.next_frame = t;
+        self.state.next_check = t;
+        self.state.phase = Phase::Discharge {
+            opened: t,
+            last_crossing: t,
+        };
         Ok(())
     }
 

@@ -288,5 +288,6 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         crossing_area_fraction_exponent: None,
         radial_fit: None,
         janssen: None,
+        start: None,
     }
 }

@@ -1,0 +1,710 @@
+//! A packing file in place of the fill: `hopperflow run CASE --packing FILE.csv|FILE.vtu`
+//! (docs/user-guide.md §5).
+//!
+//! The particles are placed at rest where the file puts them; the run then settles with the
+//! gate closed and goes on as after a fill. Two formats:
+//!
+//! - **CSV** with a header naming the columns `x`, `y`, `z`, `radius` and `material`, in any
+//!   order, one particle per line, SI units (m). Lines starting with `#` are comments. The
+//!   case has one particle material and case files give it no name, so `material` may hold
+//!   any name, the same on every line; a second name is refused.
+//! - **VTU** as hopperflow writes its snapshots (`output::vtu`): the points and a point-data
+//!   array `radius`, inline ASCII. Binary, appended or compressed data are refused with a
+//!   message that says how to save the file as ASCII.
+//!
+//! Everything is checked before anything is written, and each problem names the file, the
+//! line (CSV) or the array and index (VTU), the value and what is allowed: numbers that are
+//! missing or not finite, radii ≤ 0 or outside the case's size distribution by more than
+//! [`RADIUS_TOLERANCE`], particles outside the container (the fill's own tests,
+//! [`inside_hopper`] and [`CylinderSilo::holds`], allowing a particle to press into a wall
+//! by [`PACKING_OVERLAP_FRACTION`] of its radius), overlaps of two particles beyond the same
+//! fraction of the smaller radius, and a count other than `particles.count`.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use dem::DVec3;
+use sha2::{Digest, Sha256};
+
+use super::fill::inside_hopper;
+use super::packing_vtu::parse_vtu;
+use crate::config::{Case, CylinderSilo, Geometry, HopperGeometry};
+
+/// The columns of a packing CSV, in the order hopperflow writes them.
+pub const PACKING_COLUMNS: [&str; 5] = ["x", "y", "z", "radius", "material"];
+
+/// Largest overlap accepted between two particles, or between a particle and a wall, as a
+/// fraction of the smaller radius [-]. A settled bed under its own weight overlaps far less
+/// (the paper's 400 mm column: about 0.1 % of r at the bottom, docs/physics.md §1.1), so a
+/// packing saved from a settled run passes; an overlap of 1 % already stores about 10⁻³ of
+/// the particle's weight times r as elastic energy per contact, which the settling
+/// dissipates, while the engine stops a run at 10 %.
+pub const PACKING_OVERLAP_FRACTION: f64 = 0.01;
+
+/// How far outside the case's range of radii a radius may lie, relative to the range's end
+/// [-]: the rounding of a file written with five significant digits or more, far below any
+/// real difference of size distributions.
+pub const RADIUS_TOLERANCE: f64 = 1e-4;
+
+/// Problems listed in one error before the rest are only counted.
+const MAX_PROBLEMS: usize = 20;
+
+/// One particle of a packing: where it is and how large.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PackedParticle {
+    /// Centre [m], in the case's coordinates (z up from the orifice plane).
+    pub position: DVec3,
+    /// Radius [m].
+    pub radius: f64,
+}
+
+/// Where in a packing file a problem lies.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PackingPlace {
+    /// The file as a whole.
+    File,
+    /// A line of a CSV file, counted from 1.
+    Line(u64),
+    /// A point of a VTU file (its particle), counted from 0 as VTK does.
+    Point(usize),
+    /// A value of a VTU data array, counted from 0.
+    Array {
+        /// The array's `Name`.
+        name: String,
+        /// The value's index in the array.
+        index: usize,
+    },
+}
+
+impl fmt::Display for PackingPlace {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::File => Ok(()),
+            Self::Line(n) => write!(f, " line {n}"),
+            Self::Point(k) => write!(f, " point {k}"),
+            Self::Array { name, index } => write!(f, " array `{name}` value {index}"),
+        }
+    }
+}
+
+/// One thing wrong with a packing file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PackingProblem {
+    /// Where it is.
+    pub place: PackingPlace,
+    /// What is wrong, with the value and what is allowed.
+    pub message: String,
+}
+
+/// Why a packing file cannot start a run: every problem found (the first
+/// [`MAX_PROBLEMS`], then a count).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct PackingError {
+    /// The file.
+    pub file: PathBuf,
+    /// The problems, in file order.
+    pub problems: Vec<PackingProblem>,
+    /// Problems found beyond those listed.
+    pub more: usize,
+}
+
+impl fmt::Display for PackingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let file = self.file.display();
+        for (k, p) in self.problems.iter().enumerate() {
+            if k > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{file}{}: {}", p.place, p.message)?;
+        }
+        if self.more > 0 {
+            write!(f, "\n{file}: and {} more problems", self.more)?;
+        }
+        Ok(())
+    }
+}
+
+/// The problems found so far, the first [`MAX_PROBLEMS`] kept.
+#[derive(Default)]
+pub(super) struct Problems {
+    list: Vec<PackingProblem>,
+    more: usize,
+}
+
+impl Problems {
+    pub(super) fn push(&mut self, place: PackingPlace, message: impl Into<String>) {
+        if self.list.len() < MAX_PROBLEMS {
+            self.list.push(PackingProblem {
+                place,
+                message: message.into(),
+            });
+        } else {
+            self.more += 1;
+        }
+    }
+
+    pub(super) fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    fn into_error(self, file: &Path) -> PackingError {
+        PackingError {
+            file: file.to_path_buf(),
+            problems: self.list,
+            more: self.more,
+        }
+    }
+}
+
+/// A particle as a file gives it, before the checks.
+pub(super) struct RawParticle {
+    /// Where the file holds it.
+    pub(super) place: PackingPlace,
+    /// x, y, z [m].
+    pub(super) position: [f64; 3],
+    /// Radius [m].
+    pub(super) radius: f64,
+}
+
+/// A checked packing, ready to start a run of the case it was checked against.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Packing {
+    source: PathBuf,
+    sha256: String,
+    particles: Vec<PackedParticle>,
+    material: Option<String>,
+}
+
+impl Packing {
+    /// The particles, in file order (the order of their tags in the run).
+    pub fn particles(&self) -> &[PackedParticle] {
+        &self.particles
+    }
+
+    /// The file it was read from (or the name given to [`Packing::new`]).
+    pub fn source(&self) -> &Path {
+        &self.source
+    }
+
+    /// Hex SHA-256 of the file's bytes (of the numbers' bits for [`Packing::new`]).
+    pub fn sha256(&self) -> &str {
+        &self.sha256
+    }
+
+    /// The material name the CSV gave every particle (`None` for a VTU file).
+    pub fn material(&self) -> Option<&str> {
+        self.material.as_deref()
+    }
+
+    /// A packing of `particles` checked against `case` as a file's would be; `name` stands
+    /// for the file in the errors (its places are the particles' indices).
+    pub fn new(
+        name: &Path,
+        particles: &[PackedParticle],
+        case: &Case,
+    ) -> Result<Self, PackingError> {
+        let raw: Vec<RawParticle> = particles
+            .iter()
+            .enumerate()
+            .map(|(k, p)| RawParticle {
+                place: PackingPlace::Point(k),
+                position: p.position.to_array(),
+                radius: p.radius,
+            })
+            .collect();
+        let mut hasher = Sha256::new();
+        for p in particles {
+            for v in p.position.to_array().iter().chain([&p.radius]) {
+                hasher.update(v.to_le_bytes());
+            }
+        }
+        let sha256 = hex(&hasher.finalize());
+        checked(name, raw, case, sha256, None)
+    }
+
+    /// Checks the packing against `case` again (what [`read_packing`] checked): a run
+    /// refuses a packing of another case.
+    pub fn check(&self, case: &Case) -> Result<(), PackingError> {
+        Self::new(&self.source, &self.particles, case).map(|_| ())
+    }
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Reads and checks the packing file `path` for `case`: CSV or VTU by its extension.
+pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
+    let mut problems = Problems::default();
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) => {
+            problems.push(PackingPlace::File, format!("cannot be read: {e}"));
+            return Err(problems.into_error(path));
+        }
+    };
+    let sha256 = hex(&Sha256::digest(&bytes));
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let parsed = match extension.as_deref() {
+        Some("csv") => parse_csv(&bytes, &mut problems),
+        Some("vtu") => match std::str::from_utf8(&bytes) {
+            Ok(text) => parse_vtu(text, &mut problems).map(|raw| (raw, None)),
+            Err(e) => {
+                problems.push(
+                    PackingPlace::File,
+                    format!(
+                        "is not text (invalid UTF-8 at byte {}): hopperflow reads VTU files \
+                         with inline ASCII data, as it writes them",
+                        e.valid_up_to()
+                    ),
+                );
+                None
+            }
+        },
+        other => {
+            problems.push(
+                PackingPlace::File,
+                format!(
+                    "has an unknown packing format (extension {}): hopperflow reads .csv \
+                     (columns x, y, z, radius, material) and .vtu (points and a `radius` \
+                     point-data array)",
+                    other.map_or("none".to_string(), |e| format!("`.{e}`"))
+                ),
+            );
+            None
+        }
+    };
+    match parsed {
+        Some((raw, material)) if problems.is_empty() => checked(path, raw, case, sha256, material),
+        _ => Err(problems.into_error(path)),
+    }
+}
+
+/// The particles of CSV `bytes` and their one material name, or `None` with the problems
+/// pushed.
+fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<(Vec<RawParticle>, Option<String>)> {
+    // A byte-order mark (spreadsheets write one) is not part of the first column's name.
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(bytes);
+    let line_of = |e: &csv::Error| {
+        e.position()
+            .map_or(PackingPlace::File, |p| PackingPlace::Line(p.line()))
+    };
+    let mut records = reader.records();
+    let header = match records.next() {
+        None => {
+            problems.push(
+                PackingPlace::File,
+                "is empty: a packing CSV starts with the header `x,y,z,radius,material` and \
+                 holds one particle per line",
+            );
+            return None;
+        }
+        Some(Err(e)) => {
+            problems.push(line_of(&e), format!("cannot be read as CSV: {e}"));
+            return None;
+        }
+        Some(Ok(header)) => header,
+    };
+    let header_line = header.position().map_or(1, csv::Position::line);
+    // Column index of each of PACKING_COLUMNS.
+    let mut column: [Option<usize>; 5] = [None; 5];
+    for (k, name) in header.iter().enumerate() {
+        let lower = name.to_ascii_lowercase();
+        match PACKING_COLUMNS.iter().position(|c| *c == lower) {
+            Some(c) if column[c].is_some() => problems.push(
+                PackingPlace::Line(header_line),
+                format!("column `{name}` appears twice in the header"),
+            ),
+            Some(c) => column[c] = Some(k),
+            None => problems.push(
+                PackingPlace::Line(header_line),
+                format!(
+                    "unknown column `{name}` in the header: a packing names the columns x, y, \
+                     z, radius, material (SI units; particles start at rest, so no \
+                     velocities are read)"
+                ),
+            ),
+        }
+    }
+    let missing: Vec<&str> = PACKING_COLUMNS
+        .iter()
+        .zip(&column)
+        .filter(|(_, c)| c.is_none())
+        .map(|(name, _)| *name)
+        .collect();
+    if !missing.is_empty() {
+        problems.push(
+            PackingPlace::Line(header_line),
+            format!(
+                "the header lacks the column(s) {}: it must name x, y, z, radius and material \
+                 (found: {})",
+                missing.join(", "),
+                header.iter().collect::<Vec<_>>().join(", ")
+            ),
+        );
+    }
+    if !problems.is_empty() {
+        return None;
+    }
+    let column = column.map(|c| c.unwrap_or_default());
+    let width = header.len();
+    let mut raw = Vec::new();
+    let mut material: Option<(String, u64)> = None;
+    for record in records {
+        let record = match record {
+            Ok(r) => r,
+            Err(e) => {
+                problems.push(line_of(&e), format!("cannot be read as CSV: {e}"));
+                continue;
+            }
+        };
+        let line = record.position().map_or(0, csv::Position::line);
+        let place = PackingPlace::Line(line);
+        if record.len() != width {
+            problems.push(
+                place,
+                format!(
+                    "has {} fields, the header has {width} (x, y, z, radius, material)",
+                    record.len()
+                ),
+            );
+            continue;
+        }
+        let mut values = [0.0; 4];
+        let mut good = true;
+        for (k, value) in values.iter_mut().enumerate() {
+            let name = PACKING_COLUMNS[k];
+            let text = &record[column[k]];
+            if text.is_empty() {
+                problems.push(
+                    place.clone(),
+                    format!("{name} is empty; a number [m] is needed"),
+                );
+                good = false;
+                continue;
+            }
+            match text.parse::<f64>() {
+                Ok(v) => *value = v,
+                Err(_) => {
+                    problems.push(
+                        place.clone(),
+                        format!("{name} `{text}` is not a number; a number [m] is needed"),
+                    );
+                    good = false;
+                }
+            }
+        }
+        let name = &record[column[4]];
+        if name.is_empty() {
+            problems.push(
+                place.clone(),
+                "material is empty; give the case's particle material a name (any, the same on \
+                 every line)",
+            );
+            good = false;
+        } else {
+            match &material {
+                None => material = Some((name.to_string(), line)),
+                Some((first, first_line)) if first != name => {
+                    problems.push(
+                        place.clone(),
+                        format!(
+                            "material `{name}` differs from `{first}` (line {first_line}): the \
+                             case has one particle material, so every particle names the same one"
+                        ),
+                    );
+                    good = false;
+                }
+                Some(_) => {}
+            }
+        }
+        if good {
+            raw.push(RawParticle {
+                place,
+                position: [values[0], values[1], values[2]],
+                radius: values[3],
+            });
+        }
+    }
+    if problems.is_empty() && raw.is_empty() {
+        problems.push(
+            PackingPlace::File,
+            "has a header but no particles: one line per particle is needed",
+        );
+    }
+    Some((raw, material.map(|(name, _)| name)))
+}
+
+/// The packing of `raw` after every check against `case`, or every problem found.
+fn checked(
+    file: &Path,
+    raw: Vec<RawParticle>,
+    case: &Case,
+    sha256: String,
+    material: Option<String>,
+) -> Result<Packing, PackingError> {
+    let mut problems = Problems::default();
+    check_values(&raw, case, &mut problems);
+    if problems.is_empty() {
+        check_container(&raw, case, &mut problems);
+        check_overlaps(&raw, &mut problems);
+    }
+    if raw.len() != case.particles.count {
+        problems.push(
+            PackingPlace::File,
+            format!(
+                "holds {} particles; the case has particles.count = {} (a packing replaces the \
+                 fill, so the two must agree: set --set particles.count={})",
+                raw.len(),
+                case.particles.count,
+                raw.len()
+            ),
+        );
+    }
+    if !problems.is_empty() {
+        return Err(problems.into_error(file));
+    }
+    Ok(Packing {
+        source: file.to_path_buf(),
+        sha256,
+        particles: raw
+            .iter()
+            .map(|p| PackedParticle {
+                position: DVec3::from_array(p.position),
+                radius: p.radius,
+            })
+            .collect(),
+        material,
+    })
+}
+
+/// Finite numbers, positive radii within the case's size distribution.
+fn check_values(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
+    let size = &case.particles.size;
+    let (low, high) = (0.5 * size.min_diameter(), 0.5 * size.max_diameter());
+    let (low_ok, high_ok) = (
+        low * (1.0 - RADIUS_TOLERANCE),
+        high * (1.0 + RADIUS_TOLERANCE),
+    );
+    for p in raw {
+        for (name, v) in ["x", "y", "z"].iter().zip(p.position) {
+            if !v.is_finite() {
+                problems.push(
+                    p.place.clone(),
+                    format!("{name} = {v} is not finite; a finite number [m] is needed"),
+                );
+            }
+        }
+        let r = p.radius;
+        if !r.is_finite() || r <= 0.0 {
+            problems.push(
+                p.place.clone(),
+                format!("radius = {r} must be finite and > 0 [m]"),
+            );
+        } else if r < low_ok || r > high_ok {
+            problems.push(
+                p.place.clone(),
+                format!(
+                    "radius = {r} m is outside the case's radii [{low}, {high}] m (half the \
+                     diameters of particles.diameter or particles.size_distribution; {} % \
+                     tolerance)",
+                    RADIUS_TOLERANCE * 100.0
+                ),
+            );
+        }
+    }
+}
+
+/// Every particle inside the container, pressing into a wall by at most
+/// [`PACKING_OVERLAP_FRACTION`] of its radius.
+fn check_container(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
+    for p in raw {
+        let [x, y, z] = p.position;
+        let r = p.radius;
+        let slack = PACKING_OVERLAP_FRACTION * r;
+        let why = match &case.geometry {
+            Geometry::Slab(g) => {
+                let across = y - r >= -slack && y + r <= g.thickness + slack;
+                if inside_hopper(g, x, z, r, -slack) && across {
+                    continue;
+                }
+                slab_violation(g, [x, y, z], r, slack)
+            }
+            Geometry::Cylinder(g) => {
+                if g.holds(x, y, z, r, -slack) {
+                    continue;
+                }
+                silo_violation(g, [x, y, z], r, slack)
+            }
+        };
+        problems.push(
+            p.place.clone(),
+            format!(
+                "the particle at (x, y, z) = ({x}, {y}, {z}) m of radius {r} m lies outside the \
+                 {}: {why} (a particle may press into a wall by at most {} % of its radius)",
+                case.geometry.kind(),
+                PACKING_OVERLAP_FRACTION * 100.0
+            ),
+        );
+    }
+}
+
+/// "[a, b] m" for the range of a coordinate.
+fn range(low: f64, high: f64) -> String {
+    format!("[{low:.6e}, {high:.6e}] m")
+}
+
+/// Which wall of the slab a particle of radius `r` at `x` crosses, in words.
+fn slab_violation(g: &HopperGeometry, x: [f64; 3], r: f64, slack: f64) -> String {
+    let c = r - slack;
+    let half = 0.5 * g.width;
+    if x[0] < -half + c || x[0] > half - c {
+        return format!(
+            "x must lie in {} between the side walls at x = ±{half} m",
+            range(-half + c, half - c)
+        );
+    }
+    if x[1] < c || x[1] > g.thickness - c {
+        return format!(
+            "y must lie in {} between the front and back walls at y = 0 and {} m",
+            range(c, g.thickness - c),
+            g.thickness
+        );
+    }
+    if x[2] < c || x[2] > g.height - c {
+        return format!(
+            "z must lie in {} above the orifice plane z = 0 and below the top z = {} m",
+            range(c, g.height - c),
+            g.height
+        );
+    }
+    let (xl, xr) = g.outlet_edges();
+    let a = g.hopper_angle();
+    let (sa, ca) = (a.sin(), a.cos());
+    let left = (x[0] - xl) * ca + x[2] * sa;
+    let right = (xr - x[0]) * ca + x[2] * sa;
+    let (side, distance) = if left < right {
+        ("left", left)
+    } else {
+        ("right", right)
+    };
+    format!(
+        "its centre lies {distance:.6e} m from the {side} bottom plate's plane, which must be at \
+         least {c:.6e} m"
+    )
+}
+
+/// Which wall of the silo a particle of radius `r` at `x` crosses, in words.
+fn silo_violation(g: &CylinderSilo, x: [f64; 3], r: f64, slack: f64) -> String {
+    let c = r - slack;
+    if x[2] < c || x[2] > g.height - c {
+        return format!(
+            "z must lie in {} above the orifice plane z = 0 and below the top z = {} m",
+            range(c, g.height - c),
+            g.height
+        );
+    }
+    let rho = x[0].hypot(x[1]);
+    if rho > g.radius - c {
+        return format!(
+            "its distance from the axis √(x² + y²) = {rho:.6e} m must be at most {:.6e} m \
+             inside the cylinder of radius {} m",
+            g.radius - c,
+            g.radius
+        );
+    }
+    let theta = g.hopper_angle();
+    let cone = g.outlet_radius() + x[2] * theta.tan();
+    format!(
+        "its centre lies {:.6e} m inside the cone (half-angle {}°) at its height, which must be \
+         at least {c:.6e} m",
+        (cone - rho) * theta.cos(),
+        g.hopper_angle_deg
+    )
+}
+
+/// No two particles overlapping by more than [`PACKING_OVERLAP_FRACTION`] of the smaller
+/// radius; each overlap is named once, at the later particle.
+fn check_overlaps(raw: &[RawParticle], problems: &mut Problems) {
+    let largest = raw.iter().map(|p| p.radius).fold(0.0, f64::max);
+    if raw.is_empty() || largest <= 0.0 {
+        return;
+    }
+    // Cells one largest diameter wide: any two touching centres lie in neighbouring cells.
+    let cell = 2.0 * largest;
+    let key = |x: [f64; 3]| {
+        let k = |v: f64| (v / cell).floor() as i64;
+        (k(x[0]), k(x[1]), k(x[2]))
+    };
+    let mut cells: HashMap<(i64, i64, i64), Vec<usize>> = HashMap::new();
+    for (i, p) in raw.iter().enumerate() {
+        let (a, b, c) = key(p.position);
+        let xi = DVec3::from_array(p.position);
+        let mut worst: Option<(usize, f64)> = None;
+        for da in -1..=1 {
+            for db in -1..=1 {
+                for dc in -1..=1 {
+                    let Some(list) = cells.get(&(a + da, b + db, c + dc)) else {
+                        continue;
+                    };
+                    for &j in list {
+                        let q = &raw[j];
+                        let overlap =
+                            p.radius + q.radius - xi.distance(DVec3::from_array(q.position));
+                        let allowed = PACKING_OVERLAP_FRACTION * p.radius.min(q.radius);
+                        let first = worst.is_none_or(|(k, _)| j < k);
+                        if overlap > allowed && first {
+                            worst = Some((j, overlap));
+                        }
+                    }
+                }
+            }
+        }
+        if let Some((j, overlap)) = worst {
+            let smaller = p.radius.min(raw[j].radius);
+            let other = match &raw[j].place {
+                PackingPlace::Line(n) => format!("the particle of line {n}"),
+                PackingPlace::Point(k) => format!("point {k}"),
+                place => format!("the particle at{place}"),
+            };
+            problems.push(
+                p.place.clone(),
+                format!(
+                    "overlaps {other} by {overlap:.6e} m, {:.3} % of the smaller radius; at most \
+                     {} % is allowed",
+                    100.0 * overlap / smaller,
+                    PACKING_OVERLAP_FRACTION * 100.0
+                ),
+            );
+        }
+        cells.entry((a, b, c)).or_default().push(i);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn places_read_as_the_messages_name_them() {
+        assert_eq!(PackingPlace::Line(7).to_string(), " line 7");
+        assert_eq!(PackingPlace::Point(3).to_string(), " point 3");
+        assert_eq!(
+            PackingPlace::Array {
+                name: "radius".into(),
+                index: 4
+            }
+            .to_string(),
+            " array `radius` value 4"
+        );
+    }
+}

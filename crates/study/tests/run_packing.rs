@@ -1,0 +1,575 @@
+//! Starting a run from a packing file instead of the fill (`read_packing`,
+//! `run_case_from` with `Start::Packing`; docs/user-guide.md §5).
+//!
+//! A CSV and a VTU of the same particles read back to the same numbers bit for bit and start
+//! the same run; every malformed or misfitting file is refused with a message that names
+//! the file, the line (CSV) or the point or array value (VTU), the value and what is
+//! allowed.
+
+use std::path::{Path, PathBuf};
+
+use proptest::prelude::*;
+
+mod tiny_hopper;
+
+use study::config::parse_case;
+use study::hopper::{read_packing, PackedParticle, Packing};
+use study::output::{write_particles_vtu, ParticleFields};
+use study::run::{run_case_from, RunOptions, RunOutcome, Start, StartKind, SUMMARY_FILE};
+use tiny_hopper::{read, tiny_case};
+
+/// 250 spheres of the tiny hopper on a square lattice 1 % wider than a diameter, from
+/// 0.1 mm above the floor and the left wall: at rest and touching nothing, so the run
+/// settles them onto each other.
+fn lattice() -> Vec<PackedParticle> {
+    let (r, spacing, thickness) = (1.5e-3, 3.03e-3, 3.03e-3);
+    (0..250)
+        .map(|k| PackedParticle {
+            position: dem::DVec3::new(
+                -0.025 + r + 1e-4 + (k % 16) as f64 * spacing,
+                0.5 * thickness,
+                r + 1e-4 + (k / 16) as f64 * spacing,
+            ),
+            radius: r,
+        })
+        .collect()
+}
+
+/// The CSV of `particles`, with the columns in the order `header` names them and numbers in
+/// their shortest exact form.
+fn csv_text(particles: &[PackedParticle], header: &[&str]) -> String {
+    let mut text = format!("# a lattice\n{}\n", header.join(", "));
+    for p in particles {
+        let fields: Vec<String> = header
+            .iter()
+            .map(|column| match column.to_ascii_lowercase().as_str() {
+                "x" => format!("{:?}", p.position.x),
+                "y" => format!("{:?}", p.position.y),
+                "z" => format!("{:?}", p.position.z),
+                "radius" => format!("{:?}", p.radius),
+                _ => "glass".to_string(),
+            })
+            .collect();
+        text.push_str(&fields.join(", "));
+        text.push('\n');
+    }
+    text
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("writable scratch file");
+    path
+}
+
+#[test]
+fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let case = tiny_case(&[]);
+    let particles = lattice();
+    let csv = write(
+        root.path(),
+        "lattice.csv",
+        &csv_text(&particles, &["x", "y", "z", "radius", "material"]),
+    );
+    let reordered = write(
+        root.path(),
+        "reordered.csv",
+        &csv_text(&particles, &["material", "radius", "z", "y", "x"]),
+    );
+    let vtu = root.path().join("lattice.vtu");
+    let positions: Vec<[f64; 3]> = particles.iter().map(|p| p.position.to_array()).collect();
+    let radii: Vec<f64> = particles.iter().map(|p| p.radius).collect();
+    let zeros = vec![[0.0; 3]; particles.len()];
+    let ids: Vec<u64> = (0..particles.len() as u64).collect();
+    write_particles_vtu(
+        &vtu,
+        &ParticleFields {
+            ids: &ids,
+            positions: &positions,
+            radii: &radii,
+            velocities: &zeros,
+            angular_velocities: &zeros,
+        },
+        0.0,
+    )
+    .expect("the VTU writer");
+
+    // Every number comes back with the bits it was written with.
+    let from_csv = read_packing(&csv, &case).expect("the CSV packing is valid");
+    assert_eq!(from_csv.particles(), &particles[..]);
+    assert_eq!(from_csv.material(), Some("glass"));
+    let from_reordered = read_packing(&reordered, &case).expect("columns in any order");
+    assert_eq!(from_reordered.particles(), &particles[..]);
+    // A spreadsheet's byte-order mark and upper-case names change nothing.
+    let marked = write(
+        root.path(),
+        "marked.csv",
+        &format!(
+            "\u{feff}{}",
+            csv_text(&particles, &["X", "Y", "Z", "Radius", "Material"])
+        ),
+    );
+    let from_marked = read_packing(&marked, &case).expect("a byte-order mark");
+    assert_eq!(from_marked.particles(), &particles[..]);
+    let from_vtu = read_packing(&vtu, &case).expect("the VTU packing is valid");
+    assert_eq!(from_vtu.particles(), &particles[..]);
+    assert_eq!(from_vtu.material(), None);
+    assert_ne!(
+        from_csv.sha256(),
+        from_vtu.sha256(),
+        "two files, two identities"
+    );
+
+    // The same particles start the same run, whichever file they came from.
+    let options = RunOptions {
+        resume: false,
+        ..RunOptions::default()
+    };
+    let mut summaries = Vec::new();
+    for (packing, out) in [(from_csv, "csv-run"), (from_vtu, "vtu-run")] {
+        let sha = packing.sha256().to_string();
+        let started = std::time::Instant::now();
+        let outcome = run_case_from(
+            &case,
+            &root.path().join(out),
+            &options,
+            &Start::Packing(Box::new(packing)),
+        )
+        .expect("the packing runs");
+        eprintln!(
+            "run from the packing: {:.1} s wall",
+            started.elapsed().as_secs_f64()
+        );
+        let RunOutcome::Finished(summary) = outcome else {
+            panic!("interrupted without a chunk limit")
+        };
+        let start = summary.start.clone().expect("the start is recorded");
+        assert_eq!((start.kind, start.sha256), (StartKind::Packing, sha));
+        summaries.push(summary);
+    }
+    for name in [
+        "flow.csv",
+        "crossings.csv",
+        "remaining.csv",
+        "wall_forces.csv",
+    ] {
+        assert!(
+            read(&root.path().join("csv-run"), name) == read(&root.path().join("vtu-run"), name),
+            "{name} differs between the CSV and the VTU start"
+        );
+    }
+    let s = &summaries[0];
+    assert!(s.settled, "the lattice settles below the threshold");
+    // The settling is checked from 0.05 s on (as after a fill), and the lattice falls
+    // through its 1 % gaps in a few ms, so it settles soon after.
+    assert!(
+        (0.05..0.15).contains(&s.fill_time),
+        "settled after {} s",
+        s.fill_time
+    );
+    assert!(s.discharged_mass > 0.0 && s.particles == 250);
+    assert!(root.path().join("csv-run").join(SUMMARY_FILE).is_file());
+}
+
+/// The message `read_packing` gives for `text` in a file `name` under the case with `sets`.
+fn refusal(dir: &Path, name: &str, text: &str, sets: &[&str]) -> String {
+    let path = write(dir, name, text);
+    let case = tiny_case(sets);
+    match read_packing(&path, &case) {
+        Ok(p) => panic!("{name} was accepted: {} particles", p.particles().len()),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_names(message: &str, fragments: &[&str]) {
+    for fragment in fragments {
+        assert!(
+            message.contains(fragment),
+            "`{fragment}` missing from:\n{message}"
+        );
+    }
+}
+
+/// Three spheres of the tiny hopper side by side on the mid-plane, 10 mm above the floor.
+const GOOD_ROWS: [&str; 3] = [
+    "-0.01,0.001515,0.01,0.0015,glass",
+    "0.0,0.001515,0.01,0.0015,glass",
+    "0.01,0.001515,0.01,0.0015,glass",
+];
+
+/// A CSV of the good rows with row `k` (0-based) replaced by `row`.
+fn with_row(k: usize, row: &str) -> String {
+    let mut rows = GOOD_ROWS.map(str::to_string);
+    rows[k] = row.to_string();
+    format!("x,y,z,radius,material\n{}\n", rows.join("\n"))
+}
+
+#[test]
+fn each_bad_packing_csv_is_refused_naming_file_line_value_and_range() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let dir = root.path();
+    let three = ["particles.count=3"];
+    let path = |name: &str| dir.join(name).display().to_string();
+
+    // The good rows pass: every refusal below is the one row's doing.
+    let good = write(dir, "good.csv", &with_row(0, GOOD_ROWS[0]));
+    read_packing(&good, &tiny_case(&three)).expect("the good rows");
+
+    let m = refusal(dir, "empty.csv", "", &three);
+    assert_names(
+        &m,
+        &[&path("empty.csv"), "is empty", "x,y,z,radius,material"],
+    );
+    let m = refusal(dir, "comments.csv", "# nothing but a comment\n", &three);
+    assert_names(&m, &["is empty"]);
+    let m = refusal(dir, "header.csv", "x,y,z,radius,material\n", &three);
+    assert_names(&m, &["has a header but no particles"]);
+    let m = refusal(dir, "lacks.csv", "x,y,z,material\n0,0,0,glass\n", &three);
+    assert_names(
+        &m,
+        &[
+            &format!("{} line 1:", path("lacks.csv")),
+            "lacks the column(s) radius",
+            "found: x, y, z, material",
+        ],
+    );
+    let m = refusal(dir, "extra.csv", "x,y,z,radius,material,vx\n", &three);
+    assert_names(
+        &m,
+        &["line 1: unknown column `vx`", "no velocities are read"],
+    );
+    let m = refusal(dir, "twice.csv", "x,y,z,radius,material,x\n", &three);
+    assert_names(&m, &["line 1: column `x` appears twice"]);
+
+    let m = refusal(
+        dir,
+        "word.csv",
+        &with_row(1, "0.0,abc,0.01,0.0015,glass"),
+        &three,
+    );
+    assert_names(
+        &m,
+        &[&format!(
+            "{} line 3: y `abc` is not a number",
+            path("word.csv")
+        )],
+    );
+    let m = refusal(
+        dir,
+        "blank.csv",
+        &with_row(0, "-0.01,,0.01,0.0015,glass"),
+        &three,
+    );
+    assert_names(&m, &["line 2: y is empty"]);
+    let m = refusal(
+        dir,
+        "nan.csv",
+        &with_row(0, "NaN,0.001515,0.01,0.0015,glass"),
+        &three,
+    );
+    assert_names(&m, &["line 2: x = NaN is not finite"]);
+    let m = refusal(
+        dir,
+        "inf.csv",
+        &with_row(2, "0.01,0.001515,0.01,inf,glass"),
+        &three,
+    );
+    assert_names(&m, &["line 4: radius = inf must be finite and > 0 [m]"]);
+    let m = refusal(
+        dir,
+        "neg.csv",
+        &with_row(0, "-0.01,0.001515,0.01,-0.0015,glass"),
+        &three,
+    );
+    assert_names(&m, &["line 2: radius = -0.0015 must be finite and > 0 [m]"]);
+    let m = refusal(
+        dir,
+        "size.csv",
+        &with_row(0, "-0.01,0.001515,0.01,0.002,glass"),
+        &three,
+    );
+    assert_names(
+        &m,
+        &[
+            "line 2: radius = 0.002 m is outside the case's radii [0.0015, 0.0015] m",
+            "0.01 % tolerance",
+        ],
+    );
+    let m = refusal(
+        dir,
+        "fields.csv",
+        &with_row(0, "-0.01,0.001515,0.01,0.0015"),
+        &three,
+    );
+    assert_names(&m, &["line 2: has 4 fields, the header has 5"]);
+    let m = refusal(
+        dir,
+        "two.csv",
+        &with_row(1, "0.0,0.001515,0.01,0.0015,steel"),
+        &three,
+    );
+    assert_names(
+        &m,
+        &[
+            "line 3: material `steel` differs from `glass` (line 2)",
+            "one particle material",
+        ],
+    );
+    let m = refusal(
+        dir,
+        "nameless.csv",
+        &with_row(0, "-0.01,0.001515,0.01,0.0015,"),
+        &three,
+    );
+    assert_names(&m, &["line 2: material is empty"]);
+
+    // Outside the slab: beyond a side wall, through the floor, across the slab.
+    let m = refusal(
+        dir,
+        "wall.csv",
+        &with_row(2, "0.0245,0.001515,0.01,0.0015,glass"),
+        &three,
+    );
+    assert_names(
+        &m,
+        &[
+            "line 4: the particle at (x, y, z) = (0.0245, 0.001515, 0.01) m of radius 0.0015 m lies outside the slab",
+            "x must lie in [-2.351500e-2, 2.351500e-2] m between the side walls at x = ±0.025 m",
+            "at most 1 % of its radius",
+        ],
+    );
+    let m = refusal(
+        dir,
+        "floor.csv",
+        &with_row(0, "-0.01,0.001515,0.001,0.0015,glass"),
+        &three,
+    );
+    assert_names(
+        &m,
+        &[
+            "line 2:",
+            "z must lie in [1.485000e-3, 9.851500e-2] m above the orifice plane",
+        ],
+    );
+    let m = refusal(
+        dir,
+        "across.csv",
+        &with_row(0, "-0.01,0.0025,0.01,0.0015,glass"),
+        &three,
+    );
+    assert_names(&m, &["line 2:", "y must lie in", "front and back walls"]);
+    // Two spheres 2 mm apart overlap by 1 mm, two thirds of a radius.
+    let m = refusal(
+        dir,
+        "overlap.csv",
+        &with_row(1, "-0.008,0.001515,0.01,0.0015,glass"),
+        &three,
+    );
+    assert_names(
+        &m,
+        &["line 3: overlaps the particle of line 2 by 1.000000e-3 m, 66.667 % of the smaller radius; at most 1 % is allowed"],
+    );
+    // A count other than the case's.
+    let m = refusal(
+        dir,
+        "count.csv",
+        &with_row(0, GOOD_ROWS[0]),
+        &["particles.count=4"],
+    );
+    assert_names(
+        &m,
+        &[
+            "holds 3 particles; the case has particles.count = 4",
+            "--set particles.count=3",
+        ],
+    );
+
+    // Past twenty problems the rest are counted.
+    let many = format!(
+        "x,y,z,radius,material\n{}",
+        "0,0.001515,0.05,-1,glass\n".repeat(25)
+    );
+    let m = refusal(dir, "many.csv", &many, &["particles.count=25"]);
+    assert_eq!(m.lines().count(), 21, "{m}");
+    assert_names(&m, &["line 21: radius = -1", "and 5 more problems"]);
+
+    let m = refusal(dir, "packing.txt", "x,y,z,radius,material\n", &three);
+    assert_names(
+        &m,
+        &["unknown packing format (extension `.txt`)", ".csv", ".vtu"],
+    );
+    let missing = dir.join("missing.csv");
+    let err = read_packing(&missing, &tiny_case(&three)).unwrap_err();
+    assert_names(
+        &err.to_string(),
+        &[&missing.display().to_string(), "cannot be read"],
+    );
+}
+
+#[test]
+fn a_particle_outside_a_silo_is_refused_naming_the_wall_it_crosses() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let silo = r#"
+[geometry]
+kind = "cylinder"
+radius = 0.02
+height = 0.05
+outlet_diameter = 0.01
+hopper_angle_deg = 45.0
+
+[particles]
+count = 1
+diameter = 0.002
+"#;
+    let case = parse_case(silo, "silo.toml", &[]).expect("a valid silo");
+    let check = |name: &str, row: &str| {
+        let path = write(
+            root.path(),
+            name,
+            &format!("x,y,z,radius,material\n{row}\n"),
+        );
+        read_packing(&path, &case)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    check("inside.csv", "0.0,0.0,0.03,0.001,m1").expect("on the axis, above the cone");
+    let m = check("cylinder.csv", "0.014,0.014,0.03,0.001,m1").unwrap_err();
+    assert_names(
+        &m,
+        &[
+            "line 2:",
+            "lies outside the cylinder",
+            "distance from the axis",
+        ],
+    );
+    // At z = 5 mm the cone's radius is 10 mm: 9 mm from the axis is inside it but closer to
+    // it than the sphere's radius.
+    let m = check("cone.csv", "0.009,0.0,0.005,0.001,m1").unwrap_err();
+    assert_names(&m, &["line 2:", "inside the cone (half-angle 45°)"]);
+}
+
+/// A VTU file of three points with the `position` and `radius` arrays given.
+fn vtu(positions: &str, radius_array: &str) -> String {
+    format!(
+        r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="3" NumberOfCells="0">
+      <PointData Scalars="radius">
+        <DataArray type="Int64" Name="id" format="ascii">0 1 2</DataArray>
+        {radius_array}
+      </PointData>
+      <Points>
+        <DataArray type="Float64" Name="position" NumberOfComponents="3" format="ascii">
+          {positions}
+        </DataArray>
+      </Points>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+"#
+    )
+}
+
+const GOOD_POSITIONS: &str = "-0.01 0.001515 0.01 0.0 0.001515 0.01 0.01 0.001515 0.01";
+const GOOD_RADII: &str =
+    r#"<DataArray type="Float64" Name="radius" format="ascii">0.0015 0.0015 0.0015</DataArray>"#;
+
+#[test]
+fn each_bad_packing_vtu_is_refused_naming_the_array_or_point() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let dir = root.path();
+    let three = ["particles.count=3"];
+    let good = write(dir, "good.vtu", &vtu(GOOD_POSITIONS, GOOD_RADII));
+    let packing: Packing = read_packing(&good, &tiny_case(&three)).expect("the good VTU");
+    assert_eq!(packing.particles()[2].position.x, 0.01);
+
+    let binary = r#"<DataArray type="Float64" Name="radius" format="binary">AAAA</DataArray>"#;
+    let m = refusal(dir, "binary.vtu", &vtu(GOOD_POSITIONS, binary), &three);
+    assert_names(
+        &m,
+        &[
+            &dir.join("binary.vtu").display().to_string(),
+            "array `radius` is stored as `binary`",
+            "Data Mode `Ascii`",
+        ],
+    );
+    let appended = r#"<DataArray type="Float64" Name="radius" format="appended" offset="0"/>"#;
+    let m = refusal(dir, "appended.vtu", &vtu(GOOD_POSITIONS, appended), &three);
+    assert_names(&m, &["array `radius` is stored as `appended`"]);
+    let m = refusal(dir, "noradius.vtu", &vtu(GOOD_POSITIONS, ""), &three);
+    assert_names(
+        &m,
+        &["no point-data array named `radius` (its point data: id)"],
+    );
+    let short =
+        r#"<DataArray type="Float64" Name="radius" format="ascii">0.0015 0.0015</DataArray>"#;
+    let m = refusal(dir, "short.vtu", &vtu(GOOD_POSITIONS, short), &three);
+    assert_names(
+        &m,
+        &["array `radius` holds 2 values; NumberOfPoints = 3 needs 1 per point"],
+    );
+    let word = "-0.01 0.001515 0.01 0.0 x 0.01 0.01 0.001515 0.01";
+    let m = refusal(dir, "word.vtu", &vtu(word, GOOD_RADII), &three);
+    assert_names(&m, &["array `position` value 4: `x` is not a number"]);
+    let nan = "-0.01 0.001515 0.01 0.0 0.001515 nan 0.01 0.001515 0.01";
+    let m = refusal(dir, "nan.vtu", &vtu(nan, GOOD_RADII), &three);
+    assert_names(&m, &["point 1: z = NaN is not finite"]);
+    let negative =
+        r#"<DataArray type="Float64" Name="radius" format="ascii">0.0015 0 0.0015</DataArray>"#;
+    let m = refusal(dir, "zero.vtu", &vtu(GOOD_POSITIONS, negative), &three);
+    assert_names(&m, &["point 1: radius = 0 must be finite and > 0 [m]"]);
+    let outside = "-0.01 0.001515 0.01 0.0 0.001515 0.2 0.01 0.001515 0.01";
+    let m = refusal(dir, "outside.vtu", &vtu(outside, GOOD_RADII), &three);
+    assert_names(&m, &["point 1: the particle at", "z must lie in"]);
+    let compressed = vtu(GOOD_POSITIONS, GOOD_RADII).replace(
+        "header_type=\"UInt64\"",
+        "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\"",
+    );
+    let m = refusal(dir, "zlib.vtu", &compressed, &three);
+    assert_names(&m, &["is compressed (vtkZLibDataCompressor)"]);
+    let m = refusal(dir, "plain.vtu", "x y z\n", &three);
+    assert_names(&m, &["is not a VTK XML file"]);
+    let two = vtu(GOOD_POSITIONS, GOOD_RADII)
+        .replace("</Piece>", "</Piece><Piece NumberOfPoints=\"0\"></Piece>");
+    let m = refusal(dir, "pieces.vtu", &two, &three);
+    assert_names(&m, &["has 2 pieces"]);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Whatever a file holds, reading it as a packing returns a packing or its problems:
+    /// never a panic, whether the bytes are random or a damaged valid file (a VTU or CSV cut
+    /// somewhere and spliced with text of its own alphabet).
+    #[test]
+    fn no_file_makes_the_packing_reader_panic(
+        bytes in proptest::collection::vec(any::<u8>(), 0..400),
+        cut in 0usize..1000,
+        splice in "[ 0-9a-z.,<>=\"/\n-]{0,40}",
+    ) {
+        let root = tempfile::tempdir().expect("temporary directory");
+        let case = tiny_case(&["particles.count=3"]);
+        let good_vtu = vtu(GOOD_POSITIONS, GOOD_RADII);
+        let good_csv = with_row(0, GOOD_ROWS[0]);
+        let damaged = |text: &str| {
+            let mut k = cut.min(text.len());
+            while !text.is_char_boundary(k) {
+                k -= 1;
+            }
+            let rest = (k + 10).min(text.len());
+            format!("{}{splice}{}", &text[..k], &text[rest..])
+        };
+        for (name, content) in [
+            ("random.csv", bytes.clone()),
+            ("random.vtu", bytes.clone()),
+            ("damaged.vtu", damaged(&good_vtu).into_bytes()),
+            ("damaged.csv", damaged(&good_csv).into_bytes()),
+        ] {
+            let path = root.path().join(name);
+            std::fs::write(&path, content).unwrap();
+            let _ = read_packing(&path, &case);
+        }
+    }
+}
