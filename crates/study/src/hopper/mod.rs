@@ -3,6 +3,7 @@
 
 pub mod builder;
 pub mod container;
+pub mod draw;
 pub mod fill;
 pub mod setup;
 pub mod silo_fill;
@@ -10,5 +11,9 @@ pub mod silo_walls;
 
 pub use builder::{build_walls, outline, HopperWalls};
 pub use container::{build_container_walls, ContainerWalls, WALL_NAMES};
-pub use setup::{case_simulation, contact_laws, hopper_simulation, lattice_bed, sample_radius};
+pub use draw::{Draw, ParticleDraws};
+pub use setup::{
+    case_simulation, case_simulation_by_component, contact_laws, hopper_simulation, lattice_bed,
+    sample_radius,
+};
 pub use silo_walls::{build_silo_walls, silo_outline, silo_wall_polygons, SiloWalls};

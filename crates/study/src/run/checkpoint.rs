@@ -25,7 +25,7 @@ use super::protocol::RunState;
 use crate::output::{write_atomic, OutputError};
 
 /// The first eight bytes of every checkpoint: a name and the layout's version.
-pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x07";
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x08";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;
 /// Bytes of the trailing SHA-256.

@@ -1,6 +1,7 @@
 //! Running one hopper case end to end: protocol, checkpoints, measurements and outputs.
 
 mod checkpoint;
+mod composition;
 mod outputs;
 mod protocol;
 mod remaining;
@@ -509,5 +510,5 @@ impl ProtocolTime {
 
 /// Mass of all particles of a case, estimated from the mean sphere volume [kg].
 fn total_mass(case: &Case) -> f64 {
-    case.particles.total_volume() * case.particles.material.density
+    case.particles.total_mass()
 }

@@ -10,7 +10,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::{Case, Geometry};
 use crate::hopper::silo_fill::insert_silo_batch;
-use crate::hopper::{case_simulation, fill::insert_batch, sample_radius, ContainerWalls};
+use crate::hopper::{
+    case_simulation_by_component, fill::insert_batch, ContainerWalls, Draw, ParticleDraws,
+};
 use crate::measure::{
     silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView,
     Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe, StripConfig,
@@ -72,8 +74,15 @@ pub enum Phase {
 pub struct RunState {
     pub(crate) sim: SimulationState,
     pub(crate) walls: ContainerWalls,
-    pub(crate) material: MaterialId,
+    /// The engine material of each component of `particles.components`.
+    pub(crate) materials: Vec<MaterialId>,
     pub(crate) rng: Xoshiro256PlusPlus,
+    /// The component of each particle, by tag, for a mixture (empty for one component): what
+    /// `composition.csv` sorts the outlet crossings by.
+    pub(crate) components: Vec<u8>,
+    /// The drawn particle that the last batch could not place; the next batch places it
+    /// first (see `ParticleDraws`).
+    pub(crate) pending: Option<Draw>,
     pub(crate) phase: Phase,
     pub(crate) crossing: CrossingProbe,
     /// φ(x) on the outlet strip of a slab (`None` for a silo).
@@ -105,7 +114,7 @@ pub struct CaseRun {
 
 /// The outlet geometry of a case for the probes.
 pub fn outlet_geometry(case: &Case) -> OutletGeometry {
-    let particle_diameter = case.particles.size.mean_diameter();
+    let particle_diameter = case.particles.mean_diameter();
     match &case.geometry {
         Geometry::Slab(g) => OutletGeometry {
             outlet_height: 0.0,
@@ -127,7 +136,7 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
 impl CaseRun {
     /// A fresh run: walls built, gate closed, no particles yet.
     pub fn new(case: &Case, threads: usize) -> Result<Self, RunError> {
-        let (sim, walls, material) = case_simulation(case, threads)?;
+        let (sim, walls, materials) = case_simulation_by_component(case, threads)?;
         let outlet = outlet_geometry(case);
         let (strip, field) = match &case.geometry {
             Geometry::Slab(g) => {
@@ -170,8 +179,10 @@ impl CaseRun {
         let state = RunState {
             sim: sim.state().clone(),
             walls,
-            material,
+            materials,
             rng: Xoshiro256PlusPlus::seed_from_u64(case.seed),
+            components: Vec::new(),
+            pending: None,
             phase: Phase::Fill {
                 inserted: 0,
                 last_insert: 0.0,
@@ -224,6 +235,12 @@ impl CaseRun {
         self.sim.time_phases(on);
     }
 
+    /// The component of each particle inserted so far, by tag (an index into
+    /// `particles.components`); empty for a case of one component.
+    pub fn particle_components(&self) -> &[u8] {
+        &self.state.components
+    }
+
     /// The current phase.
     pub fn phase(&self) -> Phase {
         self.state.phase
@@ -270,17 +287,18 @@ impl CaseRun {
             let top = self.case.protocol.fill_top.min(self.case.geometry.height());
             let band = ((top - INSERT_BAND).max(self.case.protocol.fill_bottom), top);
             let want = total - inserted;
-            let size = self.case.particles.size.clone();
+            let draws = ParticleDraws::new(&self.case.particles, &self.state.materials);
             let v0 = DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed);
             let attempts = 20 * want + 1000;
-            let n = match &self.case.geometry {
+            let state = &mut self.state;
+            let placed = match &self.case.geometry {
                 Geometry::Slab(g) => insert_batch(
                     &mut self.sim,
                     g,
-                    &mut self.state.rng,
+                    &mut state.rng,
                     want,
-                    |rng| sample_radius(&size, rng),
-                    self.state.material,
+                    &draws,
+                    &mut state.pending,
                     band,
                     v0,
                     attempts,
@@ -288,16 +306,25 @@ impl CaseRun {
                 Geometry::Cylinder(g) => insert_silo_batch(
                     &mut self.sim,
                     g,
-                    &mut self.state.rng,
+                    &mut state.rng,
                     want,
-                    |rng| sample_radius(&size, rng),
-                    0.5 * size.max_diameter(),
-                    self.state.material,
+                    &draws,
+                    &mut state.pending,
                     band,
                     v0,
                     attempts,
                 )?,
             };
+            if draws.is_mixture() {
+                for &(tag, component) in &placed {
+                    let k = tag as usize;
+                    if state.components.len() <= k {
+                        state.components.resize(k + 1, u8::MAX);
+                    }
+                    state.components[k] = component;
+                }
+            }
+            let n = placed.len();
             if n > 0 {
                 inserted += n;
                 last = t;
@@ -370,7 +397,7 @@ impl CaseRun {
                     &centres,
                     p.radii(),
                     silo.radius,
-                    self.case.particles.size.mean_diameter(),
+                    self.case.particles.mean_diameter(),
                     |h| silo.volume_below(h),
                 )?);
             }
@@ -386,13 +413,15 @@ impl CaseRun {
             outlet.particle_diameter,
         )?;
         let frame = Frame::of(&self.sim.watched(), |_| true);
-        Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.material.density))?)
+        Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.density()))?)
     }
 
     fn discharge(&mut self, opened: f64, last_crossing: f64, chunk: u64) -> Result<(), RunError> {
         let every = self.case.measure.crossing_check_interval.max(1) as u64;
         let d = outlet_geometry(&self.case).particle_diameter;
-        let density = self.case.particles.material.density;
+        let density = self.case.particles.density();
+        // A mixture's probes see each particle's own mass (its material's density).
+        let masses = self.case.particles.is_mixture();
         let band = CROSSING_BAND_DIAMETERS * d;
         let mut last_crossing = last_crossing;
         let (case, state, sim) = (&self.case, &mut self.state, &mut self.sim);
@@ -405,7 +434,7 @@ impl CaseRun {
             taken = (taken + every).min(chunk);
             state.wall_forces.observe(seen, first + taken);
             let t = seen.time();
-            let frame = Frame::of(seen, |x| x.z.abs() < band);
+            let frame = Frame::of_with_masses(seen, |x| x.z.abs() < band, masses);
             if state.crossing.observe(&frame.view(t, density))? > 0 {
                 last_crossing = t;
             }
@@ -413,18 +442,17 @@ impl CaseRun {
             if t >= state.next_frame {
                 state.next_frame += case.measure.frame_interval;
                 if let Some(probe) = &mut state.strip {
-                    let strip = Frame::of(seen, |x| x.z.abs() < d);
+                    let strip = Frame::of_with_masses(seen, |x| x.z.abs() < d, masses);
                     probe.observe(&strip.view(t, density))?;
                 }
                 if let Some(probe) = &mut state.field {
-                    let all = Frame::of(seen, |_| true);
+                    let all = Frame::of_with_masses(seen, |_| true, masses);
                     probe.observe(&all.view(t, density))?;
                 }
                 if let Some(probe) = &mut state.radial {
                     // Spheres reaching into the slab |z| ≤ h/2 have |z| < h/2 + r_max.
-                    let reach =
-                        0.5 * case.measure.strip_height + case.particles.size.max_diameter();
-                    let slab = Frame::of(seen, |x| x.z.abs() < reach);
+                    let reach = 0.5 * case.measure.strip_height + case.particles.max_diameter();
+                    let slab = Frame::of_with_masses(seen, |x| x.z.abs() < reach, masses);
                     probe.observe(&slab.view(t, density))?;
                 }
             }
@@ -524,20 +552,32 @@ pub struct Frame {
     positions: Vec<[f64; 3]>,
     velocities: Vec<[f64; 3]>,
     radii: Vec<f64>,
+    /// Each particle's mass [kg], when the probes need it (a mixture of materials).
+    masses: Option<Vec<f64>>,
 }
 
 impl Frame {
     /// The particles whose position satisfies `keep`.
     pub fn of(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool) -> Self {
+        Self::of_with_masses(p, keep, false)
+    }
+
+    /// The particles whose position satisfies `keep`, with each one's mass from the engine
+    /// when `masses` (particles of several materials, whose masses no one density gives).
+    pub fn of_with_masses(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool, masses: bool) -> Self {
         let mut f = Frame {
             ids: Vec::new(),
             positions: Vec::new(),
             velocities: Vec::new(),
             radii: Vec::new(),
+            masses: masses.then(Vec::new),
         };
         for k in 0..p.len() {
             let x = p.positions()[k];
             if keep(x) {
+                if let Some(masses) = &mut f.masses {
+                    masses.push(p.masses()[k]);
+                }
                 f.ids.push(p.tags()[k]);
                 f.positions.push(x.to_array());
                 f.velocities.push(p.velocity(k).to_array());
@@ -547,7 +587,8 @@ impl Frame {
         f
     }
 
-    /// A probe view at time `time` [s] for particle density `density` [kg/m³].
+    /// A probe view at time `time` [s] for particle density `density` [kg/m³] (used where
+    /// the frame holds no masses of its own).
     pub fn view(&self, time: f64, density: f64) -> FrameView<'_> {
         FrameView {
             time,
@@ -556,6 +597,7 @@ impl Frame {
             velocities: &self.velocities,
             radii: &self.radii,
             density,
+            masses: self.masses.as_deref(),
         }
     }
 }
