@@ -236,7 +236,7 @@ impl Case {
         format!(
             "Case(N={}, d={} m, {size}, D={} m, alpha={}°, seed={})",
             self.case.particles.count,
-            self.case.particles.size.mean_diameter(),
+            self.case.particles.mean_diameter(),
             g.outlet_size(),
             g.hopper_angle_deg(),
             self.case.seed

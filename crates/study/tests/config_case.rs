@@ -44,8 +44,9 @@ fn paper_base_case_matches_table_one() {
     let case = Case::paper_base();
     // Exact comparisons: these are the literal numbers of Table 1 and the base case.
     assert_eq!(case.particles.count, 3000);
+    assert_eq!(case.particles.components.len(), 1);
     assert_eq!(
-        case.particles.size,
+        case.particles.components[0].size,
         SizeDistribution::Monodisperse { diameter: 3.0e-3 }
     );
     assert_eq!(case.geometry.slab().unwrap().width, 0.1);
@@ -68,7 +69,7 @@ fn resolved_case_round_trips_through_its_toml_text() {
         outlet_gap: 0.006,
         ..HopperGeometry::paper()
     });
-    case.particles.size = SizeDistribution::Normal {
+    case.particles.components[0].size = SizeDistribution::Normal {
         mean: 2.9e-3,
         std_dev: 1.0e-4,
         min: 2.7e-3,
@@ -86,7 +87,7 @@ fn resolved_case_round_trips_through_its_toml_text() {
     // Exact equality: the writer prints floats in their shortest round-trip form.
     assert_eq!(back, case);
 
-    case.particles.size = SizeDistribution::Discrete {
+    case.particles.components[0].size = SizeDistribution::Discrete {
         diameters: vec![2.5e-3, 2.75e-3, 3.0e-3],
         fractions: vec![0.25, 0.5, 0.25],
     };
@@ -283,7 +284,10 @@ fn cylinder_template_is_complete_and_round_trips() {
         (0.1, 0.06, 45.0)
     );
     // E = 1e9 Pa, ν = 0.2: G = E / (2 (1 + ν)).
-    assert_eq!(case.particles.material.shear_modulus, 1.0e9 / 2.4);
+    assert_eq!(
+        case.particles.components[0].material.shear_modulus,
+        1.0e9 / 2.4
+    );
     let text = case.to_toml_string();
     for line in text.lines() {
         let line = line.trim();

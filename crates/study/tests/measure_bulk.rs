@@ -95,6 +95,7 @@ fn square_monolayer_gives_two_thirds_of_the_disc_fraction_as_volume_fraction() {
         velocities: &velocities,
         radii: &radii,
         density: RHO,
+        masses: None,
     };
     let outline = ContainerOutline::hopper(L, &outlet(), FRAC_PI_2, 0.4).unwrap();
     let (x_range, floor) = (outline.x_range(), outline.floor());
@@ -122,6 +123,7 @@ fn closure_cross_section_and_cut_depth_are_honoured() {
         velocities: &velocities,
         radii: &radii,
         density: RHO,
+        masses: None,
     };
     let section = |h: f64| L * h.max(0.0);
     let probe = BulkProbe::new(section, D, (-0.5 * L, 0.5 * L), 0.0, D)
@@ -162,6 +164,7 @@ fn bed_height_is_the_mean_of_column_tops() {
         velocities: &velocities,
         radii: &radii,
         density: RHO,
+        masses: None,
     };
     let section = |h: f64| L * h.max(0.0);
     let probe = BulkProbe::new(section, D, (-0.5 * L, 0.5 * L), 0.0, D).unwrap();

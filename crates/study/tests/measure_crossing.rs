@@ -51,6 +51,7 @@ impl Ballistic {
             velocities: &self.velocities,
             radii: &self.radii,
             density: RHO,
+            masses: None,
         }
     }
 }

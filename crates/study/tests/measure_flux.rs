@@ -78,6 +78,7 @@ fn run(
             velocities: &velocities,
             radii: &radii,
             density: RHO,
+            masses: None,
         };
         crossings.observe(&frame).unwrap();
         strip.observe(&frame).unwrap();
@@ -148,6 +149,7 @@ fn flux_from_profiles_needs_matching_bins() {
         velocities: &velocities,
         radii: &radii,
         density: RHO,
+        masses: None,
     };
     strip.observe(&frame).unwrap();
     let window = TimeWindow::new(0.0, 1.0).unwrap();

@@ -46,6 +46,7 @@ impl Particles {
             velocities: &self.velocities,
             radii: &self.radii,
             density: RHO,
+            masses: None,
         }
     }
 }

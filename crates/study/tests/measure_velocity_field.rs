@@ -48,6 +48,7 @@ fn observe(probe: &mut VelocityFieldProbe, t: f64, spacing: f64, velocity: [f64;
             velocities: &velocities,
             radii: &radii,
             density: RHO,
+            masses: None,
         })
         .unwrap();
 }
@@ -110,6 +111,7 @@ fn gaussian_kernel_conserves_mass_to_its_quadrature_error() {
             velocities: &[[0.0, 0.0, -1.0]],
             radii: &[0.5 * D],
             density: RHO,
+            masses: None,
         })
         .unwrap();
     let field = probe

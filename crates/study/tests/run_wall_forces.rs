@@ -138,12 +138,10 @@ fn wall_loads_of_the_settled_bed_carry_its_weight_and_the_gate_leaves_with_the_o
     // bed's residual motion (mean kinetic energy below 1e-8 J) changes its momentum by far
     // less. Measured: the walls carry 0.9978 of m g; 1 % leaves room for the face friction
     // of another fill while a missing wall (each carries over 5 %) still fails.
-    let d = case.particles.size.mean_diameter();
-    let mass = case.particles.count as f64
-        * case.particles.material.density
-        * std::f64::consts::PI
-        * d.powi(3)
-        / 6.0;
+    let d = case.particles.mean_diameter();
+    let mass =
+        case.particles.count as f64 * case.particles.density() * std::f64::consts::PI * d.powi(3)
+            / 6.0;
     let weight = mass * G;
     let (_, settled) = before.last().expect("windows before the opening");
     let vertical: f64 = settled.iter().map(|r| r.force[2]).sum();

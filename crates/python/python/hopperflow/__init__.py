@@ -47,15 +47,17 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: The tables of a run, by attribute name: a finished run writes flow.csv, profiles.csv,
-#: field.csv (when its steady window was found), crossings.csv and wall_forces.csv (the
-#: mean loads on the walls, by window of the run); asking for a table the run folder does
-#: not hold raises FileNotFoundError.
+#: field.csv (when its steady window was found), crossings.csv, wall_forces.csv (the
+#: mean loads on the walls, by window of the run) and, for a mixture, composition.csv (the
+#: outflow by component); asking for a table the run folder does not hold raises
+#: FileNotFoundError.
 RUN_TABLES = {
     "flow": "flow.csv",
     "profiles": "profiles.csv",
     "field": "field.csv",
     "crossings": "crossings.csv",
     "wall_forces": "wall_forces.csv",
+    "composition": "composition.csv",
 }
 
 

@@ -1,6 +1,7 @@
 //! The validated case: every choice of one hopper run, in SI units, with the paper's
 //! defaults (Fan et al. 2023, Table 1 and the base case α = 90°, D = 30 mm, centred).
 
+use dem::MaterialTable;
 use serde::{Deserialize, Serialize};
 
 use super::geometry::HopperGeometry;
@@ -50,7 +51,7 @@ impl Interaction {
 }
 
 /// Wall material (the paper does not give it; physics spec §5).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WallMaterial {
     /// Walls of the particle material (default): E*_pw = E*_pp.
@@ -59,14 +60,19 @@ pub enum WallMaterial {
     Rigid,
     /// Walls of a given material.
     Custom(Material),
+    /// Walls of the case's `[materials]` entry of this name; each particle material meets
+    /// them with its pair's coefficients from `[[pairs]]` (docs/physics.md §1.2), and
+    /// [`WallSpec::interaction`] is not used.
+    Named(String),
 }
 
 /// Walls of the hopper (side walls, bottom plates and the front/back slab walls).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WallSpec {
     /// Wall material.
     pub material: WallMaterial,
-    /// Particle–wall friction, rolling friction and restitution.
+    /// Particle–wall friction, rolling friction and restitution (walls not of a named
+    /// material).
     pub interaction: Interaction,
 }
 
@@ -94,7 +100,8 @@ pub enum RollingLaw {
 /// Contact-law choices and particle–particle coefficients.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactSpec {
-    /// Particle–particle friction, rolling friction and restitution.
+    /// Particle–particle friction, rolling friction and restitution (cases without a
+    /// `[materials]` table; with one, the pairs come from its `[[pairs]]`).
     pub particle: Interaction,
     /// Tangential law.
     pub tangential: TangentialLaw,
@@ -170,6 +177,11 @@ pub struct Case {
     pub seed: u64,
     /// The container: the paper's slab hopper or a silo.
     pub geometry: Geometry,
+    /// Named materials and the coefficients of their pairs (`[materials.NAME]` and
+    /// `[[pairs]]`, docs/physics.md §1.2); `None` for a case of one particle material given
+    /// by `particles.material` and coefficients given by `[contact]` and `[wall]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub materials: Option<MaterialTable>,
     pub particles: ParticleSpec,
     pub wall: WallSpec,
     pub contact: ContactSpec,
@@ -201,6 +213,7 @@ impl Case {
                 stop_fraction: 1.0,
             },
             geometry: Geometry::Slab(slab),
+            materials: None,
             particles: ParticleSpec::paper(),
             wall: WallSpec {
                 material: WallMaterial::SameAsParticle,
@@ -244,9 +257,8 @@ impl Case {
     /// Whether the slab is thick enough for two layers of spheres (then the case is a 3D
     /// rectangular hopper and packing is judged by volume); false for a silo.
     pub fn is_thick_slab(&self) -> bool {
-        self.slab().is_some_and(|g| {
-            g.thickness >= THICK_SLAB_DIAMETERS * self.particles.size.max_diameter()
-        })
+        self.slab()
+            .is_some_and(|g| g.thickness >= THICK_SLAB_DIAMETERS * self.particles.max_diameter())
     }
 
     /// In-plane container area the particles need at the densest assumed packing [m²]

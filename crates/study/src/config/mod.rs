@@ -16,6 +16,7 @@ mod overrides;
 mod particles;
 mod reader;
 mod resolve;
+mod resolve_materials;
 mod resolve_particles;
 mod resolve_run;
 mod resolve_silo;
@@ -39,7 +40,10 @@ pub use case::{
 };
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::HopperGeometry;
-pub use particles::{Material, ParticleSpec, SizeDistribution};
+pub use particles::{
+    mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, Material,
+    ParticleSpec, SizeDistribution,
+};
 pub use silo::{CylinderSilo, Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
 pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
 pub use template::{template, CASE_TEMPLATE, CYLINDER_TEMPLATE};

@@ -1,4 +1,7 @@
-//! Particle material and size distribution of a case, with the moments the checks need.
+//! Particle materials, size distributions and mixtures of a case, with the moments the
+//! checks need. A case's particles are one or more components, each with its own size
+//! distribution, material and fraction (docs/physics.md §1.2); the aggregate quantities
+//! (largest diameter, mean diameter, Rayleigh time, total volume) are taken over all of them.
 
 use serde::{Deserialize, Serialize};
 
@@ -139,39 +142,212 @@ impl SizeDistribution {
     }
 }
 
+/// How the fractions of a mixture's components are counted (`particles.fraction_by`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FractionBasis {
+    /// Fractions of the number of particles (default).
+    Number,
+    /// Fractions of the particles' mass; the fill turns them into number fractions with
+    /// [`number_fractions_from_mass`].
+    Mass,
+}
+
+/// Number fractions of a mixture given by mass: component i, with mass fraction w_i and
+/// mean particle mass m̄_i [kg], holds N_i ∝ w_i / m̄_i particles, so
+///
+/// n_i = (w_i / m̄_i) / Σ_j (w_j / m̄_j)
+///
+/// (docs/physics.md §1.2). For spheres m̄_i = ρ_i (π/6)⟨d³⟩_i, ⟨d³⟩_i the number-mean cube of
+/// the component's diameters: two sizes 1:2 of one material, 50/50 by mass, give 8/9 and 1/9
+/// by number. A zero mass fraction gives a zero number fraction.
+pub fn number_fractions_from_mass(mass_fractions: &[f64], mean_masses: &[f64]) -> Vec<f64> {
+    let weights: Vec<f64> = mass_fractions
+        .iter()
+        .zip(mean_masses)
+        .map(|(w, m)| w / m)
+        .collect();
+    let total: f64 = weights.iter().sum();
+    weights.iter().map(|w| w / total).collect()
+}
+
+/// Mass fractions of a mixture with number fractions n_i and mean particle masses m̄_i [kg]:
+/// w_i = n_i m̄_i / Σ_j n_j m̄_j, the inverse of [`number_fractions_from_mass`].
+pub fn mass_fractions_from_number(number_fractions: &[f64], mean_masses: &[f64]) -> Vec<f64> {
+    let weights: Vec<f64> = number_fractions
+        .iter()
+        .zip(mean_masses)
+        .map(|(n, m)| n * m)
+        .collect();
+    let total: f64 = weights.iter().sum();
+    weights.iter().map(|w| w / total).collect()
+}
+
+/// One component of a case's particles: a size distribution of one material, and its share.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Component {
+    /// Its name in outputs (`composition.csv` columns); `c1`, `c2`, … unless given.
+    pub name: String,
+    /// Diameters.
+    pub size: SizeDistribution,
+    /// Its material's properties.
+    pub material: Material,
+    /// The material's name in the case's `[materials]` table; `None` when the case has no
+    /// table (the material is then `particles.material`, and the contact coefficients come
+    /// from `[contact]` and `[wall]`).
+    pub material_name: Option<String>,
+    /// Its fraction as given, counted as [`ParticleSpec::fraction_by`] says [-]; 1 for a
+    /// case of one component.
+    pub fraction: f64,
+}
+
+impl Component {
+    /// Mean mass of one of its particles, ρ (π/6)⟨d³⟩ [kg].
+    pub fn mean_particle_mass(&self) -> f64 {
+        self.material.density * std::f64::consts::PI / 6.0 * self.size.moment(3)
+    }
+
+    /// Rayleigh time of its smallest particle [s] (physics spec §6.1).
+    pub fn rayleigh_time(&self) -> f64 {
+        self.material.rayleigh_time(0.5 * self.size.min_diameter())
+    }
+}
+
 /// The particles of a case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ParticleSpec {
     /// Number of particles N (paper: 3000).
     pub count: usize,
-    /// Diameters.
-    pub size: SizeDistribution,
-    /// Particle material.
-    pub material: Material,
+    /// The components, in the order of the case file; one for a case of one size
+    /// distribution and material (the paper's), then of fraction 1.
+    pub components: Vec<Component>,
+    /// How the components' fractions are counted.
+    pub fraction_by: FractionBasis,
 }
 
 impl ParticleSpec {
     /// Table 1: 3000 spheres of 3 mm, ρ = 2500 kg/m³, G = 1e8 Pa, ν = 0.25.
     pub fn paper() -> Self {
+        Self::single(
+            3000,
+            SizeDistribution::Monodisperse { diameter: 3.0e-3 },
+            Material::paper(),
+        )
+    }
+
+    /// `count` particles of one size distribution and material.
+    pub fn single(count: usize, size: SizeDistribution, material: Material) -> Self {
         Self {
-            count: 3000,
-            size: SizeDistribution::Monodisperse { diameter: 3.0e-3 },
-            material: Material::paper(),
+            count,
+            components: vec![Component {
+                name: "c1".to_string(),
+                size,
+                material,
+                material_name: None,
+                fraction: 1.0,
+            }],
+            fraction_by: FractionBasis::Number,
         }
     }
 
-    /// Rayleigh time of the smallest particle [s] (physics spec §6.1).
+    /// Whether the particles are a mixture of several components.
+    pub fn is_mixture(&self) -> bool {
+        self.components.len() > 1
+    }
+
+    /// The one component of a case that is not a mixture.
+    fn only(&self) -> Option<&Component> {
+        match self.components.as_slice() {
+            [one] => Some(one),
+            _ => None,
+        }
+    }
+
+    /// Number fraction of each component [-], summing to 1: the fractions as given, or
+    /// converted from mass fractions by [`number_fractions_from_mass`].
+    pub fn number_fractions(&self) -> Vec<f64> {
+        let given: Vec<f64> = self.components.iter().map(|c| c.fraction).collect();
+        match self.fraction_by {
+            FractionBasis::Number => given,
+            FractionBasis::Mass => {
+                let masses: Vec<f64> = self
+                    .components
+                    .iter()
+                    .map(Component::mean_particle_mass)
+                    .collect();
+                number_fractions_from_mass(&given, &masses)
+            }
+        }
+    }
+
+    /// Smallest diameter that can occur [m].
+    pub fn min_diameter(&self) -> f64 {
+        self.components
+            .iter()
+            .map(|c| c.size.min_diameter())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Largest diameter that can occur [m] (sets the outlet, slab and fit checks).
+    pub fn max_diameter(&self) -> f64 {
+        self.components
+            .iter()
+            .map(|c| c.size.max_diameter())
+            .fold(0.0, f64::max)
+    }
+
+    /// Number-weighted mean of d^k over all particles [m^k], k = 1, 2, 3: Σ n_i ⟨d^k⟩_i.
+    pub fn moment(&self, k: i32) -> f64 {
+        if let Some(one) = self.only() {
+            return one.size.moment(k);
+        }
+        self.number_fractions()
+            .iter()
+            .zip(&self.components)
+            .map(|(n, c)| n * c.size.moment(k))
+            .sum()
+    }
+
+    /// Number-mean diameter [m].
+    pub fn mean_diameter(&self) -> f64 {
+        self.moment(1)
+    }
+
+    /// Solid density of the particles [kg/m³]: the material's, or for a mixture the mean
+    /// weighted by solid volume, Σ n_i ρ_i ⟨d³⟩_i / Σ n_i ⟨d³⟩_i (total mass over total volume).
+    pub fn density(&self) -> f64 {
+        if let Some(one) = self.only() {
+            return one.material.density;
+        }
+        let (mut mass, mut volume) = (0.0, 0.0);
+        for (n, c) in self.number_fractions().iter().zip(&self.components) {
+            volume += n * c.size.moment(3);
+            mass += n * c.size.moment(3) * c.material.density;
+        }
+        mass / volume
+    }
+
+    /// Rayleigh time of the smallest particle [s]: the shortest over the components
+    /// (physics spec §6.1).
     pub fn rayleigh_time(&self) -> f64 {
-        self.material.rayleigh_time(0.5 * self.size.min_diameter())
+        self.components
+            .iter()
+            .map(Component::rayleigh_time)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Total projected (mid-plane disc) area Σ π d²/4 [m²].
     pub fn total_disc_area(&self) -> f64 {
-        self.count as f64 * std::f64::consts::FRAC_PI_4 * self.size.moment(2)
+        self.count as f64 * std::f64::consts::FRAC_PI_4 * self.moment(2)
     }
 
     /// Total solid volume Σ π d³/6 [m³].
     pub fn total_volume(&self) -> f64 {
-        self.count as f64 * std::f64::consts::PI / 6.0 * self.size.moment(3)
+        self.count as f64 * std::f64::consts::PI / 6.0 * self.moment(3)
+    }
+
+    /// Total mass of the particles, estimated from the mean sphere volume [kg].
+    pub fn total_mass(&self) -> f64 {
+        self.total_volume() * self.density()
     }
 }

@@ -98,6 +98,19 @@ impl Located<i64> {
     }
 }
 
+impl Located<String> {
+    /// An error about this word, shown quoted.
+    pub fn error(&self, kind: ErrorKind, message: impl Into<String>) -> ConfigError {
+        ConfigError::new(
+            kind,
+            self.location.clone(),
+            self.key.clone(),
+            Some(format!("\"{}\"", self.value)),
+            message,
+        )
+    }
+}
+
 /// One table of a document being read; see the module documentation.
 pub(crate) struct Section<'a> {
     path: String,
@@ -145,6 +158,13 @@ impl<'a> Section<'a> {
     /// Whether the user wrote `key` in this section.
     pub fn has(&self, key: &str) -> bool {
         self.table.is_some_and(|t| t.get(key).is_some())
+    }
+
+    /// The keys written in this section, in document order (none when it is absent).
+    pub fn keys(&self) -> Vec<String> {
+        self.table.map_or_else(Vec::new, |t| {
+            t.entries.iter().map(|e| e.key.clone()).collect()
+        })
     }
 
     /// The entry for `key`, marking it as known.
@@ -344,6 +364,71 @@ impl<'a> Section<'a> {
             });
         }
         Some(values)
+    }
+
+    /// An array of strings (words), each with its own place; `None` if absent or mistyped.
+    pub fn string_array(
+        &mut self,
+        key: &str,
+        errors: &mut Vec<ConfigError>,
+    ) -> Option<Vec<Located<String>>> {
+        let entry = self.entry(key)?;
+        let NodeValue::Array(items) = &entry.node.value else {
+            self.wrong_type(entry, "an array of strings", errors);
+            return None;
+        };
+        let mut words = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let NodeValue::String(word) = &item.value else {
+                errors.push(ConfigError::new(
+                    ErrorKind::WrongType,
+                    item.location.clone(),
+                    format!("{}[{i}]", self.key(key)),
+                    Some(item.value.to_string()),
+                    format!("expected a string, found {}", item.value.type_name()),
+                ));
+                return None;
+            };
+            words.push(Located {
+                value: word.clone(),
+                key: format!("{}[{i}]", self.key(key)),
+                location: item.location.clone(),
+                given: true,
+                unit: "",
+            });
+        }
+        Some(words)
+    }
+
+    /// An array of tables (`[[key]]` headers, or an array of inline tables), one section
+    /// each, keyed `key[i]`; `None` if absent, mistyped, or holding something not a table.
+    pub fn tables(&mut self, key: &str, errors: &mut Vec<ConfigError>) -> Option<Vec<Section<'a>>> {
+        let entry = self.entry(key)?;
+        let NodeValue::Array(items) = &entry.node.value else {
+            self.wrong_type(entry, "an array of tables", errors);
+            return None;
+        };
+        let mut sections = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let path = format!("{}[{i}]", self.key(key));
+            let NodeValue::Table(table) = &item.value else {
+                errors.push(ConfigError::new(
+                    ErrorKind::WrongType,
+                    item.location.clone(),
+                    path,
+                    Some(item.value.to_string()),
+                    format!("expected a table, found {}", item.value.type_name()),
+                ));
+                return None;
+            };
+            sections.push(Section::over(
+                table,
+                path,
+                item.location.clone(),
+                self.default_location.clone(),
+            ));
+        }
+        Some(sections)
     }
 
     /// A sub-table; an absent key gives an empty section, a mistyped one an error.

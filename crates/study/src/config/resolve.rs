@@ -15,6 +15,7 @@ use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
 use super::geometry::HopperGeometry;
 use super::particles::Material;
 use super::reader::Section;
+use super::resolve_materials::{read_materials, NamedMaterials};
 use super::resolve_particles::{read_material, read_particles, source};
 use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
 use super::silo::Geometry;
@@ -25,6 +26,8 @@ pub(crate) const ALTERNATIVE_KEYS: &[(&str, &str)] = &[
     ("geometry.outlet_gap", "geometry.outlet_offset"),
     ("time.time_step", "time.rayleigh_fraction"),
     ("particles.diameter", "particles.size_distribution"),
+    ("particles.components", "particles.diameter"),
+    ("particles.components", "particles.size_distribution"),
     (
         "particles.material.shear_modulus",
         "particles.material.youngs_modulus",
@@ -45,6 +48,8 @@ const TOP_KEYS: &[&str] = &[
     "version",
     "seed",
     "geometry",
+    "materials",
+    "pairs",
     "particles",
     "wall",
     "contact",
@@ -72,22 +77,57 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         errors.push(seed.error(ErrorKind::Invalid, "must be an integer ≥ 0"));
     }
 
-    let particles = read_particles(&mut root.section("particles", &mut errors), &mut errors);
+    let named = read_materials(&mut root, &mut errors);
+    let particles = read_particles(
+        &mut root.section("particles", &mut errors),
+        named.as_ref(),
+        &mut errors,
+    );
     // Diameter-based defaults and checks fall back to the paper's 3 mm when the particle
     // table itself is invalid; its own errors are already recorded.
-    let d_max = particles
-        .as_ref()
-        .map_or(3.0e-3, |(p, _)| p.size.max_diameter());
+    let d_max = particles.as_ref().map_or(3.0e-3, |(p, _)| p.max_diameter());
     let d_max_source = particles.as_ref().map(|(_, s)| s.largest_diameter.as_str());
     let geometry = read_container(
         &mut root.section("geometry", &mut errors),
         particles
             .as_ref()
-            .map(|(p, s)| (p.size.max_diameter(), s.largest_diameter.as_str())),
+            .map(|(p, s)| (p.max_diameter(), s.largest_diameter.as_str())),
         &mut errors,
     );
-    let wall = read_wall(&mut root.section("wall", &mut errors), &mut errors);
-    let contact = read_contact(&mut root.section("contact", &mut errors), &mut errors);
+    let particle_materials = particles.as_ref().map(|(p, _)| {
+        p.components
+            .iter()
+            .filter_map(|c| c.material_name.clone())
+            .collect::<Vec<_>>()
+    });
+    let wall = read_wall(
+        &mut root.section("wall", &mut errors),
+        named.as_ref(),
+        particle_materials.as_deref(),
+        &mut errors,
+    );
+    let contact = read_contact(
+        &mut root.section("contact", &mut errors),
+        named.is_some(),
+        &mut errors,
+    );
+    if let (Some(named), Some(names)) = (&named, &particle_materials) {
+        // Every pair the run will meet must be listed or mixable (docs/physics.md §1.2).
+        let mut pairs: Vec<(&str, &str)> = Vec::new();
+        for (i, a) in names.iter().enumerate() {
+            for b in &names[i..] {
+                pairs.push((a, b));
+            }
+        }
+        if let Some(WallSpec {
+            material: WallMaterial::Named(wall),
+            ..
+        }) = &wall
+        {
+            pairs.extend(names.iter().map(|a| (a.as_str(), wall.as_str())));
+        }
+        named.require_pairs(&pairs, &mut errors);
+    }
     let time_step = read_time_step(
         &mut root.section("time", &mut errors),
         particles.as_ref(),
@@ -118,11 +158,12 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         geometry, particles, wall, contact, time_step, protocol, measure, output,
     ) {
         (Some(g), Some((p, _)), Some(w), Some(c), Some((dt, _)), Some(pr), Some(m), Some(o))
-            if seed.value >= 0 =>
+            if seed.value >= 0 && named.as_ref().is_none_or(|n| n.valid) =>
         {
             Some(Case {
                 seed: seed.value as u64,
                 geometry: g,
+                materials: named.map(|n| n.table),
                 particles: p,
                 wall: w,
                 contact: c,
@@ -472,7 +513,14 @@ fn check_particles_fit(
     ));
 }
 
-fn read_wall(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option<WallSpec> {
+/// Reads `[wall]`. `named` is the case's material table, if any, and `particle_materials`
+/// the names of the particles' materials in it (when the particles are valid).
+fn read_wall(
+    section: &mut Section<'_>,
+    named: Option<&NamedMaterials>,
+    particle_materials: Option<&[String]>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<WallSpec> {
     let is_table = section
         .entry("material")
         .is_some_and(|e| matches!(e.node.value, NodeValue::Table(_)));
@@ -484,19 +532,60 @@ fn read_wall(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option
         )
         .map(|(material, _)| WallMaterial::Custom(material))
     } else {
-        let options = [
-            ("same", WallMaterial::SameAsParticle),
-            ("rigid", WallMaterial::Rigid),
-        ];
-        let before = errors.len();
-        let material = section.choice("material", &options, WallMaterial::SameAsParticle, errors);
-        if let Some(last) = errors.get_mut(before..).and_then(|e| e.last_mut()) {
-            last.message
-                .push_str(", or a table with density, shear_modulus, poisson_ratio");
+        let word = section.string("material", errors);
+        match word.as_ref().map(|w| w.value.as_str()) {
+            None if section.has("material") => None,
+            None | Some("same") => match (named, particle_materials) {
+                (None, _) => Some(WallMaterial::SameAsParticle),
+                // With a table, "same" is the particles' one material, named.
+                (Some(_), Some([first, rest @ ..])) if rest.iter().all(|n| n == first) => {
+                    Some(WallMaterial::Named(first.clone()))
+                }
+                (Some(_), Some(_)) => {
+                    let location = word
+                        .as_ref()
+                        .map_or_else(|| section.location().clone(), |w| w.location.clone());
+                    errors.push(ConfigError::new(
+                        ErrorKind::Missing,
+                        location,
+                        section.key("material"),
+                        word.as_ref().map(|w| format!("\"{}\"", w.value)),
+                        "the particles are of several materials: name the walls' material \
+                         (a [materials] entry) or \"rigid\"",
+                    ));
+                    None
+                }
+                (Some(_), None) => None,
+            },
+            Some("rigid") => Some(WallMaterial::Rigid),
+            Some(_) => {
+                let word = word.as_ref().expect("a word was given");
+                match named {
+                    Some(named) => named
+                        .require_known(word, errors)
+                        .then(|| WallMaterial::Named(word.value.clone())),
+                    None => {
+                        errors.push(word.error(
+                            ErrorKind::Invalid,
+                            "must be one of \"same\", \"rigid\", or a table with density, \
+                             shear_modulus, poisson_ratio (a material's name needs a \
+                             [materials] table that defines it)",
+                        ));
+                        None
+                    }
+                }
+            }
         }
-        (errors.len() == before).then_some(material)
     };
     let interaction = read_interaction(section, errors);
+    if matches!(material, Some(WallMaterial::Named(_))) {
+        refuse_pair_keys(
+            section,
+            "the walls are of a named material: each particle material meets them with its \
+             [[pairs]] entry (or the mixing rules)",
+            errors,
+        );
+    }
     section.finish(
         &["material", "friction", "rolling_friction", "restitution"],
         errors,
@@ -507,8 +596,37 @@ fn read_wall(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option
     })
 }
 
-fn read_contact(section: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option<ContactSpec> {
+/// Refuses the coefficient keys of `[contact]` or `[wall]` where `[[pairs]]` gives them.
+fn refuse_pair_keys(section: &mut Section<'_>, why: &str, errors: &mut Vec<ConfigError>) {
+    for key in ["friction", "rolling_friction", "restitution"] {
+        if let Some(entry) = section.entry(key) {
+            errors.push(ConfigError::new(
+                ErrorKind::Conflict,
+                entry.key_location.clone(),
+                section.key(key),
+                Some(entry.node.value.to_string()),
+                format!("not used: {why}; give it in [[pairs]]"),
+            ));
+        }
+    }
+}
+
+/// Reads `[contact]`; with a material table (`named`), its coefficients come from
+/// `[[pairs]]` and the keys here are refused.
+fn read_contact(
+    section: &mut Section<'_>,
+    named: bool,
+    errors: &mut Vec<ConfigError>,
+) -> Option<ContactSpec> {
     let before = errors.len();
+    if named {
+        refuse_pair_keys(
+            section,
+            "the case defines [materials], whose particle pairs come from [[pairs]] (or the \
+             mixing rules)",
+            errors,
+        );
+    }
     let interaction = read_interaction(section, errors);
     let tangential = section.choice(
         "tangential",

@@ -1,9 +1,13 @@
-//! Validation of the `[particles]` table: count, diameters or size distribution, material.
+//! Validation of the `[particles]` table: count, diameters or size distribution, material,
+//! or a mixture of components (`[[particles.components]]`, each with its size, material and
+//! fraction).
 
+use super::document::NodeValue;
 use super::error::{number, rounded, ConfigError, ErrorKind};
-use super::particles::{Material, ParticleSpec, SizeDistribution};
+use super::particles::{Component, FractionBasis, Material, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
 use super::resolve::MAX_PARTICLE_COUNT;
+use super::resolve_materials::NamedMaterials;
 
 /// Where a value that a limit derives from was set: `key = value unit`, marked
 /// `(default)` when the user did not write it.
@@ -93,8 +97,87 @@ pub(crate) fn read_material(
     })
 }
 
+/// The material of the particles (or a component): its properties, where they were set,
+/// and its name in the case's `[materials]` table when it has one.
+type MaterialChoice = (Material, MaterialSources, Option<String>);
+
+/// Most components a case may have: a component's index is kept in one byte per particle.
+pub(crate) const MAX_COMPONENTS: usize = 255;
+
+/// Reads `particles.material`: a table of properties (no `[materials]` in the case), or the
+/// name of a `[materials]` entry. `None` when absent with a table (each component must then
+/// name its own) or invalid.
+fn read_particle_material(
+    section: &mut Section<'_>,
+    named: Option<&NamedMaterials>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<MaterialChoice> {
+    let is_word = section
+        .entry("material")
+        .is_some_and(|e| matches!(e.node.value, NodeValue::String(_)));
+    match named {
+        _ if is_word => {
+            let word = section.string("material", errors)?;
+            named_material(&word, named, errors)
+        }
+        None => read_material(
+            &mut section.section("material", errors),
+            Material::paper(),
+            errors,
+        )
+        .map(|(material, sources)| (material, sources, None)),
+        Some(named) => {
+            if let Some(entry) = section.entry("material") {
+                errors.push(ConfigError::new(
+                    ErrorKind::Conflict,
+                    entry.key_location.clone(),
+                    section.key("material"),
+                    None,
+                    format!(
+                        "the case defines [materials]: name one of them (material = \"NAME\"; \
+                         defined: {}) instead of giving a table",
+                        named.defined()
+                    ),
+                ));
+            }
+            None
+        }
+    }
+}
+
+/// The material `word` names, which must be defined in the case's `[materials]`.
+fn named_material(
+    word: &Located<String>,
+    named: Option<&NamedMaterials>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<MaterialChoice> {
+    let Some(named) = named else {
+        errors.push(word.error(
+            ErrorKind::Invalid,
+            "names a material, but the case has no [materials] table; define it as \
+             [materials.NAME] (density, youngs_modulus or shear_modulus, poisson_ratio), or \
+             give the properties in a [particles.material] table",
+        ));
+        return None;
+    };
+    if !named.require_known(word, errors) {
+        return None;
+    }
+    // An invalid material is reported by the table's checks.
+    let (material, sources) = named.materials.get(&word.value)?.clone();
+    Some((material, sources, Some(word.value.clone())))
+}
+
+/// A component read, with where its sizes and material were set.
+struct ReadComponent {
+    component: Component,
+    sizes: SizesWithSources,
+    material: MaterialSources,
+}
+
 pub(crate) fn read_particles(
     section: &mut Section<'_>,
+    named: Option<&NamedMaterials>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<(ParticleSpec, ParticleSources)> {
     let paper = ParticleSpec::paper();
@@ -107,7 +190,126 @@ pub(crate) fn read_particles(
         ));
         ok = false;
     }
-    let size = if section.has("diameter") && section.has("size_distribution") {
+    let material = read_particle_material(section, named, errors);
+    let read = if section.has("components") {
+        for other in ["diameter", "size_distribution"] {
+            if let Some(entry) = section.entry(other) {
+                errors.push(ConfigError::new(
+                    ErrorKind::Conflict,
+                    entry.key_location.clone(),
+                    section.key(other),
+                    None,
+                    format!(
+                        "give either {} (one size) or {} (a mixture, each with its own size), \
+                         not both",
+                        section.key(other),
+                        section.key("components")
+                    ),
+                ));
+                ok = false;
+            }
+        }
+        read_components(section, material.as_ref(), named, errors)
+    } else {
+        if let Some(entry) = section.entry("fraction_by") {
+            errors.push(ConfigError::new(
+                ErrorKind::Invalid,
+                entry.key_location.clone(),
+                section.key("fraction_by"),
+                Some(entry.node.value.to_string()),
+                format!(
+                    "counts the fractions of {}; a case of one size distribution has none",
+                    section.key("components")
+                ),
+            ));
+            ok = false;
+        }
+        let size = read_size(section, Some(3.0e-3), errors);
+        if material.is_none() && named.is_some() && !section.has("material") {
+            errors.push(ConfigError::new(
+                ErrorKind::Missing,
+                section.location().clone(),
+                section.key("material"),
+                None,
+                format!(
+                    "required with [materials]: the particles' material, one of {}",
+                    named.map(NamedMaterials::defined).unwrap_or_default()
+                ),
+            ));
+        }
+        match (size, material) {
+            (Some(sizes), Some((material, sources, name))) => Some((
+                vec![ReadComponent {
+                    component: Component {
+                        name: "c1".to_string(),
+                        size: sizes.0.clone(),
+                        material,
+                        material_name: name,
+                        fraction: 1.0,
+                    },
+                    sizes,
+                    material: sources,
+                }],
+                FractionBasis::Number,
+            )),
+            _ => None,
+        }
+    };
+    section.finish(
+        &[
+            "count",
+            "diameter",
+            "size_distribution",
+            "material",
+            "components",
+            "fraction_by",
+        ],
+        errors,
+    );
+    let (components, fraction_by) = read?;
+    if !ok {
+        return None;
+    }
+    let spec = ParticleSpec {
+        count: count.value as usize,
+        components: components.iter().map(|c| c.component.clone()).collect(),
+        fraction_by,
+    };
+    // The inputs of the limits: the component of the shortest Rayleigh time (its material
+    // and smallest diameter) and the component of the largest diameter.
+    let shortest = components
+        .iter()
+        .min_by(|a, b| {
+            a.component
+                .rayleigh_time()
+                .total_cmp(&b.component.rayleigh_time())
+        })
+        .expect("at least one component");
+    let largest = components
+        .iter()
+        .max_by(|a, b| {
+            a.component
+                .size
+                .max_diameter()
+                .total_cmp(&b.component.size.max_diameter())
+        })
+        .expect("at least one component");
+    let sources = ParticleSources {
+        material: shortest.material.clone(),
+        smallest_diameter: shortest.sizes.1.clone(),
+        largest_diameter: largest.sizes.2.clone(),
+    };
+    Some((spec, sources))
+}
+
+/// Reads the size of the particles or of a component: `diameter` (monodisperse) or a
+/// `size_distribution` table, not both; absent both, `default` [m] or an error.
+fn read_size(
+    section: &mut Section<'_>,
+    default: Option<f64>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<SizesWithSources> {
+    if section.has("diameter") && section.has("size_distribution") {
         let entry = section.entry("size_distribution");
         section.entry("diameter");
         errors.push(ConfigError::new(
@@ -127,7 +329,18 @@ pub(crate) fn read_particles(
     } else if section.has("size_distribution") {
         read_distribution(&mut section.section("size_distribution", errors), errors)
     } else {
-        let d = section.float_or("diameter", "m", 3.0e-3, errors);
+        let d = match default {
+            Some(default) => section.float_or("diameter", "m", default, errors),
+            None if section.has("diameter") => section.float("diameter", "m", errors)?,
+            None => {
+                errors.push(missing(
+                    section,
+                    "diameter",
+                    "required: a diameter [m] or a size_distribution table",
+                ));
+                return None;
+            }
+        };
         d.require_positive(errors).then(|| {
             (
                 SizeDistribution::Monodisperse { diameter: d.value },
@@ -135,31 +348,159 @@ pub(crate) fn read_particles(
                 source(&d),
             )
         })
-    };
-    let material = read_material(
-        &mut section.section("material", errors),
-        paper.material,
-        errors,
-    );
-    section.finish(
-        &["count", "diameter", "size_distribution", "material"],
-        errors,
-    );
-    match (ok, size, material) {
-        (true, Some((size, smallest, largest)), Some((material, material_sources))) => Some((
-            ParticleSpec {
-                count: count.value as usize,
-                size,
-                material,
-            },
-            ParticleSources {
-                material: material_sources,
-                smallest_diameter: smallest,
-                largest_diameter: largest,
-            },
-        )),
-        _ => None,
     }
+}
+
+/// Reads `[[particles.components]]` and `particles.fraction_by`; `shared` is the material
+/// of `particles.material`, which a component without its own `material` has.
+fn read_components(
+    section: &mut Section<'_>,
+    shared: Option<&MaterialChoice>,
+    named: Option<&NamedMaterials>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<(Vec<ReadComponent>, FractionBasis)> {
+    let fraction_by = section.choice(
+        "fraction_by",
+        &[
+            ("number", FractionBasis::Number),
+            ("mass", FractionBasis::Mass),
+        ],
+        FractionBasis::Number,
+        errors,
+    );
+    let components_location = section
+        .entry("components")
+        .map(|e| e.key_location.clone())
+        .unwrap_or_else(|| section.location().clone());
+    let tables = section.tables("components", errors)?;
+    let mut ok = true;
+    if tables.is_empty() || tables.len() > MAX_COMPONENTS {
+        errors.push(ConfigError::new(
+            ErrorKind::Invalid,
+            components_location.clone(),
+            section.key("components"),
+            Some(format!("{} entries", tables.len())),
+            format!("must hold 1 to {MAX_COMPONENTS} components"),
+        ));
+        return None;
+    }
+    let mut read = Vec::with_capacity(tables.len());
+    let mut fractions = Vec::with_capacity(tables.len());
+    let mut names: Vec<Located<String>> = Vec::new();
+    for (i, mut table) in tables.into_iter().enumerate() {
+        let name = table.string("name", errors);
+        let name_value = match &name {
+            Some(word) => {
+                let valid = !word.value.is_empty()
+                    && word
+                        .value
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+                if !valid {
+                    errors.push(word.error(
+                        ErrorKind::Invalid,
+                        "a component's name must be letters, digits, `_` or `-` (it heads \
+                         columns of composition.csv)",
+                    ));
+                    ok = false;
+                } else if let Some(first) = names.iter().find(|n| n.value == word.value) {
+                    errors.push(word.error(
+                        ErrorKind::Conflict,
+                        format!("the name is given twice (first as {})", first.key),
+                    ));
+                    ok = false;
+                }
+                names.push(word.clone());
+                word.value.clone()
+            }
+            None => format!("c{}", i + 1),
+        };
+        let size = read_size(&mut table, None, errors);
+        let material = if table.has("material") {
+            table
+                .string("material", errors)
+                .and_then(|word| named_material(&word, named, errors))
+        } else {
+            if shared.is_none() && named.is_some() && !section.has("material") {
+                errors.push(missing(
+                    &table,
+                    "material",
+                    &format!(
+                        "required with [materials] unless particles.material names one: the \
+                         component's material, one of {}",
+                        named.map(NamedMaterials::defined).unwrap_or_default()
+                    ),
+                ));
+            }
+            shared.cloned()
+        };
+        let fraction = if table.has("fraction") {
+            table.float("fraction", "", errors)
+        } else {
+            errors.push(missing(
+                &table,
+                "fraction",
+                "required: the component's share of the particles, by number or by mass as \
+                 particles.fraction_by says",
+            ));
+            None
+        };
+        table.finish(
+            &[
+                "name",
+                "diameter",
+                "size_distribution",
+                "material",
+                "fraction",
+            ],
+            errors,
+        );
+        let Some(fraction) = fraction else {
+            ok = false;
+            continue;
+        };
+        if !(fraction.value.is_finite() && (0.0..=1.0).contains(&fraction.value)) {
+            errors.push(fraction.error(ErrorKind::Invalid, "must lie in [0, 1]"));
+            ok = false;
+        }
+        fractions.push(fraction.clone());
+        match (size, material) {
+            (Some(sizes), Some((material, sources, material_name))) => {
+                read.push(ReadComponent {
+                    component: Component {
+                        name: name_value,
+                        size: sizes.0.clone(),
+                        material,
+                        material_name,
+                        fraction: fraction.value,
+                    },
+                    sizes,
+                    material: sources,
+                });
+            }
+            _ => ok = false,
+        }
+    }
+    if !ok {
+        return None;
+    }
+    let sum: f64 = fractions.iter().map(|f| f.value).sum();
+    // Fractions are written by hand; 1e-6 forgives rounding in the last printed digit.
+    if (sum - 1.0).abs() > 1e-6 {
+        let basis = match fraction_by {
+            FractionBasis::Number => "number",
+            FractionBasis::Mass => "mass",
+        };
+        errors.push(fractions[0].error(
+            ErrorKind::Invalid,
+            format!(
+                "the components' {basis} fractions must sum to 1 (they sum to {})",
+                rounded(sum)
+            ),
+        ));
+        return None;
+    }
+    Some((read, fraction_by))
 }
 
 /// A size distribution with where its smallest and largest diameters were set.

@@ -32,6 +32,21 @@ hopper_angle_deg = 90.0  # α [°], bottom plates from the vertical, in (0, 90];
 # outlet_gap = 0.035     # s [m], gap between the left wall and the outlet's left edge, 0 ≤ s ≤ L − D
 # outlet_offset = 0.0    # e [m], offset of the outlet centre from the axis, |e| ≤ (L − D)/2
 
+# Several materials, and the contact coefficients of each pair (docs/physics.md §1.2), in
+# place of [particles.material] and the coefficients of [contact] and [wall]: particles,
+# components and walls then name their material. A pair not listed is mixed from the two
+# self-pairs (e = √(e_aa e_bb); μ_s and μ_r harmonic means). cases/README.md has the
+# benchmark's table (Dosta et al. 2024).
+# [materials.M1]         # one table per material; names are letters, digits, _ or -
+# density = 2500.0       # ρ [kg/m³], > 0
+# youngs_modulus = 1.0e9 # E [Pa], > 0; or shear_modulus = G [Pa]
+# poisson_ratio = 0.2    # ν [-], in (−1, 0.5)
+# [[pairs]]              # one entry per pair, each pair once
+# materials = ["M1", "M1"]  # the two materials, either order; a name twice is a material with itself
+# restitution = 0.5      # e [-], in (0, 1]
+# friction = 0.3         # μ_s [-], ≥ 0
+# rolling_friction = 0.0 # μ_r [-], ≥ 0; default 0
+
 [particles]
 count = 3000             # N, number of particles; they must fit below H (area fraction ≤ 0.885)
 diameter = 0.003         # d [m], monodisperse diameter
@@ -42,6 +57,14 @@ diameter = 0.003         # d [m], monodisperse diameter
 # max = 0.0033
 # kind = "normal"        # mean [m], std_dev [m], optional min/max [m] (default mean ± 3 std_dev)
 # kind = "discrete"      # diameters = [m, ...], fractions = [number fractions summing to 1]
+# material = "M1"        # instead of [particles.material]: a [materials] entry
+# Instead of `diameter`, a mixture: components, each with its size, material and fraction.
+# fraction_by = "number" # what the fractions count: "number" (default) or "mass"
+# [[particles.components]]
+# name = "small"         # heads its columns of composition.csv; default c1, c2, ...
+# diameter = 0.002       # [m], or a [particles.components.size_distribution] table
+# material = "M1"        # a [materials] entry; default: particles.material
+# fraction = 0.5         # [-], in [0, 1]; the components' fractions sum to 1
 
 [particles.material]
 density = 2500.0         # ρ_p [kg/m³]
@@ -49,8 +72,9 @@ shear_modulus = 1.0e8    # G [Pa]
 poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
 
 [wall]
-material = "same"        # "same" (particle material), "rigid", or a [wall.material] table
-                         # with density [kg/m³], shear_modulus [Pa], poisson_ratio [-]
+material = "same"        # "same" (particle material), "rigid", a [materials] entry (its
+                         # [[pairs]] then give the coefficients below), or a [wall.material]
+                         # table with density [kg/m³], shear_modulus [Pa], poisson_ratio [-]
 friction = 0.5           # μ_s particle–wall [-], ≥ 0 (applies to front and back walls too)
 rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
 restitution = 0.2        # e particle–wall [-], in (0, 1]
@@ -121,6 +145,10 @@ mesh_segments = 96       # segments around the axis of meshed walls and of the o
 [particles]
 count = 20000            # N; they must fit below H at volume fraction 0.64
 diameter = 0.004         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+# A mixture instead of `diameter`: [[particles.components]], each with a diameter, a
+# material and a fraction, and particles.fraction_by = "number" or "mass"; named materials
+# and their pairs in [materials.NAME] and [[pairs]]. `hopperflow init` lists the keys, and
+# cases/README.md gives this benchmark's table of M1, M2 and steel.
 
 [particles.material]     # M1
 density = 2500.0         # ρ_p [kg/m³]
@@ -132,7 +160,7 @@ friction = 0.2           # μ_s particle–wall [-], ≥ 0
 rolling_friction = 0.0   # μ_r particle–wall [-], ≥ 0
 restitution = 0.4        # e particle–wall [-], in (0, 1]
 
-[wall.material]          # or material = "same" / "rigid" instead of this table
+[wall.material]          # or material = "same" / "rigid" / a [materials] name instead of this table
 density = 7200.0         # [kg/m³]
 youngs_modulus = 210.0e9 # E [Pa]
 poisson_ratio = 0.2      # ν [-]

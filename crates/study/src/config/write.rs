@@ -2,9 +2,11 @@
 
 use std::fmt::Write;
 
+use dem::MaterialTable;
+
 use super::case::{Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION};
 use super::error::rounded;
-use super::particles::{Material, SizeDistribution};
+use super::particles::{FractionBasis, Material, SizeDistribution};
 use super::silo::{Geometry, WallSurface};
 
 /// A float in TOML syntax that parses back to the same bits: Rust prints the shortest
@@ -35,6 +37,82 @@ fn material_lines(out: &mut String, material: &Material) {
         "poisson_ratio = {}  # [-]",
         float(material.poisson_ratio)
     );
+}
+
+/// The size of the particles or of the last `[[particles.components]]` (`table` names the
+/// table the size distribution's header continues): `diameter`, or a size distribution.
+fn size_lines(out: &mut String, size: &SizeDistribution, table: &str) {
+    match size {
+        SizeDistribution::Monodisperse { diameter } => {
+            let _ = writeln!(out, "diameter = {}  # [m]", float(*diameter));
+        }
+        SizeDistribution::Uniform { min, max } => {
+            let _ = writeln!(out, "\n[{table}.size_distribution]");
+            let _ = writeln!(out, "kind = \"uniform\"");
+            let _ = writeln!(out, "min = {}  # [m]", float(*min));
+            let _ = writeln!(out, "max = {}  # [m]", float(*max));
+        }
+        SizeDistribution::Normal {
+            mean,
+            std_dev,
+            min,
+            max,
+        } => {
+            let _ = writeln!(out, "\n[{table}.size_distribution]");
+            let _ = writeln!(out, "kind = \"normal\"");
+            let _ = writeln!(out, "mean = {}  # [m]", float(*mean));
+            let _ = writeln!(out, "std_dev = {}  # [m]", float(*std_dev));
+            let _ = writeln!(out, "min = {}  # [m]", float(*min));
+            let _ = writeln!(out, "max = {}  # [m]", float(*max));
+        }
+        SizeDistribution::Discrete {
+            diameters,
+            fractions,
+        } => {
+            let _ = writeln!(out, "\n[{table}.size_distribution]");
+            let _ = writeln!(out, "kind = \"discrete\"");
+            let _ = writeln!(out, "diameters = {}  # [m]", floats(diameters));
+            let _ = writeln!(
+                out,
+                "fractions = {}  # number fractions [-]",
+                floats(fractions)
+            );
+        }
+    }
+}
+
+/// The `[materials.NAME]` tables and `[[pairs]]` of a case's material table, every value
+/// as given (a material keeps whichever of E and G it was given).
+fn material_table_lines(out: &mut String, table: &MaterialTable) {
+    for (name, m) in &table.materials {
+        let _ = writeln!(out, "\n[materials.{name}]");
+        let lines = [
+            ("density", m.density, "  # [kg/m³]"),
+            ("youngs_modulus", m.youngs_modulus, "  # E [Pa]"),
+            ("shear_modulus", m.shear_modulus, "  # G [Pa]"),
+            ("poisson_ratio", m.poisson_ratio, "  # [-]"),
+        ];
+        for (key, value, unit) in lines {
+            if let Some(value) = value {
+                let _ = writeln!(out, "{key} = {}{unit}", float(value));
+            }
+        }
+    }
+    for pair in &table.pairs {
+        let [a, b] = &pair.materials;
+        let _ = writeln!(out, "\n[[pairs]]");
+        let _ = writeln!(out, "materials = [\"{a}\", \"{b}\"]");
+        let lines = [
+            ("restitution", pair.restitution),
+            ("friction", pair.friction),
+            ("rolling_friction", pair.rolling_friction),
+        ];
+        for (key, value) in lines {
+            if let Some(value) = value {
+                let _ = writeln!(out, "{key} = {}", float(value));
+            }
+        }
+    }
 }
 
 /// The `[geometry]` table of a resolved case. A slab writes no `kind`: it is the default, and
@@ -98,48 +176,51 @@ impl Case {
 
         geometry_lines(&mut out, &self.geometry);
 
+        if let Some(table) = &self.materials {
+            material_table_lines(&mut out, table);
+        }
+
         let p = &self.particles;
         let _ = writeln!(out, "\n[particles]");
         let _ = writeln!(out, "count = {}", p.count);
-        match &p.size {
-            SizeDistribution::Monodisperse { diameter } => {
-                let _ = writeln!(out, "diameter = {}  # [m]", float(*diameter));
+        match p.components.as_slice() {
+            [one] => {
+                if let Some(name) = &one.material_name {
+                    let _ = writeln!(out, "material = \"{name}\"");
+                }
+                size_lines(&mut out, &one.size, "particles");
+                if one.material_name.is_none() {
+                    let _ = writeln!(out, "\n[particles.material]");
+                    material_lines(&mut out, &one.material);
+                }
             }
-            SizeDistribution::Uniform { min, max } => {
-                let _ = writeln!(out, "\n[particles.size_distribution]");
-                let _ = writeln!(out, "kind = \"uniform\"");
-                let _ = writeln!(out, "min = {}  # [m]", float(*min));
-                let _ = writeln!(out, "max = {}  # [m]", float(*max));
-            }
-            SizeDistribution::Normal {
-                mean,
-                std_dev,
-                min,
-                max,
-            } => {
-                let _ = writeln!(out, "\n[particles.size_distribution]");
-                let _ = writeln!(out, "kind = \"normal\"");
-                let _ = writeln!(out, "mean = {}  # [m]", float(*mean));
-                let _ = writeln!(out, "std_dev = {}  # [m]", float(*std_dev));
-                let _ = writeln!(out, "min = {}  # [m]", float(*min));
-                let _ = writeln!(out, "max = {}  # [m]", float(*max));
-            }
-            SizeDistribution::Discrete {
-                diameters,
-                fractions,
-            } => {
-                let _ = writeln!(out, "\n[particles.size_distribution]");
-                let _ = writeln!(out, "kind = \"discrete\"");
-                let _ = writeln!(out, "diameters = {}  # [m]", floats(diameters));
-                let _ = writeln!(
-                    out,
-                    "fractions = {}  # number fractions [-]",
-                    floats(fractions)
-                );
+            components => {
+                let basis = match p.fraction_by {
+                    FractionBasis::Number => "number",
+                    FractionBasis::Mass => "mass",
+                };
+                let _ = writeln!(out, "fraction_by = \"{basis}\"");
+                // Components without a name in [materials] share particles.material.
+                if let Some(shared) = components.iter().find(|c| c.material_name.is_none()) {
+                    let _ = writeln!(out, "\n[particles.material]");
+                    material_lines(&mut out, &shared.material);
+                }
+                for (c, n) in components.iter().zip(p.number_fractions()) {
+                    let _ = writeln!(out, "\n[[particles.components]]");
+                    let _ = writeln!(out, "name = \"{}\"", c.name);
+                    if let Some(name) = &c.material_name {
+                        let _ = writeln!(out, "material = \"{name}\"");
+                    }
+                    let _ = writeln!(
+                        out,
+                        "fraction = {}  # by {basis} [-]; {} by number",
+                        float(c.fraction),
+                        rounded(n)
+                    );
+                    size_lines(&mut out, &c.size, "particles.components");
+                }
             }
         }
-        let _ = writeln!(out, "\n[particles.material]");
-        material_lines(&mut out, &p.material);
 
         let w = &self.wall;
         let _ = writeln!(out, "\n[wall]");
@@ -150,15 +231,20 @@ impl Case {
             WallMaterial::Rigid => {
                 let _ = writeln!(out, "material = \"rigid\"");
             }
+            WallMaterial::Named(name) => {
+                let _ = writeln!(out, "material = \"{name}\"  # coefficients from [[pairs]]");
+            }
             WallMaterial::Custom(_) => {}
         }
-        let _ = writeln!(out, "friction = {}", float(w.interaction.friction));
-        let _ = writeln!(
-            out,
-            "rolling_friction = {}",
-            float(w.interaction.rolling_friction)
-        );
-        let _ = writeln!(out, "restitution = {}", float(w.interaction.restitution));
+        if !matches!(w.material, WallMaterial::Named(_)) {
+            let _ = writeln!(out, "friction = {}", float(w.interaction.friction));
+            let _ = writeln!(
+                out,
+                "rolling_friction = {}",
+                float(w.interaction.rolling_friction)
+            );
+            let _ = writeln!(out, "restitution = {}", float(w.interaction.restitution));
+        }
         if let WallMaterial::Custom(material) = &w.material {
             let _ = writeln!(out, "\n[wall.material]");
             material_lines(&mut out, material);
@@ -166,13 +252,15 @@ impl Case {
 
         let c = &self.contact;
         let _ = writeln!(out, "\n[contact]");
-        let _ = writeln!(out, "friction = {}", float(c.particle.friction));
-        let _ = writeln!(
-            out,
-            "rolling_friction = {}",
-            float(c.particle.rolling_friction)
-        );
-        let _ = writeln!(out, "restitution = {}", float(c.particle.restitution));
+        if self.materials.is_none() {
+            let _ = writeln!(out, "friction = {}", float(c.particle.friction));
+            let _ = writeln!(
+                out,
+                "rolling_friction = {}",
+                float(c.particle.rolling_friction)
+            );
+            let _ = writeln!(out, "restitution = {}", float(c.particle.restitution));
+        }
         let tangential = match c.tangential {
             TangentialLaw::MindlinNoSlip => "mindlin_no_slip",
             TangentialLaw::MindlinDeresiewicz => "mindlin_deresiewicz",

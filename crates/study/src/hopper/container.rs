@@ -52,6 +52,19 @@ impl ContainerWalls {
             .map(|(k, _)| WALL_NAMES[k as usize])
     }
 
+    /// Every wall of the container, the gate included.
+    pub fn all(&self) -> Vec<WallId> {
+        match self {
+            Self::Slab(w) => {
+                let mut walls = vec![w.sides[0], w.sides[1], w.faces[0], w.faces[1]];
+                walls.extend(w.plates.iter().flatten());
+                walls.push(w.gate);
+                walls
+            }
+            Self::Silo(w) => vec![w.cylinder, w.bottom, w.gate],
+        }
+    }
+
     /// The walls that may record loads, each with its index into [`WALL_NAMES`]; absent
     /// walls (a plate where the outlet touches the side wall) are `None`.
     pub fn named(&self) -> Vec<(u8, Option<WallId>)> {

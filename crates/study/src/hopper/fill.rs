@@ -1,10 +1,14 @@
 //! Filling the hopper: random non-overlapping insertion in the upper part, in batches that
 //! fall under gravity (docs/physics.md §10.8: the paper does not describe its fill).
 
-use dem::{DVec3, MaterialId, ParticleInit, Simulation};
+use dem::{DVec3, ParticleInit, ParticleTag, Simulation};
 use rand::Rng;
 
+use super::draw::{Draw, ParticleDraws};
 use crate::config::HopperGeometry;
+
+/// A particle a batch placed: its tag and its component (index into `particles.components`).
+pub type Inserted = (ParticleTag, u8);
 
 /// Whether a disc of radius `r` [m] centred at (x, z) lies inside the hopper's in-plane
 /// outline with clearance `gap` [m].
@@ -28,21 +32,24 @@ pub fn inside_hopper(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64
     left >= c && right >= c
 }
 
-/// Random sequential insertion of up to `count` particles of radius drawn by `radius` into
-/// the band z ∈ [z_low, z_high] [m], avoiding every particle already in `sim`.
-/// Returns how many were inserted. Each starts at the slab mid-plane with velocity `v0` [m/s].
+/// Random sequential insertion of up to `count` particles drawn by `draws` into the band
+/// z ∈ [z_low, z_high] [m], avoiding every particle already in `sim`. Returns the particles
+/// inserted. Each starts at the slab mid-plane with velocity `v0` [m/s].
+///
+/// A draw that does not fit is kept for the next attempt, and left in `pending` for the next
+/// batch when the attempts run out (see [`ParticleDraws`]).
 #[allow(clippy::too_many_arguments)]
 pub fn insert_batch(
     sim: &mut Simulation,
     geometry: &HopperGeometry,
     rng: &mut impl Rng,
     count: usize,
-    mut radius: impl FnMut(&mut dyn rand::RngCore) -> f64,
-    material: MaterialId,
+    draws: &ParticleDraws,
+    pending: &mut Option<Draw>,
     band: (f64, f64),
     v0: DVec3,
     max_attempts: usize,
-) -> Result<usize, dem::DemError> {
+) -> Result<Vec<Inserted>, dem::DemError> {
     let half = 0.5 * geometry.width;
     let y_mid = 0.5 * geometry.thickness;
     // Existing particles in or near the band, for the overlap test.
@@ -54,12 +61,13 @@ pub fn insert_batch(
         .filter(|(x, r)| x.z + **r > band.0 - 0.01 && x.z - **r < band.1 + 0.01)
         .map(|(x, r)| (*x, *r))
         .collect();
-    let mut inserted = 0;
+    let mut inserted = Vec::new();
     let mut attempts = 0;
     let gap = 1.0e-5;
-    while inserted < count && attempts < max_attempts {
+    while inserted.len() < count && attempts < max_attempts {
         attempts += 1;
-        let r = radius(rng);
+        let drawn = *pending.get_or_insert_with(|| draws.draw(rng));
+        let r = drawn.radius;
         let x = rng.gen_range(-half + r..half - r);
         let z = rng.gen_range(band.0..band.1);
         // Quasi-2D slab: start on the mid-plane (docs/physics.md §5). A thick slab (room for half
@@ -79,16 +87,17 @@ pub fn insert_batch(
         {
             continue;
         }
-        sim.add_particle(ParticleInit {
+        let tag = sim.add_particle(ParticleInit {
             position: c,
             velocity: v0,
             angular_velocity: DVec3::ZERO,
             radius: r,
-            material,
+            material: drawn.material,
             flags: 0,
         })?;
+        *pending = None;
         placed.push((c, r));
-        inserted += 1;
+        inserted.push((tag, drawn.component));
     }
     Ok(inserted)
 }

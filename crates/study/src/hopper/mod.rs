@@ -3,6 +3,7 @@
 
 pub mod builder;
 pub mod container;
+pub mod draw;
 pub mod fill;
 pub mod packing;
 mod packing_vtu;
@@ -12,9 +13,13 @@ pub mod silo_walls;
 
 pub use builder::{build_walls, outline, HopperWalls};
 pub use container::{adopt_walls, build_container_walls, ContainerWalls, WALL_NAMES};
+pub use draw::{Draw, ParticleDraws};
 pub use packing::{
     read_packing, PackedParticle, Packing, PackingError, PackingPlace, PackingProblem,
     PACKING_COLUMNS, PACKING_OVERLAP_FRACTION, RADIUS_TOLERANCE,
 };
-pub use setup::{case_simulation, contact_laws, hopper_simulation, lattice_bed, sample_radius};
+pub use setup::{
+    case_simulation, case_simulation_by_component, contact_laws, hopper_simulation, lattice_bed,
+    sample_radius,
+};
 pub use silo_walls::{build_silo_walls, silo_outline, silo_wall_polygons, SiloWalls};

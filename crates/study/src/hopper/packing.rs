@@ -237,6 +237,18 @@ fn hex(bytes: &[u8]) -> String {
 /// Reads and checks the packing file `path` for `case`: CSV or VTU by its extension.
 pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
     let mut problems = Problems::default();
+    // A packing gives no particle its component: a mixture's cannot be placed from it yet.
+    if case.particles.components.len() > 1 {
+        problems.push(
+            PackingPlace::File,
+            format!(
+                "cannot start a mixture of {} components (particles.components): a packing file \
+                 places particles of the case's one material only",
+                case.particles.components.len()
+            ),
+        );
+        return Err(problems.into_error(path));
+    }
     let bytes = match std::fs::read(path) {
         Ok(bytes) => bytes,
         Err(e) => {
@@ -489,7 +501,7 @@ fn checked(
 
 /// Finite numbers, positive radii within the case's size distribution.
 fn check_values(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
-    let size = &case.particles.size;
+    let size = &case.particles;
     let (low, high) = (0.5 * size.min_diameter(), 0.5 * size.max_diameter());
     let (low_ok, high_ok) = (
         low * (1.0 - RADIUS_TOLERANCE),

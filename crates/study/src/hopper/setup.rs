@@ -46,31 +46,116 @@ pub fn contact_laws(case: &Case) -> ContactLaws {
     }
 }
 
-/// A simulation holding the container's walls (gate closed) and the particle material.
+/// A simulation holding the container's walls (gate closed) and the particle material (of
+/// the first component, for a mixture: [`case_simulation_by_component`] gives them all).
 pub fn case_simulation(
     case: &Case,
     threads: usize,
 ) -> Result<(Simulation, ContainerWalls, MaterialId), DemError> {
+    let (sim, walls, ids) = case_simulation_by_component(case, threads)?;
+    Ok((sim, walls, ids[0]))
+}
+
+/// A simulation holding the container's walls (gate closed) and the particles' materials,
+/// with the engine material of each component of `case.particles`, in order.
+///
+/// A case without a `[materials]` table has one particle material, shared by every
+/// component, with the `[contact]` and `[wall]` coefficients. A case with one registers the
+/// table's particle materials with every pair among them, and walls of a named material meet
+/// each particle material with its pair's coefficients (docs/physics.md §1.2).
+pub fn case_simulation_by_component(
+    case: &Case,
+    threads: usize,
+) -> Result<(Simulation, ContainerWalls, Vec<MaterialId>), DemError> {
     let mut config = SimulationConfig::new(case.time_step);
     config.laws = contact_laws(case);
     config.threads = threads;
-    config.skin = SKIN_DIAMETERS * case.particles.size.max_diameter();
+    config.skin = SKIN_DIAMETERS * case.particles.max_diameter();
     config.max_rayleigh_fraction = config::MAX_RAYLEIGH_FRACTION;
     let mut sim = Simulation::new(config)?;
-    let material = engine_material(&case.particles.material);
-    let id = sim.add_material(material, engine_interaction(&case.contact.particle))?;
-    let wall_material = match case.wall.material {
-        config::WallMaterial::SameAsParticle => dem::WallMaterial::Elastic(material),
-        config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
-        config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(&m)),
+    let components = &case.particles.components;
+    let Some(table) = &case.materials else {
+        let material = engine_material(&components[0].material);
+        let id = sim.add_material(material, engine_interaction(&case.contact.particle))?;
+        let wall_material = match &case.wall.material {
+            config::WallMaterial::SameAsParticle => dem::WallMaterial::Elastic(material),
+            config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
+            config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
+            config::WallMaterial::Named(name) => return Err(no_table(name)),
+        };
+        let walls = build_container_walls(
+            &mut sim,
+            &case.geometry,
+            wall_material,
+            engine_interaction(&case.wall.interaction),
+        )?;
+        return Ok((sim, walls, vec![id; components.len()]));
     };
-    let walls = build_container_walls(
-        &mut sim,
-        &case.geometry,
-        wall_material,
-        engine_interaction(&case.wall.interaction),
-    )?;
-    Ok((sim, walls, id))
+    // Each particle material once, in the order the components first name it.
+    let mut names: Vec<&str> = Vec::new();
+    for c in components {
+        let name = c.material_name.as_deref().ok_or_else(|| {
+            DemError::InvalidInput(format!(
+                "component {} has no material of the case's [materials] table",
+                c.name
+            ))
+        })?;
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    let ids = sim.add_material_table(table, &names)?;
+    let component_ids = components
+        .iter()
+        .map(|c| {
+            let name = c.material_name.as_deref().unwrap_or_default();
+            ids.get(name).ok_or_else(|| no_table(name))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let walls = match &case.wall.material {
+        config::WallMaterial::Named(name) => {
+            // Built with the first particle material's pair; then each particle material
+            // gets its own pair on every wall.
+            let walls = build_container_walls(
+                &mut sim,
+                &case.geometry,
+                table.wall_material(name)?,
+                table.interaction(names[0], name)?,
+            )?;
+            for wall in walls.all() {
+                sim.set_wall_from_table(wall, table, &ids, name)?;
+            }
+            walls
+        }
+        other => {
+            let material = match other {
+                config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
+                config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
+                // Validation names the one particle material instead.
+                _ => {
+                    return Err(DemError::InvalidInput(
+                        "wall.material = \"same\" with a [materials] table must name the \
+                         particles' material"
+                            .to_string(),
+                    ))
+                }
+            };
+            build_container_walls(
+                &mut sim,
+                &case.geometry,
+                material,
+                engine_interaction(&case.wall.interaction),
+            )?
+        }
+    };
+    Ok((sim, walls, component_ids))
+}
+
+/// The refusal of a material name that the case's table does not hold.
+fn no_table(name: &str) -> DemError {
+    DemError::InvalidInput(format!(
+        "material \"{name}\" is not in the case's [materials] table"
+    ))
 }
 
 /// A simulation holding the slab hopper's walls (gate closed) and the particle material;
@@ -144,7 +229,7 @@ pub fn lattice_bed(
     rng: &mut impl Rng,
 ) -> Result<usize, DemError> {
     let g = case.slab().ok_or_else(|| not_a_slab(case))?;
-    let r = 0.5 * case.particles.size.max_diameter();
+    let r = 0.5 * case.particles.max_diameter();
     let spacing = 2.0 * r * 1.01;
     let row = spacing * 3f64.sqrt() / 2.0;
     let mut placed = 0;

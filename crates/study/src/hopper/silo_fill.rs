@@ -4,9 +4,11 @@
 
 use std::collections::HashMap;
 
-use dem::{DVec3, MaterialId, ParticleInit, Simulation};
+use dem::{DVec3, ParticleInit, Simulation};
 use rand::Rng;
 
+use super::draw::{Draw, ParticleDraws};
+use super::fill::Inserted;
 use crate::config::CylinderSilo;
 
 /// Clearance kept between inserted spheres and from the walls [m].
@@ -58,23 +60,23 @@ impl Placed {
     }
 }
 
-/// Random sequential insertion of up to `count` spheres with radii drawn by `radius` into
-/// the band z ∈ [`band.0`, `band.1`] [m] of the silo, avoiding every particle already in
-/// `sim`; each starts with velocity `v0` [m/s]. `max_radius` [m] bounds what `radius` draws.
-/// Returns how many were inserted.
+/// Random sequential insertion of up to `count` spheres drawn by `draws` into the band
+/// z ∈ [`band.0`, `band.1`] [m] of the silo, avoiding every particle already in `sim`; each
+/// starts with velocity `v0` [m/s]. Returns the particles inserted. A draw that does not fit
+/// is kept until it is placed, as in [`super::fill::insert_batch`].
 #[allow(clippy::too_many_arguments)]
 pub fn insert_silo_batch(
     sim: &mut Simulation,
     silo: &CylinderSilo,
     rng: &mut impl Rng,
     count: usize,
-    mut radius: impl FnMut(&mut dyn rand::RngCore) -> f64,
-    max_radius: f64,
-    material: MaterialId,
+    draws: &ParticleDraws,
+    pending: &mut Option<Draw>,
     band: (f64, f64),
     v0: DVec3,
     max_attempts: usize,
-) -> Result<usize, dem::DemError> {
+) -> Result<Vec<Inserted>, dem::DemError> {
+    let max_radius = draws.max_radius();
     let mut placed = Placed::new(2.0 * max_radius + GAP);
     let p = sim.particles();
     for (x, r) in p.positions().iter().zip(p.radii()) {
@@ -83,11 +85,12 @@ pub fn insert_silo_batch(
         }
     }
     let reach = silo.radius;
-    let mut inserted = 0;
+    let mut inserted = Vec::new();
     let mut attempts = 0;
-    while inserted < count && attempts < max_attempts {
+    while inserted.len() < count && attempts < max_attempts {
         attempts += 1;
-        let r = radius(rng);
+        let drawn = *pending.get_or_insert_with(|| draws.draw(rng));
+        let r = drawn.radius;
         let x = rng.gen_range(-reach..reach);
         let y = rng.gen_range(-reach..reach);
         let z = rng.gen_range(band.0..band.1);
@@ -98,16 +101,17 @@ pub fn insert_silo_batch(
         if !placed.is_free(c, r) {
             continue;
         }
-        sim.add_particle(ParticleInit {
+        let tag = sim.add_particle(ParticleInit {
             position: c,
             velocity: v0,
             angular_velocity: DVec3::ZERO,
             radius: r,
-            material,
+            material: drawn.material,
             flags: 0,
         })?;
+        *pending = None;
         placed.add(c, r);
-        inserted += 1;
+        inserted.push((tag, drawn.component));
     }
     Ok(inserted)
 }

@@ -24,6 +24,9 @@ pub struct FrameView<'a> {
     pub radii: &'a [f64],
     /// Particle material density ρ_p [kg/m³]; mass is ρ_p (4/3) π r³ (solid spheres).
     pub density: f64,
+    /// Each particle's mass [kg], where the particles are of several materials (a mixture);
+    /// `None`: every mass is ρ_p (4/3) π r³ with `density`.
+    pub masses: Option<&'a [f64]>,
 }
 
 impl FrameView<'_> {
@@ -37,8 +40,11 @@ impl FrameView<'_> {
         self.ids.is_empty()
     }
 
-    /// Mass of particle `index` [kg], ρ_p (4/3) π r³.
+    /// Mass of particle `index` [kg]: its own where `masses` is given, else ρ_p (4/3) π r³.
     pub fn mass(&self, index: usize) -> f64 {
+        if let Some(masses) = self.masses {
+            return masses[index];
+        }
         let r = self.radii[index];
         self.density * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
     }
@@ -51,6 +57,7 @@ impl FrameView<'_> {
             ("positions", self.positions.len()),
             ("velocities", self.velocities.len()),
             ("radii", self.radii.len()),
+            ("masses", self.masses.map_or(n, <[f64]>::len)),
         ];
         for (field, found) in lengths {
             if found != n {
@@ -90,6 +97,15 @@ impl FrameView<'_> {
             if !(self.radii[i].is_finite() && self.radii[i] >= 0.0) {
                 return Err(MeasureError::NonFinite {
                     field: "radii",
+                    index: i,
+                });
+            }
+            if self
+                .masses
+                .is_some_and(|m| !(m[i].is_finite() && m[i] > 0.0))
+            {
+                return Err(MeasureError::NonFinite {
+                    field: "masses",
                     index: i,
                 });
             }

@@ -26,7 +26,8 @@ use super::start::StartRecord;
 use crate::output::{write_atomic, OutputError};
 
 /// The first eight bytes of every checkpoint: a name and the layout's version (8: the
-/// header records how the run started, [`CheckpointHeader::start`]).
+/// header records how the run started, [`CheckpointHeader::start`], and the state each
+/// particle's component).
 pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x08";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;

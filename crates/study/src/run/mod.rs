@@ -2,6 +2,7 @@
 
 mod bed;
 mod checkpoint;
+mod composition;
 mod outputs;
 mod protocol;
 mod remaining;
@@ -667,7 +668,7 @@ impl ProtocolTime {
 
 /// Mass of all particles of a case, estimated from the mean sphere volume [kg].
 fn total_mass(case: &Case) -> f64 {
-    case.particles.total_volume() * case.particles.material.density
+    case.particles.total_mass()
 }
 
 /// The content of [`START_FILE`]: the start's identity (what a resume compares), where it

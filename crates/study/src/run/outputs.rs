@@ -10,6 +10,7 @@ use analysis::selfsimilar::{
 };
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
+use super::composition::{composition_columns, composition_rows};
 use super::protocol::{CaseRun, Phase};
 use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
@@ -35,6 +36,7 @@ pub(crate) const RESULT_FILES: &[&str] = &[
     "remaining.csv",
     "wall_pressure.csv",
     "crossings.csv",
+    "composition.csv",
     "profiles.csv",
     "field.csv",
     "flow_rate.png",
@@ -113,7 +115,7 @@ impl Pictures {
             Geometry::Cylinder(g) => (
                 silo_outline(g),
                 g.radius,
-                Some(case.particles.size.mean_diameter()),
+                Some(case.particles.mean_diameter()),
             ),
         };
         let walls = segments
@@ -240,17 +242,30 @@ pub(crate) const CROSSING_COLUMNS: [&str; 8] = [
 
 /// Writes `crossings.csv`: every downward crossing of the outlet line by a particle centre,
 /// in time order (time from the start of the run, interpolated x and velocity, v_z < 0
-/// downward; physics spec §7.2), with the particle's radius, mass, material (its density:
-/// a case has one particle material, `particles.material`) and identifier. The record is
-/// part of the checkpointed run state, so a resumed run writes the same file.
+/// downward; physics spec §7.2), with the particle's radius, mass, material (its density)
+/// and identifier. The record is part of the checkpointed run state, so a resumed run
+/// writes the same file.
 ///
-/// A circular orifice adds the crossing's y as a last column, `y_m`.
-fn write_crossings(path: &Path, record: &CrossingRecord, density: f64) -> Result<(), RunError> {
+/// A circular orifice adds the crossing's y as a column, `y_m`; a mixture adds the name of
+/// the particle's component as the last column, `component`.
+fn write_crossings(path: &Path, record: &CrossingRecord, run: &CaseRun) -> Result<(), RunError> {
     let circular = matches!(record.geometry.shape, OutletShape::Circle { .. });
+    let particles = &run.case.particles;
+    let mixture = particles.is_mixture();
+    let component = |id: u64| {
+        run.state
+            .components
+            .get(id as usize)
+            .and_then(|&c| particles.components.get(c as usize))
+    };
     let rows: Vec<Vec<Cell>> = record
         .events
         .iter()
         .map(|e| {
+            let density = match component(e.id) {
+                Some(c) if mixture => c.material.density,
+                _ => particles.density(),
+            };
             let mut row = vec![
                 e.time.into(),
                 e.x.into(),
@@ -264,12 +279,20 @@ fn write_crossings(path: &Path, record: &CrossingRecord, density: f64) -> Result
             if circular {
                 row.push(e.y.into());
             }
+            if mixture {
+                row.push(Cell::Text(
+                    component(e.id).map_or("", |c| &c.name).to_string(),
+                ));
+            }
             row
         })
         .collect();
     let mut columns = CROSSING_COLUMNS.to_vec();
     if circular {
         columns.push("y_m");
+    }
+    if mixture {
+        columns.push("component");
     }
     write_csv_table(path, &columns, &rows)?;
     Ok(())
@@ -341,14 +364,35 @@ pub fn finish(
     let outlet_window = window
         .as_ref()
         .and_then(|w| TimeWindow::new(opened + w.start_time, opened + w.end_time).ok());
-    let density = case.particles.material.density;
-    let d = case.particles.size.mean_diameter();
+    let density = case.particles.density();
+    let d = case.particles.mean_diameter();
     let outlet = outlet_window.and_then(|w| {
         let strip = state.strip.as_ref()?;
         OutletSummary::new(record, strip.record(), w, density).ok()
     });
 
-    write_crossings(&out_dir.join("crossings.csv"), record, density)?;
+    write_crossings(&out_dir.join("crossings.csv"), record, run)?;
+
+    // composition.csv: a mixture's outflow by component, on the bins of flow.csv.
+    if case.particles.is_mixture() {
+        let names: Vec<String> = case
+            .particles
+            .components
+            .iter()
+            .map(|c| c.name.clone())
+            .collect();
+        let columns = composition_columns(&names);
+        let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
+        let rows = composition_rows(
+            &record.events,
+            opened,
+            end,
+            case.measure.rate_bin_width,
+            &state.components,
+            &names,
+        );
+        write_csv_table(out_dir.join("composition.csv"), &columns, &rows)?;
+    }
 
     // wall_pressure.csv: a silo's wall pressure against height, settled and discharging.
     if let Some(p) = &state.pressure {

@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 use crate::config::{Case, Geometry};
 use crate::hopper::silo_fill::insert_silo_batch;
 use crate::hopper::{
-    adopt_walls, case_simulation, fill::insert_batch, sample_radius, ContainerWalls, Packing,
+    adopt_walls, case_simulation_by_component, fill::insert_batch, ContainerWalls, Draw, Packing,
+    ParticleDraws,
 };
 use crate::measure::{
     silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView,
@@ -81,8 +82,15 @@ pub enum Phase {
 pub struct RunState {
     pub(crate) sim: SimulationState,
     pub(crate) walls: ContainerWalls,
-    pub(crate) material: MaterialId,
+    /// The engine material of each component of `particles.components`.
+    pub(crate) materials: Vec<MaterialId>,
     pub(crate) rng: Xoshiro256PlusPlus,
+    /// The component of each particle, by tag, for a mixture (empty for one component): what
+    /// `composition.csv` sorts the outlet crossings by.
+    pub(crate) components: Vec<u8>,
+    /// The drawn particle that the last batch could not place; the next batch places it
+    /// first (see `ParticleDraws`).
+    pub(crate) pending: Option<Draw>,
     pub(crate) phase: Phase,
     pub(crate) crossing: CrossingProbe,
     /// φ(x) on the outlet strip of a slab (`None` for a silo).
@@ -139,14 +147,14 @@ fn pressure_recorder(
     Ok(Some(WallPressureRecorder::new(
         sim,
         &recorded,
-        PRESSURE_ZONE_DIAMETERS * case.particles.size.mean_diameter(),
+        PRESSURE_ZONE_DIAMETERS * case.particles.mean_diameter(),
         PRESSURE_WINDOW_BINS * case.measure.rate_bin_width,
     )?))
 }
 
 /// The outlet geometry of a case for the probes.
 pub fn outlet_geometry(case: &Case) -> OutletGeometry {
-    let particle_diameter = case.particles.size.mean_diameter();
+    let particle_diameter = case.particles.mean_diameter();
     match &case.geometry {
         Geometry::Slab(g) => OutletGeometry {
             outlet_height: 0.0,
@@ -168,7 +176,7 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
 impl CaseRun {
     /// A fresh run: walls built, gate closed, no particles yet.
     pub fn new(case: &Case, threads: usize) -> Result<Self, RunError> {
-        let (mut sim, walls, material) = case_simulation(case, threads)?;
+        let (mut sim, walls, materials) = case_simulation_by_component(case, threads)?;
         let outlet = outlet_geometry(case);
         let (strip, field) = match &case.geometry {
             Geometry::Slab(g) => {
@@ -212,8 +220,10 @@ impl CaseRun {
         let state = RunState {
             sim: sim.state().clone(),
             walls,
-            material,
+            materials,
             rng: Xoshiro256PlusPlus::seed_from_u64(case.seed),
+            components: Vec::new(),
+            pending: None,
             phase: Phase::Fill {
                 inserted: 0,
                 last_insert: 0.0,
@@ -287,7 +297,9 @@ impl CaseRun {
         // belongs to the run that saved the bed.
         run.state.pressure = pressure_recorder(case, &run.state.walls, &mut run.sim)?;
         let state = &mut run.state;
-        state.material = bed.material;
+        state.materials = bed.materials;
+        state.components = bed.components;
+        state.pending = bed.pending;
         state.rng = bed.rng;
         state.settled = bed.settled;
         state.settled_kinetic_energy = bed.settled_kinetic_energy;
@@ -313,7 +325,7 @@ impl CaseRun {
             run.sim.add_particle(ParticleInit::at_rest(
                 p.position,
                 p.radius,
-                run.state.material,
+                run.state.materials[0],
             ))?;
         }
         let t = run.sim.time();
@@ -357,6 +369,12 @@ impl CaseRun {
     /// ([`Simulation::time_phases`]); the run is bit-identical either way.
     pub fn time_phases(&mut self, on: bool) {
         self.sim.time_phases(on);
+    }
+
+    /// The component of each particle inserted so far, by tag (an index into
+    /// `particles.components`); empty for a case of one component.
+    pub fn particle_components(&self) -> &[u8] {
+        &self.state.components
     }
 
     /// The current phase.
@@ -405,17 +423,18 @@ impl CaseRun {
             let top = self.case.protocol.fill_top.min(self.case.geometry.height());
             let band = ((top - INSERT_BAND).max(self.case.protocol.fill_bottom), top);
             let want = total - inserted;
-            let size = self.case.particles.size.clone();
+            let draws = ParticleDraws::new(&self.case.particles, &self.state.materials);
             let v0 = DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed);
             let attempts = 20 * want + 1000;
-            let n = match &self.case.geometry {
+            let state = &mut self.state;
+            let placed = match &self.case.geometry {
                 Geometry::Slab(g) => insert_batch(
                     &mut self.sim,
                     g,
-                    &mut self.state.rng,
+                    &mut state.rng,
                     want,
-                    |rng| sample_radius(&size, rng),
-                    self.state.material,
+                    &draws,
+                    &mut state.pending,
                     band,
                     v0,
                     attempts,
@@ -423,16 +442,25 @@ impl CaseRun {
                 Geometry::Cylinder(g) => insert_silo_batch(
                     &mut self.sim,
                     g,
-                    &mut self.state.rng,
+                    &mut state.rng,
                     want,
-                    |rng| sample_radius(&size, rng),
-                    0.5 * size.max_diameter(),
-                    self.state.material,
+                    &draws,
+                    &mut state.pending,
                     band,
                     v0,
                     attempts,
                 )?,
             };
+            if draws.is_mixture() {
+                for &(tag, component) in &placed {
+                    let k = tag as usize;
+                    if state.components.len() <= k {
+                        state.components.resize(k + 1, u8::MAX);
+                    }
+                    state.components[k] = component;
+                }
+            }
+            let n = placed.len();
             if n > 0 {
                 inserted += n;
                 last = t;
@@ -522,7 +550,7 @@ impl CaseRun {
                     &centres,
                     p.radii(),
                     silo.radius,
-                    self.case.particles.size.mean_diameter(),
+                    self.case.particles.mean_diameter(),
                     |h| silo.volume_below(h),
                 )?);
             }
@@ -538,13 +566,15 @@ impl CaseRun {
             outlet.particle_diameter,
         )?;
         let frame = Frame::of(&self.sim.watched(), |_| true);
-        Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.material.density))?)
+        Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.density()))?)
     }
 
     fn discharge(&mut self, opened: f64, last_crossing: f64, chunk: u64) -> Result<(), RunError> {
         let every = self.case.measure.crossing_check_interval.max(1) as u64;
         let d = outlet_geometry(&self.case).particle_diameter;
-        let density = self.case.particles.material.density;
+        let density = self.case.particles.density();
+        // A mixture's probes see each particle's own mass (its material's density).
+        let masses = self.case.particles.is_mixture();
         let band = CROSSING_BAND_DIAMETERS * d;
         let mut last_crossing = last_crossing;
         let (case, state, sim) = (&self.case, &mut self.state, &mut self.sim);
@@ -557,7 +587,7 @@ impl CaseRun {
             taken = (taken + every).min(chunk);
             state.wall_forces.observe(seen, first + taken);
             let t = seen.time();
-            let frame = Frame::of(seen, |x| x.z.abs() < band);
+            let frame = Frame::of_with_masses(seen, |x| x.z.abs() < band, masses);
             if state.crossing.observe(&frame.view(t, density))? > 0 {
                 last_crossing = t;
             }
@@ -565,18 +595,17 @@ impl CaseRun {
             if t >= state.next_frame {
                 state.next_frame += case.measure.frame_interval;
                 if let Some(probe) = &mut state.strip {
-                    let strip = Frame::of(seen, |x| x.z.abs() < d);
+                    let strip = Frame::of_with_masses(seen, |x| x.z.abs() < d, masses);
                     probe.observe(&strip.view(t, density))?;
                 }
                 if let Some(probe) = &mut state.field {
-                    let all = Frame::of(seen, |_| true);
+                    let all = Frame::of_with_masses(seen, |_| true, masses);
                     probe.observe(&all.view(t, density))?;
                 }
                 if let Some(probe) = &mut state.radial {
                     // Spheres reaching into the slab |z| ≤ h/2 have |z| < h/2 + r_max.
-                    let reach =
-                        0.5 * case.measure.strip_height + case.particles.size.max_diameter();
-                    let slab = Frame::of(seen, |x| x.z.abs() < reach);
+                    let reach = 0.5 * case.measure.strip_height + case.particles.max_diameter();
+                    let slab = Frame::of_with_masses(seen, |x| x.z.abs() < reach, masses);
                     probe.observe(&slab.view(t, density))?;
                 }
             }
@@ -679,20 +708,32 @@ pub struct Frame {
     positions: Vec<[f64; 3]>,
     velocities: Vec<[f64; 3]>,
     radii: Vec<f64>,
+    /// Each particle's mass [kg], when the probes need it (a mixture of materials).
+    masses: Option<Vec<f64>>,
 }
 
 impl Frame {
     /// The particles whose position satisfies `keep`.
     pub fn of(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool) -> Self {
+        Self::of_with_masses(p, keep, false)
+    }
+
+    /// The particles whose position satisfies `keep`, with each one's mass from the engine
+    /// when `masses` (particles of several materials, whose masses no one density gives).
+    pub fn of_with_masses(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool, masses: bool) -> Self {
         let mut f = Frame {
             ids: Vec::new(),
             positions: Vec::new(),
             velocities: Vec::new(),
             radii: Vec::new(),
+            masses: masses.then(Vec::new),
         };
         for k in 0..p.len() {
             let x = p.positions()[k];
             if keep(x) {
+                if let Some(masses) = &mut f.masses {
+                    masses.push(p.masses()[k]);
+                }
                 f.ids.push(p.tags()[k]);
                 f.positions.push(x.to_array());
                 f.velocities.push(p.velocity(k).to_array());
@@ -702,7 +743,8 @@ impl Frame {
         f
     }
 
-    /// A probe view at time `time` [s] for particle density `density` [kg/m³].
+    /// A probe view at time `time` [s] for particle density `density` [kg/m³] (used where
+    /// the frame holds no masses of its own).
     pub fn view(&self, time: f64, density: f64) -> FrameView<'_> {
         FrameView {
             time,
@@ -711,6 +753,7 @@ impl Frame {
             velocities: &self.velocities,
             radii: &self.radii,
             density,
+            masses: self.masses.as_deref(),
         }
     }
 }

@@ -41,7 +41,7 @@ pub trait CaseRunner: Sync {
 /// W ∝ (D − 1.5 d)^{3/2} of a slot, or (D − 1.5 d)^{5/2} of a circular orifice. In the paper's study the 11 cases with D = 18 mm take
 /// 2–5 min each and those with D = 60 mm under one; they now start first.
 pub fn expected_cost(case: &crate::config::Case) -> f64 {
-    let d = case.particles.size.mean_diameter();
+    let d = case.particles.mean_diameter();
     // Outlets of 1.5 d or less clog at once; keep the estimate finite and large.
     let opening = (case.geometry.outlet_size() - 1.5 * d).max(0.1 * d);
     let n = case.particles.count as f64;

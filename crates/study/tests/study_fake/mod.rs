@@ -135,8 +135,8 @@ impl CaseRunner for FakeRunner {
 
 fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
     let g = case.case.geometry.slab().expect("a slab case");
-    let d = case.case.particles.size.mean_diameter();
-    let rho = case.case.particles.material.density;
+    let d = case.case.particles.mean_diameter();
+    let rho = case.case.particles.density();
     let radius = 0.5 * g.outlet_width;
     let s_star = g.dimensionless_gap();
     let eccentric = (s_star - 1.0).abs() > 1e-9;
