@@ -5,7 +5,9 @@ use std::sync::Arc;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use study::config::{default_case, load_case, parse_case, template, Case, CASE_TEMPLATE};
+use study::config::{
+    default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE,
+};
 use study::hopper::read_packing;
 use study::output::write_atomic;
 use study::run::{
@@ -77,8 +79,10 @@ pub struct CheckArgs {
 pub struct InitArgs {
     /// Where to write the commented case file (default: print it).
     file: Option<PathBuf>,
-    /// The geometry kind of the template: slab (the paper's hopper) or cylinder (a silo).
-    #[arg(long, default_value = "slab", value_parser = ["slab", "cylinder"])]
+    /// The geometry kind of the template: slab (the paper's hopper), cylinder (a silo), box
+    /// (a rectangular silo) or mesh (STL walls; with FILE, the example STL files it names are
+    /// written beside it).
+    #[arg(long, default_value = "slab", value_parser = ["slab", "cylinder", "box", "mesh"])]
     kind: String,
 }
 
@@ -112,20 +116,24 @@ pub fn init(args: InitArgs) -> i32 {
             0
         }
         Some(path) => {
-            if path.exists() {
-                eprintln!("error: {} exists; not overwriting it", path.display());
+            // The template and the files it names, beside it; nothing is overwritten.
+            let dir = path.parent().unwrap_or(std::path::Path::new(""));
+            let mut files = vec![(path.clone(), text.to_string())];
+            for (name, contents) in template_files(&args.kind) {
+                files.push((dir.join(name), contents));
+            }
+            if let Some((existing, _)) = files.iter().find(|(p, _)| p.exists()) {
+                eprintln!("error: {} exists; not overwriting it", existing.display());
                 return EXIT_BAD_INPUT;
             }
-            match write_atomic(&path, text.as_bytes()) {
-                Ok(()) => {
-                    eprintln!("wrote {}", path.display());
-                    0
-                }
-                Err(e) => {
+            for (file, contents) in &files {
+                if let Err(e) = write_atomic(file, contents.as_bytes()) {
                     eprintln!("error: {e}");
-                    1
+                    return 1;
                 }
+                eprintln!("wrote {}", file.display());
             }
+            0
         }
     }
 }

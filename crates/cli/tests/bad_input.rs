@@ -370,8 +370,36 @@ fn init_writes_a_template_per_geometry_kind() {
     assert_refused(
         &hopperflow(&["init", "--kind", "hexagon"]),
         "an unknown kind",
-        &["hexagon", "slab", "cylinder"],
+        &["hexagon", "slab", "cylinder", "box", "mesh"],
     );
+    // The box template prints and checks as it is; the mesh template names STL files, which
+    // `init FILE --kind mesh` writes beside FILE, and never over existing files.
+    let init = hopperflow(&["init", "--kind", "box"]);
+    let path = dir.path().join("box.toml");
+    std::fs::write(&path, &init.stdout).expect("write printed template");
+    let check = hopperflow(&["check", path.to_str().expect("UTF-8 test path")]);
+    assert_eq!(check.status.code(), Some(0), "{}", stderr_of(&check));
+    assert!(String::from_utf8_lossy(&check.stdout).contains("kind = \"box\""));
+    let mesh_dir = dir.path().join("mesh");
+    std::fs::create_dir(&mesh_dir).unwrap();
+    let case = mesh_dir.join("case.toml");
+    let case_arg = case.to_str().expect("UTF-8 test path");
+    let init = hopperflow(&["init", case_arg, "--kind", "mesh"]);
+    assert_eq!(init.status.code(), Some(0), "{}", stderr_of(&init));
+    for file in ["silo_wall.stl", "silo_cone.stl"] {
+        assert!(mesh_dir.join(file).is_file(), "init did not write {file}");
+    }
+    let check = hopperflow(&["check", case_arg]);
+    assert_eq!(check.status.code(), Some(0), "{}", stderr_of(&check));
+    let resolved = String::from_utf8(check.stdout).expect("UTF-8");
+    assert!(resolved.contains("kind = \"mesh\"") && resolved.contains("silo_cone.stl"));
+    std::fs::remove_file(&case).unwrap();
+    assert_refused(
+        &hopperflow(&["init", case_arg, "--kind", "mesh"]),
+        "init over an existing STL file",
+        &["silo_wall.stl exists; not overwriting it"],
+    );
+    assert!(!case.exists(), "a refused init wrote the case file");
 }
 
 #[test]

@@ -232,6 +232,10 @@ impl Case {
         let size = match g {
             study::config::Geometry::Slab(s) => format!("L={} m", s.width),
             study::config::Geometry::Cylinder(s) => format!("kind=cylinder, R={} m", s.radius),
+            study::config::Geometry::Box(s) => {
+                format!("kind=box, W={} m, B={} m", s.width, s.depth)
+            }
+            study::config::Geometry::Mesh(s) => format!("kind=mesh, {} STL walls", s.walls.len()),
         };
         format!(
             "Case(N={}, d={} m, {size}, D={} m, alpha={}°, seed={})",

@@ -43,6 +43,14 @@ const KEYS: &[&str] = &[
     "measure.crossing_check_interval",
     "measure.steady_end_fraction",
     "output.plots",
+    "geometry.kind",
+    "geometry.depth",
+    "geometry.outlet",
+    "geometry.outlet.shape",
+    "geometry.outlet.radius",
+    "geometry.fill_min",
+    "geometry.fill_max",
+    "geometry.walls",
     "bogus.key",
 ];
 
@@ -79,6 +87,14 @@ const VALUES: &[&str] = &[
     "1979-05-27",
     "\"\"",
     "[[1], [2]]",
+    "\"box\"",
+    "\"mesh\"",
+    "\"cylinder\"",
+    "\"square\"",
+    "\"disc\"",
+    "[0.0, 0.0, 0.1]",
+    "[{ file = \"no-such.stl\" }]",
+    "{ shape = \"rectangle\", size = [0.02, 0.02] }",
 ];
 
 fn toml_like() -> impl Strategy<Value = String> {

@@ -283,17 +283,21 @@ impl Case {
     }
 
     /// Estimated height of the settled fill above the outlet plane [m], or `None` when
-    /// the particles cannot fit below H at the densest assumed packing.
+    /// the particles cannot fit below H at the densest assumed packing, and for STL walls,
+    /// whose inside volume is not known.
     pub fn fill_height(&self) -> Option<f64> {
         match &self.geometry {
             Geometry::Slab(g) => g.height_holding(self.packed_area()),
             Geometry::Cylinder(g) => g.height_holding(self.packed_volume()),
+            Geometry::Box(g) => g.height_holding(self.packed_volume()),
+            Geometry::Mesh(_) => None,
         }
     }
 
     /// Whether N particles fit in the container below H (see [`Case::packed_area`] and
-    /// [`Case::packed_volume`]).
+    /// [`Case::packed_volume`]). Always true for STL walls: an open mesh has no inside
+    /// volume to compare with, and a fill that cannot be placed stops the run instead.
     pub fn particles_fit(&self) -> bool {
-        self.fill_height().is_some()
+        matches!(self.geometry, Geometry::Mesh(_)) || self.fill_height().is_some()
     }
 }

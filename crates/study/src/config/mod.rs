@@ -7,16 +7,20 @@
 //! its file, key, line and value. Keys are plain SI names (`outlet_width` in metres); the
 //! only non-SI unit is the degree, used for angles and marked by a `_deg` suffix.
 
+mod box_silo;
 mod builtin;
 mod case;
 mod document;
 mod error;
 mod geometry;
+mod mesh_container;
 mod overrides;
 mod particles;
 mod reader;
 mod resolve;
+mod resolve_box;
 mod resolve_materials;
+mod resolve_mesh;
 mod resolve_particles;
 mod resolve_run;
 mod resolve_silo;
@@ -29,6 +33,7 @@ mod write;
 use std::path::Path;
 use std::sync::Arc;
 
+pub use box_silo::{BoxFace, BoxOutlet, BoxSilo, HalfSpace};
 pub use builtin::{
     builtin_sweep, BUILTIN_SWEEP_NAMES, FAN2023_QUICK_SWEEP, FAN2023_SENSITIVITY_SWEEP,
     FAN2023_SWEEP,
@@ -40,13 +45,16 @@ pub use case::{
 };
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::HopperGeometry;
+pub use mesh_container::{box_meets_triangle, MeshContainer, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 pub use particles::{
     mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, Material,
     ParticleSpec, SizeDistribution,
 };
 pub use silo::{CylinderSilo, Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
 pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
-pub use template::{template, CASE_TEMPLATE, CYLINDER_TEMPLATE};
+pub use template::{
+    template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, MESH_TEMPLATE,
+};
 
 use document::parse_document;
 use error::ErrorKind as Kind;
@@ -55,17 +63,32 @@ use error::ErrorKind as Kind;
 ///
 /// `sets` are `key=value` overrides (dotted key, TOML value) applied before validation.
 /// Errors name the file (or `--set`), the key, its line, the value and what is allowed.
+///
+/// Relative paths in the case (the STL files of `geometry.kind = "mesh"`) are taken from the
+/// case file's folder, and the resolved case holds them absolute.
 pub fn load_case(path: &Path, sets: &[String]) -> Result<Case, ConfigErrors> {
     let name = path.display().to_string();
     let text = read_text(path, &name)?;
-    parse_case(&text, &name, sets)
+    parse_case_in(&text, &name, path.parent(), sets)
 }
 
 /// Validates case text; `source_name` is the name errors give for it (e.g. the file name).
+/// Relative paths in it are taken from the current folder.
 ///
 /// A text without any key is refused: an empty file is almost always a mistake, and
 /// `version = 1` alone asks for the paper's base case explicitly.
 pub fn parse_case(src: &str, source_name: &str, sets: &[String]) -> Result<Case, ConfigErrors> {
+    parse_case_in(src, source_name, None, sets)
+}
+
+/// [`parse_case`] for text whose relative paths are taken from `dir` (`None`: the current
+/// folder), as for a case file in `dir`.
+pub fn parse_case_in(
+    src: &str,
+    source_name: &str,
+    dir: Option<&Path>,
+    sets: &[String],
+) -> Result<Case, ConfigErrors> {
     let source: Arc<str> = Arc::from(source_name);
     let src = src.strip_prefix('\u{feff}').unwrap_or(src);
     let mut document = parse_document(src, &source)?;
@@ -80,7 +103,7 @@ pub fn parse_case(src: &str, source_name: &str, sets: &[String]) -> Result<Case,
         )));
     }
     let set_errors = overrides::apply_sets(&mut document, sets).err();
-    merge_errors(resolve::resolve_case(&document, &source), set_errors)
+    merge_errors(resolve::resolve_case(&document, &source, dir), set_errors)
 }
 
 /// The paper's base case with `--set` overrides applied and validated (a run without a
@@ -89,7 +112,7 @@ pub fn default_case(sets: &[String]) -> Result<Case, ConfigErrors> {
     let source: Arc<str> = Arc::from("default");
     let mut document = document::Table::default();
     let set_errors = overrides::apply_sets(&mut document, sets).err();
-    merge_errors(resolve::resolve_case(&document, &source), set_errors)
+    merge_errors(resolve::resolve_case(&document, &source, None), set_errors)
 }
 
 /// Adds the errors of malformed `--set` overrides to a validation result, so that one

@@ -111,6 +111,46 @@ impl Located<String> {
     }
 }
 
+/// A vector of numbers (a point, an axis) shows as `[x, y, z]` with its unit.
+impl Located<Vec<f64>> {
+    /// The vector with its unit, marked `(default)` when the user did not write it.
+    pub fn shown(&self) -> String {
+        let items: Vec<String> = self.value.iter().map(|x| number(*x)).collect();
+        let mut text = format!("[{}]", items.join(", "));
+        if !self.unit.is_empty() {
+            text.push(' ');
+            text.push_str(self.unit);
+        }
+        if !self.given {
+            text.push_str(" (default)");
+        }
+        text
+    }
+
+    /// An error about this vector.
+    pub fn error(&self, kind: ErrorKind, message: impl Into<String>) -> ConfigError {
+        ConfigError::new(
+            kind,
+            self.location.clone(),
+            self.key.clone(),
+            Some(self.shown()),
+            message,
+        )
+    }
+
+    /// Records an error unless every component is finite.
+    pub fn require_finite(&self, errors: &mut Vec<ConfigError>) -> bool {
+        if self.value.iter().all(|x| x.is_finite()) {
+            return true;
+        }
+        errors.push(self.error(
+            ErrorKind::Invalid,
+            "every component must be a finite number",
+        ));
+        false
+    }
+}
+
 /// One table of a document being read; see the module documentation.
 pub(crate) struct Section<'a> {
     path: String,
@@ -364,6 +404,49 @@ impl<'a> Section<'a> {
             });
         }
         Some(values)
+    }
+
+    /// An array of exactly `len` numbers (a point, an axis); `None` if absent or mistyped,
+    /// with an error for a wrong type or length.
+    pub fn float_vector(
+        &mut self,
+        key: &str,
+        unit: &'static str,
+        len: usize,
+        errors: &mut Vec<ConfigError>,
+    ) -> Option<Located<Vec<f64>>> {
+        let location = self.table?.get(key)?.key_location.clone();
+        let shown = self.table?.get(key)?.node.value.to_string();
+        let items = self.float_array(key, unit, errors)?;
+        if items.len() != len {
+            errors.push(ConfigError::new(
+                ErrorKind::WrongType,
+                location,
+                self.key(key),
+                Some(shown),
+                format!("expected an array of {len} numbers, found {}", items.len()),
+            ));
+            return None;
+        }
+        Some(Located {
+            value: items.iter().map(|x| x.value).collect(),
+            key: self.key(key),
+            location,
+            given: true,
+            unit,
+        })
+    }
+
+    /// [`Section::float_vector`] with a default used when the key is absent or mistyped.
+    pub fn float_vector_or(
+        &mut self,
+        key: &str,
+        unit: &'static str,
+        default: &[f64],
+        errors: &mut Vec<ConfigError>,
+    ) -> Located<Vec<f64>> {
+        self.float_vector(key, unit, default.len(), errors)
+            .unwrap_or_else(|| self.default_value(key, default.to_vec(), unit))
     }
 
     /// An array of strings (words), each with its own place; `None` if absent or mistyped.

@@ -4,6 +4,7 @@
 //! several defaults (deletion depth 5 d, bin width d/2, strip height d) and checks
 //! (D ≥ 3 d, Z ≥ d) are stated in particle diameters.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use super::case::{
@@ -13,6 +14,7 @@ use super::case::{
 use super::document::{NodeValue, Table};
 use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
 use super::geometry::HopperGeometry;
+use super::mesh_container::MeshOutlet;
 use super::particles::Material;
 use super::reader::Section;
 use super::resolve_materials::{read_materials, NamedMaterials};
@@ -59,8 +61,13 @@ const TOP_KEYS: &[&str] = &[
     "output",
 ];
 
-/// Validates a whole case document.
-pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, ConfigErrors> {
+/// Validates a whole case document; `dir` is the case file's folder (`None`: the current
+/// folder), from which relative paths in it are taken.
+pub(crate) fn resolve_case(
+    document: &Table,
+    source: &Arc<str>,
+    dir: Option<&Path>,
+) -> Result<Case, ConfigErrors> {
     let mut errors = Vec::new();
     let mut root = Section::root(document, source);
     let base = Case::paper_base();
@@ -92,6 +99,7 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         particles
             .as_ref()
             .map(|(p, s)| (p.max_diameter(), s.largest_diameter.as_str())),
+        dir,
         &mut errors,
     );
     let particle_materials = particles.as_ref().map(|(p, _)| {
@@ -176,6 +184,7 @@ pub(crate) fn resolve_case(document: &Table, source: &Arc<str>) -> Result<Case, 
         _ => None,
     };
     if let Some(case) = &case {
+        check_fill_band(case, document, source, &mut errors);
         check_particles_fit(
             case,
             document,
@@ -217,21 +226,28 @@ fn read_interaction(
 }
 
 /// The geometry kinds `geometry.kind` accepts.
-const GEOMETRY_KINDS: &[&str] = &["slab", "cylinder"];
+const GEOMETRY_KINDS: &[&str] = &["slab", "cylinder", "box", "mesh"];
 
-/// The key of a geometry's outlet size D.
+/// The key of a geometry's outlet size D, as messages name it.
 pub(crate) fn outlet_key(geometry: &Geometry) -> &'static str {
     match geometry {
         Geometry::Slab(_) => "geometry.outlet_width",
         Geometry::Cylinder(_) => "geometry.outlet_diameter",
+        Geometry::Box(_) => "geometry.outlet_width",
+        Geometry::Mesh(g) => match g.outlet {
+            MeshOutlet::Disc { .. } => "the disc's diameter, 2 × geometry.outlet.radius",
+            MeshOutlet::Rectangle { .. } => "the rectangle's side along x, geometry.outlet.size[0]",
+        },
     }
 }
 
 /// Reads `[geometry]` of any kind (`kind`, default `"slab"`); `d_max` is the largest
-/// particle diameter [m] with the key that set it, when the particles are valid.
+/// particle diameter [m] with the key that set it, when the particles are valid; `dir` is the
+/// case file's folder, from which a mesh's relative STL paths are taken.
 fn read_container(
     section: &mut Section<'_>,
     d_max: Option<(f64, &str)>,
+    dir: Option<&Path>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<Geometry> {
     let kind = section.string("kind", errors);
@@ -239,6 +255,10 @@ fn read_container(
         None | Some("slab") => read_geometry(section, d_max, errors).map(Geometry::Slab),
         Some("cylinder") => {
             super::resolve_silo::read_cylinder(section, d_max, errors).map(Geometry::Cylinder)
+        }
+        Some("box") => super::resolve_box::read_box(section, d_max, errors).map(Geometry::Box),
+        Some("mesh") => {
+            super::resolve_mesh::read_mesh(section, d_max, dir, errors).map(Geometry::Mesh)
         }
         Some(other) => {
             let kind = kind.as_ref().expect("a kind was given");
@@ -429,6 +449,35 @@ fn read_geometry(
     Some(geometry)
 }
 
+/// Particles of a mesh container are inserted in the band below `protocol.fill_top` inside
+/// the fill box: the band must reach into the box.
+fn check_fill_band(
+    case: &Case,
+    document: &Table,
+    source: &Arc<str>,
+    errors: &mut Vec<ConfigError>,
+) {
+    let Geometry::Mesh(g) = &case.geometry else {
+        return;
+    };
+    if case.protocol.fill_top > g.fill_min[2] {
+        return;
+    }
+    let mut root = Section::root(document, source);
+    let mut protocol = root.section("protocol", &mut Vec::new());
+    let top = protocol
+        .float("fill_top", "m", &mut Vec::new())
+        .unwrap_or_else(|| protocol.default_value("fill_top", case.protocol.fill_top, "m"));
+    errors.push(top.error(
+        ErrorKind::Invalid,
+        format!(
+            "must be > the fill box's bottom, geometry.fill_min[2] = {} m: particles are \
+             inserted below fill_top inside the fill box",
+            number(g.fill_min[2])
+        ),
+    ));
+}
+
 /// N particles at the densest assumed packing must fit below H (see `Case::packed_area`);
 /// `diameter_source` names the key of the largest diameter with its value.
 fn check_particles_fit(
@@ -457,6 +506,31 @@ fn check_particles_fit(
     };
     let g = match &case.geometry {
         Geometry::Slab(g) => g,
+        // `Case::particles_fit` holds for STL walls.
+        Geometry::Mesh(_) => return,
+        Geometry::Box(silo) => {
+            let silo_keys = [
+                key("width", "m", silo.width),
+                key("depth", "m", silo.depth),
+                key("height", "m", silo.height),
+                key("outlet_width", "m", silo.outlet_width),
+                key("hopper_angle_deg", "°", silo.hopper_angle_deg),
+            ]
+            .join(", ");
+            errors.push(count.error(
+                ErrorKind::DoesNotFit,
+                format!(
+                    "the particles cannot fit: their volume needs {} m³ of the silo at volume \
+                     fraction {}, but the silo below H holds {} m³; lower the count or enlarge \
+                     the silo (the need comes from the count and the sizes, the largest \
+                     diameter being {diameter_source}; the volume from {silo_keys})",
+                    rounded(case.packed_volume()),
+                    super::case::BULK_VOLUME_FRACTION,
+                    rounded(silo.volume()),
+                ),
+            ));
+            return;
+        }
         Geometry::Cylinder(silo) => {
             let silo_keys = [
                 key("radius", "m", silo.radius),

@@ -1,15 +1,18 @@
-//! The container of a case: the paper's slab hopper, or a cylindrical silo with a flat or
-//! conical bottom and a circular orifice (docs/physics.md §5.6).
+//! The container of a case: the paper's slab hopper, a cylindrical silo with a flat or
+//! conical bottom and a circular orifice (docs/physics.md §5.6), a rectangular silo
+//! ([`BoxSilo`], §5.7) or the user's own STL walls ([`MeshContainer`], §5.8).
 //!
 //! Conventions shared by every kind: z is vertical, measured up from the orifice plane
-//! z = 0; the silo's axis is the z axis (x = y = 0) for the cylinder; the slab keeps its own
-//! x–z conventions (see [`HopperGeometry`]).
+//! z = 0; the silo's axis is the z axis (x = y = 0) for the cylinder and the box; the slab
+//! keeps its own x–z conventions (see [`HopperGeometry`]).
 
 use std::f64::consts::PI;
 
 use serde::{Deserialize, Serialize};
 
+use super::box_silo::BoxSilo;
 use super::geometry::HopperGeometry;
+use super::mesh_container::MeshContainer;
 
 /// Default number of segments around the axis of a meshed cylinder or cone, and of the
 /// orifice's polygon: 96 segments put the chord's midpoint 0.05 % of the radius inside the
@@ -170,6 +173,10 @@ pub enum Geometry {
     Slab(HopperGeometry),
     /// A cylindrical silo with a flat or conical bottom and a circular orifice.
     Cylinder(CylinderSilo),
+    /// A rectangular silo with a wedge, a pyramid or a flat bottom.
+    Box(BoxSilo),
+    /// The user's STL walls, an orifice at z = 0 and a fill box.
+    Mesh(MeshContainer),
 }
 
 impl Geometry {
@@ -189,35 +196,62 @@ impl Geometry {
         }
     }
 
+    /// The rectangular silo, when this is one.
+    pub fn box_silo(&self) -> Option<&BoxSilo> {
+        match self {
+            Self::Box(g) => Some(g),
+            _ => None,
+        }
+    }
+
+    /// The container of STL walls, when this is one.
+    pub fn mesh(&self) -> Option<&MeshContainer> {
+        match self {
+            Self::Mesh(g) => Some(g),
+            _ => None,
+        }
+    }
+
     /// The kind's name in the case file's `geometry.kind`.
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Slab(_) => "slab",
             Self::Cylinder(_) => "cylinder",
+            Self::Box(_) => "box",
+            Self::Mesh(_) => "mesh",
         }
     }
 
-    /// Height H of the container's walls above the orifice plane [m].
+    /// Height H of the container's walls above the orifice plane [m]; for STL walls, the top
+    /// of the fill box (the highest place a particle starts from).
     pub fn height(&self) -> f64 {
         match self {
             Self::Slab(g) => g.height,
             Self::Cylinder(g) => g.height,
+            Self::Box(g) => g.height,
+            Self::Mesh(g) => g.fill_max[2],
         }
     }
 
-    /// Outlet size D [m]: the slot's width or the orifice's diameter.
+    /// Outlet size D [m]: the slot's width, the orifice's diameter, the square's side; for
+    /// STL walls the disc's diameter or the rectangle's side along x.
     pub fn outlet_size(&self) -> f64 {
         match self {
             Self::Slab(g) => g.outlet_width,
             Self::Cylinder(g) => g.outlet_diameter,
+            Self::Box(g) => g.outlet_width,
+            Self::Mesh(g) => g.outlet.size(),
         }
     }
 
-    /// Hopper angle from the vertical [°] (90 is a flat bottom).
+    /// Hopper angle from the vertical [°] (90 is a flat bottom); NaN for STL walls, which
+    /// have none.
     pub fn hopper_angle_deg(&self) -> f64 {
         match self {
             Self::Slab(g) => g.hopper_angle_deg,
             Self::Cylinder(g) => g.hopper_angle_deg,
+            Self::Box(g) => g.hopper_angle_deg,
+            Self::Mesh(_) => f64::NAN,
         }
     }
 }

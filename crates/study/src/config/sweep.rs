@@ -94,7 +94,14 @@ pub fn parse_sweep(
     let set_errors = apply_sets(&mut config.base, sets).err();
     // The base must be valid on its own, so that its errors are reported once rather
     // than for every grid point.
-    super::merge_errors(resolve_case(&config.base, &config.base_source), set_errors)?;
+    super::merge_errors(
+        resolve_case(
+            &config.base,
+            &config.base_source,
+            config.base_dir.as_deref(),
+        ),
+        set_errors,
+    )?;
     expand(&config)
 }
 
@@ -219,7 +226,7 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
                 ));
                 continue;
             }
-            match resolve_case(&point, &config.base_source) {
+            match resolve_case(&point, &config.base_source, config.base_dir.as_deref()) {
                 Ok(case) => {
                     labels.insert("series".to_string(), series.name.clone());
                     for replica in 0..config.replicas {

@@ -1,6 +1,6 @@
 //! Reading a sweep file into its parts: name, replicas, base case, axes and series.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::document::{parse_document, split_key, Node, NodeValue, Table};
@@ -38,6 +38,9 @@ pub(crate) struct SweepConfig {
     pub replicas: u32,
     pub base: Table,
     pub base_source: Arc<str>,
+    /// The folder relative paths of the base case are taken from: the base case file's, or
+    /// the sweep file's for a `[base]` table (`None`: the current folder).
+    pub base_dir: Option<PathBuf>,
     /// Name of the sweep file itself, for errors about the grid.
     pub source: Arc<str>,
     pub axes: Vec<Axis>,
@@ -99,7 +102,7 @@ pub(crate) fn read_sweep(
             String::new()
         }
     };
-    let (base, base_source) = read_base(&mut root, source, base_dir, errors)?;
+    let (base, base_source, case_dir) = read_base(&mut root, source, base_dir, errors)?;
     let axes = read_axes(&mut root, "axes", errors);
     let series = read_series(&mut root, errors);
     root.finish(
@@ -129,6 +132,7 @@ pub(crate) fn read_sweep(
         replicas: replicas.value.clamp(1, MAX_REPLICAS) as u32,
         base,
         base_source,
+        base_dir: case_dir,
         source: Arc::clone(source),
         axes,
         series,
@@ -140,12 +144,13 @@ fn read_base(
     source: &Arc<str>,
     base_dir: Option<&Path>,
     errors: &mut Vec<ConfigError>,
-) -> Option<(Table, Arc<str>)> {
+) -> Option<(Table, Arc<str>, Option<PathBuf>)> {
+    let own_dir = base_dir.map(Path::to_path_buf);
     let Some(entry) = root.entry("base") else {
-        return Some((Table::default(), Arc::clone(source)));
+        return Some((Table::default(), Arc::clone(source), own_dir));
     };
     match &entry.node.value {
-        NodeValue::Table(t) => Some((t.clone(), Arc::clone(source))),
+        NodeValue::Table(t) => Some((t.clone(), Arc::clone(source), own_dir)),
         NodeValue::String(file) => {
             let Some(dir) = base_dir else {
                 errors.push(ConfigError::new(
@@ -161,7 +166,8 @@ fn read_base(
             let name = path.display().to_string();
             let loaded = super::read_text(&path, &name).and_then(|text| {
                 let base_source: Arc<str> = Arc::from(name.as_str());
-                parse_document(&text, &base_source).map(|t| (t, base_source))
+                let case_dir = path.parent().map(Path::to_path_buf);
+                parse_document(&text, &base_source).map(|t| (t, base_source, case_dir))
             });
             match loaded {
                 Ok(base) => Some(base),

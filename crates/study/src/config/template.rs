@@ -19,8 +19,9 @@ version = 1    # case-file format version
 seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
 
 [geometry]
-# kind = "slab"          # "slab" (this hopper, the default) or "cylinder" (a silo; see
-#                        # `hopperflow init --kind cylinder` for its commented template)
+# kind = "slab"          # "slab" (this hopper, the default), "cylinder" (a silo), "box" (a
+#                        # rectangular silo) or "mesh" (your STL walls); `hopperflow init
+#                        # --kind cylinder|box|mesh` writes a commented template of each
 # Coordinates: x from the hopper axis, z up from the outlet plane, y across the slab.
 width = 0.1              # L [m], distance between the side walls
 height = 0.4             # H [m], height of the side walls above the outlet plane
@@ -202,11 +203,231 @@ checkpoint_interval = 0.25  # [s], simulated time between checkpoints; 0 writes 
 plots = true             # draw the plots and the frames of a vertical cut through the axis
 "#;
 
+/// A case file of a rectangular silo with every key explained (`hopperflow init --kind box`):
+/// a box 100 mm × 50 mm with a 60° wedge over a 20 mm slot, 4000 spheres of the paper's
+/// material.
+pub const BOX_TEMPLATE: &str = r#"# hopperflow case file: a rectangular silo.
+#
+# Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
+# carry `_deg` in their key. A box W × B above a wedge of two plates meeting a slot that spans
+# the depth, a pyramid of four plates narrowing to a square orifice, or a flat bottom; the
+# spheres are those of Fan et al. (2023), Table 1, 3 mm. Check a file with
+# `hopperflow check FILE`; override a key with `--set geometry.outlet_width=0.025`.
+
+version = 1    # case-file format version
+seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+
+[geometry]
+kind = "box"
+# Coordinates: z up from the orifice plane z = 0, the box centred on the z axis:
+# x in [−W/2, W/2], y in [−B/2, B/2]. Frames show the vertical cut through y = 0.
+width = 0.1              # W [m], along x
+depth = 0.05             # B [m], along y; ≥ the largest particle diameter
+height = 0.2             # H [m], top of the walls above the orifice plane
+outlet = "slot"          # "slot" (D wide in x, across the whole depth; a wedge of two plates) or
+                         # "square" (side D; a pyramid of four plates)
+outlet_width = 0.02      # D [m]; ≥ 3 particle diameters, |e| + D/2 < W/2, and D < B for a square
+hopper_angle_deg = 60.0  # α [°], the plates from the vertical, in (0, 90]; 90 = flat bottom
+outlet_offset = 0.0      # e [m], x of the orifice centre; flat bottom only
+walls = "smooth"         # "smooth" (exact planar polygons) or "meshed" (each wall as triangles)
+
+[particles]
+count = 4000             # N; they must fit below H at volume fraction 0.64
+diameter = 0.003         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+
+[particles.material]
+density = 2500.0         # ρ_p [kg/m³]
+shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
+poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
+
+[wall]
+material = "same"        # "same", "rigid", or a [wall.material] table
+friction = 0.5           # μ_s particle–wall [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
+restitution = 0.2        # e particle–wall [-], in (0, 1]
+
+[contact]
+friction = 0.5           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
+restitution = 0.2        # e particle–particle [-], in (0, 1]
+tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
+rolling = "constant_torque"      # "constant_torque" or "epsd"
+normal_clamp = false     # clamp the normal force to ≥ 0
+
+[time]
+time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; or rayleigh_fraction = 0.097
+
+[protocol]
+settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
+max_settle_time = 3.0    # [s], longest simulated settling time
+fill_bottom = 0.0        # [m], bottom of the insertion region above the orifice plane
+# fill_top = 0.2         # [m], top of the insertion region; default H
+fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
+# deletion_depth = 0.015 # [m], particles this far below the orifice are removed; default 5 d
+clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
+time_limit = 10.0        # [s], longest simulated discharge after the gate opens
+stop_fraction = 1.0      # [-], stop once this fraction of the fill has left and the steady window is complete
+
+[measure]
+rate_bin_width = 0.02    # [s], time bins of W(t) and the samples of N(t) (remaining.csv)
+# x_bin_width = 0.0015   # [m], x-bins of the profiles v(x) and φ(x) across the orifice; default d/2, ≤ D
+# strip_height = 0.003   # [m], not used by a box (its φ(x) comes from the crossings)
+frame_interval = 0.001   # [s], time between snapshot frames, ≥ Δt
+crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
+steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
+steady_end_fraction = 0.7     # [-], and ends at this fraction
+
+[output]
+vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+checkpoint_interval = 0.5  # [s], simulated time between checkpoints; 0 writes none
+plots = true             # draw the plots and the frames of a vertical cut through y = 0
+"#;
+
+/// A case file of STL walls with every key explained (`hopperflow init --kind mesh`): a
+/// conical silo given as two STL files in millimetres, which `hopperflow init FILE --kind mesh`
+/// writes beside FILE ([`template_files`]).
+pub const MESH_TEMPLATE: &str = r#"# hopperflow case file: a container of your own STL walls.
+#
+# Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
+# carry `_deg` in their key. The walls are STL files (ASCII or binary), each mapped to metres
+# by scale, then rotation, then translation. `hopperflow init FILE --kind mesh` writes the two
+# files named below beside FILE: a silo of radius 50 mm with a 45° cone to a 20 mm orifice,
+# in millimetres. Check a file with `hopperflow check FILE`.
+#
+# Conventions: z is vertical (gravity along −z) and z = 0 is the orifice plane. The outlet
+# below lies in that plane: the crossings are counted there, and a gate (the outlet's shape as
+# a polygon at z = 0) closes it until the fill has settled; the walls must leave it open and
+# stand above it. Particles are poured into the fill box, which must lie inside the walls:
+# nothing can tell the inside of an open mesh, so only a box that cuts a triangle is refused.
+
+version = 1    # case-file format version
+seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+
+[geometry]
+kind = "mesh"
+fill_min = [-0.03, -0.03, 0.05]  # [m], lower corner of the fill box; z ≥ 0
+fill_max = [0.03, 0.03, 0.2]     # [m], upper corner; its z is the case's H (the default fill_top)
+outlet = { shape = "disc", centre = [0.0, 0.0], radius = 0.01, segments = 96 }
+# outlet = { shape = "rectangle", centre = [0.0, 0.0], size = [0.02, 0.03] }  # sides along x, y [m]
+# A disc's gate is the regular polygon of `segments` sides (in [12, 4096]) circumscribing it.
+# The orifice must be ≥ 3 particle diameters across (a disc's diameter, a rectangle's sides).
+
+[[geometry.walls]]       # one table per STL file, at most 64
+name = "cylinder"        # the wall's name in wall_forces.csv; default: the file's stem
+file = "silo_wall.stl"   # relative to this file's folder; the resolved case holds it absolute
+# sha256 = "…"           # the file's SHA-256; when given, a changed file is refused
+scale = 0.001            # [m per file unit]: 0.001 for millimetres
+rotate_axis = [0.0, 0.0, 1.0]  # rotation axis (any length, not zero), applied after the scale
+rotate_deg = 0.0         # [°], rotation about the axis (right-hand rule)
+translate = [0.0, 0.0, 0.0]    # [m], applied last
+
+[[geometry.walls]]
+name = "cone"
+file = "silo_cone.stl"
+scale = 0.001
+
+[particles]
+count = 2000             # N
+diameter = 0.004         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+
+[particles.material]
+density = 2500.0         # ρ_p [kg/m³]
+shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
+poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
+
+[wall]
+material = "same"        # "same", "rigid", or a [wall.material] table
+friction = 0.5           # μ_s particle–wall [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
+restitution = 0.2        # e particle–wall [-], in (0, 1]
+
+[contact]
+friction = 0.5           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
+restitution = 0.2        # e particle–particle [-], in (0, 1]
+tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
+rolling = "constant_torque"      # "constant_torque" or "epsd"
+normal_clamp = false     # clamp the normal force to ≥ 0
+
+[time]
+time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; or rayleigh_fraction
+
+[protocol]
+settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
+max_settle_time = 3.0    # [s], longest simulated settling time
+fill_bottom = 0.0        # [m], bottom of the insertion band (inside the fill box)
+# fill_top = 0.2         # [m], top of the insertion band; default H, the fill box's top
+fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
+# deletion_depth = 0.02  # [m], particles this far below the orifice plane are removed; default 5 d
+clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
+time_limit = 10.0        # [s], longest simulated discharge after the gate opens
+stop_fraction = 1.0      # [-], stop once this fraction of the fill has left and the steady window is complete
+
+[measure]
+rate_bin_width = 0.02    # [s], time bins of W(t) and the samples of N(t) (remaining.csv)
+# x_bin_width = 0.002    # [m], annuli of v(r), φ(r) (disc) or x-bins of v(x), φ(x) (rectangle); default d/2
+# strip_height = 0.004   # [m], height of the slab at the orifice for a disc's φ(r); default d
+frame_interval = 0.001   # [s], time between the frames that measure φ(r), ≥ Δt
+crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
+steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
+steady_end_fraction = 0.7     # [-], and ends at this fraction
+
+[output]
+vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+checkpoint_interval = 0.5  # [s], simulated time between checkpoints; 0 writes none
+plots = true             # draw the plots and the frames of a vertical cut through the outlet's centre
+"#;
+
 /// The commented template of a geometry kind, by its `geometry.kind` name.
 pub fn template(kind: &str) -> Option<&'static str> {
     match kind {
         "slab" => Some(CASE_TEMPLATE),
         "cylinder" => Some(CYLINDER_TEMPLATE),
+        "box" => Some(BOX_TEMPLATE),
+        "mesh" => Some(MESH_TEMPLATE),
         _ => None,
     }
+}
+
+/// Segments around the axis of the mesh template's STL files.
+const TEMPLATE_SEGMENTS: usize = 48;
+
+/// The files a kind's template names, as (file name, ASCII STL text): for `mesh`, the silo's
+/// cylinder (radius 50 mm from the cone's top at 40 mm up to 200 mm) and its 45° cone from
+/// the 20 mm orifice, in millimetres; nothing for the other kinds.
+pub fn template_files(kind: &str) -> Vec<(&'static str, String)> {
+    if kind != "mesh" {
+        return Vec::new();
+    }
+    use glam::DVec3;
+    let (radius, orifice, cone_top, top) = (50.0, 10.0, 40.0, 200.0);
+    let cylinder = stl::shapes::cylinder_side(
+        DVec3::new(0.0, 0.0, cone_top),
+        DVec3::new(0.0, 0.0, top - cone_top),
+        radius,
+        TEMPLATE_SEGMENTS,
+    );
+    let cone = stl::shapes::frustum_side(
+        DVec3::ZERO,
+        DVec3::new(0.0, 0.0, cone_top),
+        orifice,
+        radius,
+        TEMPLATE_SEGMENTS,
+    );
+    let ascii = |triangles: Vec<stl::Triangle>, name: &str| {
+        let mut bytes = Vec::new();
+        stl::write_ascii(&mut bytes, &triangles, name)
+            .expect("the builders' triangles are writable");
+        String::from_utf8(bytes).expect("ASCII STL is text")
+    };
+    vec![
+        (
+            "silo_wall.stl",
+            ascii(cylinder.expect("valid cylinder arguments"), "silo wall"),
+        ),
+        (
+            "silo_cone.stl",
+            ascii(cone.expect("valid cone arguments"), "silo cone"),
+        ),
+    ]
 }

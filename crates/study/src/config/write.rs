@@ -6,6 +6,7 @@ use dem::MaterialTable;
 
 use super::case::{Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION};
 use super::error::rounded;
+use super::mesh_container::MeshOutlet;
 use super::particles::{FractionBasis, Material, SizeDistribution};
 use super::silo::{Geometry, WallSurface};
 
@@ -17,6 +18,35 @@ fn float(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x:?}")
+    }
+}
+
+/// A TOML basic string that reads back to `text` exactly: quotes, backslashes and control
+/// characters escaped.
+fn string(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('"');
+    for c in text.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\r"),
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{:04X}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn walls_word(walls: WallSurface) -> &'static str {
+    match walls {
+        WallSurface::Smooth => "smooth",
+        WallSurface::Meshed => "meshed",
     }
 }
 
@@ -153,12 +183,62 @@ fn geometry_lines(out: &mut String, geometry: &Geometry) {
                 float(g.hopper_angle_deg)
             );
             let _ = writeln!(out, "outlet_offset = {}  # e [m]", float(g.outlet_offset));
-            let walls = match g.walls {
-                WallSurface::Smooth => "smooth",
-                WallSurface::Meshed => "meshed",
-            };
-            let _ = writeln!(out, "walls = \"{walls}\"");
+            let _ = writeln!(out, "walls = \"{}\"", walls_word(g.walls));
             let _ = writeln!(out, "mesh_segments = {}", g.mesh_segments);
+        }
+        Geometry::Box(g) => {
+            let _ = writeln!(out, "\n[geometry]");
+            let _ = writeln!(out, "kind = \"box\"");
+            let _ = writeln!(out, "width = {}  # W [m]", float(g.width));
+            let _ = writeln!(out, "depth = {}  # B [m]", float(g.depth));
+            let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
+            let _ = writeln!(out, "outlet = \"{}\"", g.outlet.word());
+            let _ = writeln!(out, "outlet_width = {}  # D [m]", float(g.outlet_width));
+            let _ = writeln!(
+                out,
+                "hopper_angle_deg = {}  # α [°]",
+                float(g.hopper_angle_deg)
+            );
+            let _ = writeln!(out, "outlet_offset = {}  # e [m]", float(g.outlet_offset));
+            let _ = writeln!(out, "walls = \"{}\"", walls_word(g.walls));
+        }
+        Geometry::Mesh(g) => {
+            let _ = writeln!(out, "\n[geometry]");
+            let _ = writeln!(out, "kind = \"mesh\"");
+            let _ = writeln!(out, "fill_min = {}  # [m]", floats(&g.fill_min));
+            let _ = writeln!(out, "fill_max = {}  # [m]; H is its z", floats(&g.fill_max));
+            let outlet = match &g.outlet {
+                MeshOutlet::Disc {
+                    centre,
+                    radius,
+                    segments,
+                } => format!(
+                    "{{ shape = \"disc\", centre = {}, radius = {}, segments = {segments} }}",
+                    floats(centre),
+                    float(*radius)
+                ),
+                MeshOutlet::Rectangle { centre, size } => format!(
+                    "{{ shape = \"rectangle\", centre = {}, size = {} }}",
+                    floats(centre),
+                    floats(size)
+                ),
+            };
+            let _ = writeln!(out, "outlet = {outlet}  # in the plane z = 0 [m]");
+            for wall in &g.walls {
+                let _ = writeln!(out, "\n[[geometry.walls]]");
+                let _ = writeln!(out, "name = {}", string(&wall.name));
+                let _ = writeln!(
+                    out,
+                    "file = {}  # {} triangles",
+                    string(&wall.file.to_string_lossy()),
+                    wall.triangles.len()
+                );
+                let _ = writeln!(out, "sha256 = {}", string(&wall.sha256));
+                let _ = writeln!(out, "scale = {}  # [m per file unit]", float(wall.scale));
+                let _ = writeln!(out, "rotate_axis = {}", floats(&wall.rotate_axis));
+                let _ = writeln!(out, "rotate_deg = {}  # [°]", float(wall.rotate_deg));
+                let _ = writeln!(out, "translate = {}  # [m]", floats(&wall.translate));
+            }
         }
     }
 }

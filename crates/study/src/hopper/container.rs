@@ -4,12 +4,15 @@
 use dem::{DemError, Interaction, Simulation, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
+use super::box_walls::{build_box_walls, BoxWalls};
 use super::builder::{build_walls, HopperWalls};
+use super::mesh_walls::{build_mesh_walls, MeshWalls};
 use super::silo_walls::{build_silo_walls, SiloWalls};
 use crate::config::Geometry;
 
-/// The names of walls in `wall_forces.csv`, indexed by [`ContainerWalls::named`].
-pub const WALL_NAMES: [&str; 8] = [
+/// The names of walls in `wall_forces.csv`, indexed by [`ContainerWalls::named`]; a mesh
+/// container's walls follow from [`MESH_WALL_INDEX`] on, named by the case ([`wall_names`]).
+pub const WALL_NAMES: [&str; 12] = [
     "left",
     "right",
     "plate_left",
@@ -18,15 +21,26 @@ pub const WALL_NAMES: [&str; 8] = [
     "cylinder",
     "hopper",
     "bottom",
+    "front",
+    "back",
+    "plate_front",
+    "plate_back",
 ];
 
+/// The index of a mesh container's first STL wall among the names of `wall_forces.csv`.
+pub const MESH_WALL_INDEX: u8 = WALL_NAMES.len() as u8;
+
 /// Handles of a container's walls in the simulation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContainerWalls {
     /// The slab hopper's walls.
     Slab(HopperWalls),
     /// A cylindrical silo's walls.
     Silo(SiloWalls),
+    /// A rectangular silo's walls.
+    Box(BoxWalls),
+    /// The STL walls of a mesh container.
+    Mesh(MeshWalls),
 }
 
 impl ContainerWalls {
@@ -35,21 +49,32 @@ impl ContainerWalls {
         match self {
             Self::Slab(w) => w.gate,
             Self::Silo(w) => w.gate,
+            Self::Box(w) => w.gate,
+            Self::Mesh(w) => w.gate,
         }
     }
 
-    /// The name of wall `id` among these walls: a [`WALL_NAMES`] entry, or `front` and
-    /// `back` for a slab's faces; `None` for a handle that is none of them.
-    pub fn name_of(&self, id: WallId) -> Option<&'static str> {
-        if let Self::Slab(w) = self {
-            if let Some(k) = w.faces.iter().position(|f| *f == id) {
-                return Some(["front", "back"][k]);
+    /// The name of wall `id` among these walls: a [`WALL_NAMES`] entry, `front` and `back`
+    /// for a slab's faces, or an STL wall's own name; `None` for a handle that is none of them.
+    pub fn name_of(&self, id: WallId) -> Option<String> {
+        match self {
+            Self::Slab(w) => {
+                if let Some(k) = w.faces.iter().position(|f| *f == id) {
+                    return Some(["front", "back"][k].to_string());
+                }
             }
+            Self::Mesh(w) => {
+                if let Some(k) = w.walls.iter().position(|f| *f == id) {
+                    return Some(w.names[k].clone());
+                }
+            }
+            Self::Silo(_) | Self::Box(_) => {}
         }
         self.named()
             .into_iter()
             .find(|(_, wall)| *wall == Some(id))
-            .map(|(k, _)| WALL_NAMES[k as usize])
+            .and_then(|(k, _)| WALL_NAMES.get(k as usize))
+            .map(|name| name.to_string())
     }
 
     /// Every wall of the container, the gate included.
@@ -62,10 +87,22 @@ impl ContainerWalls {
                 walls
             }
             Self::Silo(w) => vec![w.cylinder, w.bottom, w.gate],
+            Self::Box(w) => {
+                let mut walls = w.sides.to_vec();
+                walls.extend(w.plates.iter().flatten());
+                walls.extend(w.bottom);
+                walls.push(w.gate);
+                walls
+            }
+            Self::Mesh(w) => {
+                let mut walls = w.walls.clone();
+                walls.push(w.gate);
+                walls
+            }
         }
     }
 
-    /// The walls that may record loads, each with its index into [`WALL_NAMES`]; absent
+    /// The walls that may record loads, each with its index into [`wall_names`]; absent
     /// walls (a plate where the outlet touches the side wall) are `None`.
     pub fn named(&self) -> Vec<(u8, Option<WallId>)> {
         match self {
@@ -81,8 +118,37 @@ impl ContainerWalls {
                 (if w.conical { 6 } else { 7 }, Some(w.bottom)),
                 (4, Some(w.gate)),
             ],
+            Self::Box(w) => vec![
+                (0, Some(w.sides[0])),
+                (1, Some(w.sides[1])),
+                (8, Some(w.sides[2])),
+                (9, Some(w.sides[3])),
+                (2, w.plates[0]),
+                (3, w.plates[1]),
+                (10, w.plates[2]),
+                (11, w.plates[3]),
+                (7, w.bottom),
+                (4, Some(w.gate)),
+            ],
+            Self::Mesh(w) => w
+                .walls
+                .iter()
+                .enumerate()
+                .map(|(k, id)| (MESH_WALL_INDEX + k as u8, Some(*id)))
+                .chain(std::iter::once((4, Some(w.gate))))
+                .collect(),
         }
     }
+}
+
+/// The names of the walls of `wall_forces.csv` for a case of `geometry`, indexed as
+/// [`ContainerWalls::named`] indexes them: [`WALL_NAMES`], then a mesh container's wall names.
+pub fn wall_names(geometry: &Geometry) -> Vec<String> {
+    let mut names: Vec<String> = WALL_NAMES.iter().map(|n| n.to_string()).collect();
+    if let Geometry::Mesh(g) = geometry {
+        names.extend(g.walls.iter().map(|w| w.name.clone()));
+    }
+    names
 }
 
 /// Adds the walls of `geometry`, gate closed, to `sim`.
@@ -97,6 +163,8 @@ pub fn build_container_walls(
         Geometry::Cylinder(g) => {
             ContainerWalls::Silo(build_silo_walls(sim, g, material, interaction)?)
         }
+        Geometry::Box(g) => ContainerWalls::Box(build_box_walls(sim, g, material, interaction)?),
+        Geometry::Mesh(g) => ContainerWalls::Mesh(build_mesh_walls(sim, g, material, interaction)?),
     })
 }
 

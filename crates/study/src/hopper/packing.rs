@@ -29,7 +29,7 @@ use sha2::{Digest, Sha256};
 
 use super::fill::inside_hopper;
 use super::packing_vtu::parse_vtu;
-use crate::config::{Case, CylinderSilo, Geometry, HopperGeometry};
+use crate::config::{BoxSilo, Case, CylinderSilo, Geometry, HopperGeometry};
 
 /// The columns of a packing CSV, in the order hopperflow writes them.
 pub const PACKING_COLUMNS: [&str; 5] = ["x", "y", "z", "radius", "material"];
@@ -557,6 +557,30 @@ fn check_container(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
                 }
                 silo_violation(g, [x, y, z], r, slack)
             }
+            Geometry::Box(g) => {
+                if g.holds(x, y, z, r, -slack) {
+                    continue;
+                }
+                box_violation(g, [x, y, z], r, slack)
+            }
+            // An open mesh has no inside to test: only the walls' bounds and the orifice
+            // plane bound a packing of STL walls.
+            Geometry::Mesh(g) => {
+                let (lo, hi) = g.bounds();
+                let c = r - slack;
+                let inside = (0..2).all(|k| [x, y][k] >= lo[k] + c && [x, y][k] <= hi[k] - c)
+                    && z >= c
+                    && z <= hi[2].max(g.fill_max[2]) - c;
+                if inside {
+                    continue;
+                }
+                format!(
+                    "it must lie within the walls' bounds x in {}, y in {} and above the orifice \
+                     plane z = 0",
+                    range(lo[0] + c, hi[0] - c),
+                    range(lo[1] + c, hi[1] - c)
+                )
+            }
         };
         problems.push(
             p.place.clone(),
@@ -641,6 +665,24 @@ fn silo_violation(g: &CylinderSilo, x: [f64; 3], r: f64, slack: f64) -> String {
          at least {c:.6e} m",
         (cone - rho) * theta.cos(),
         g.hopper_angle_deg
+    )
+}
+
+/// Which bounding plane of a rectangular silo a particle of radius `r` at `x` crosses, in
+/// words.
+fn box_violation(g: &BoxSilo, x: [f64; 3], r: f64, slack: f64) -> String {
+    let c = r - slack;
+    let p = DVec3::from(x);
+    let spaces = g.half_spaces(g.height);
+    let worst = spaces
+        .iter()
+        .max_by(|a, b| a.outside(p).total_cmp(&b.outside(p)))
+        .expect("a box has half-spaces");
+    format!(
+        "its centre lies {:.6e} m inside the plane of its {:?} face, which must be at least \
+         {c:.6e} m",
+        -worst.outside(p),
+        worst.face
     )
 }
 

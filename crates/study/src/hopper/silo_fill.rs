@@ -1,6 +1,7 @@
-//! Filling a silo: random sequential insertion in a band of the container, in batches that
-//! fall under gravity (the same protocol as the slab's, docs/physics.md §10.8), with a cell
-//! grid for the overlap test so that a batch of 10⁴–10⁵ spheres costs O(n).
+//! Filling a 3D container (a cylindrical or rectangular silo, the fill box of STL walls):
+//! random sequential insertion in a band of the container, in batches that fall under gravity
+//! (the same protocol as the slab's, docs/physics.md §10.8), with a cell grid for the overlap
+//! test so that a batch of 10⁴–10⁵ spheres costs O(n).
 
 use std::collections::HashMap;
 
@@ -9,7 +10,50 @@ use rand::Rng;
 
 use super::draw::{Draw, ParticleDraws};
 use super::fill::Inserted;
-use crate::config::CylinderSilo;
+use crate::config::{BoxSilo, CylinderSilo, MeshContainer};
+
+/// Where spheres may be inserted: a box of candidate centres and the test that keeps a sphere
+/// inside the container.
+pub trait FillRegion {
+    /// The ranges [x0, x1), [y0, y1) and [z0, z1] [m] that candidate centres are drawn from
+    /// (z0, z1 narrowing the insertion band).
+    fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]);
+    /// Whether a sphere of radius `r` [m] at (x, y, z) lies inside with clearance `gap` [m].
+    fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool;
+}
+
+impl FillRegion for CylinderSilo {
+    fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let reach = self.radius;
+        ([-reach, reach], [-reach, reach], [0.0, self.height])
+    }
+
+    fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
+        CylinderSilo::holds(self, x, y, z, r, gap)
+    }
+}
+
+impl FillRegion for BoxSilo {
+    fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let (hw, hb) = (0.5 * self.width, 0.5 * self.depth);
+        ([-hw, hw], [-hb, hb], [0.0, self.height])
+    }
+
+    fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
+        BoxSilo::holds(self, x, y, z, r, gap)
+    }
+}
+
+impl FillRegion for MeshContainer {
+    fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let (lo, hi) = (self.fill_min, self.fill_max);
+        ([lo[0], hi[0]], [lo[1], hi[1]], [lo[2], hi[2]])
+    }
+
+    fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
+        MeshContainer::holds(self, x, y, z, r, gap)
+    }
+}
 
 /// Clearance kept between inserted spheres and from the walls [m].
 const GAP: f64 = 1.0e-5;
@@ -61,13 +105,14 @@ impl Placed {
 }
 
 /// Random sequential insertion of up to `count` spheres drawn by `draws` into the band
-/// z ∈ [`band.0`, `band.1`] [m] of the silo, avoiding every particle already in `sim`; each
-/// starts with velocity `v0` [m/s]. Returns the particles inserted. A draw that does not fit
-/// is kept until it is placed, as in [`super::fill::insert_batch`].
+/// z ∈ [`band.0`, `band.1`] [m] of the region (narrowed to its own z range), avoiding every
+/// particle already in `sim`; each starts with velocity `v0` [m/s]. Returns the particles
+/// inserted. A draw that does not fit is kept until it is placed, as in
+/// [`super::fill::insert_batch`].
 #[allow(clippy::too_many_arguments)]
 pub fn insert_silo_batch(
     sim: &mut Simulation,
-    silo: &CylinderSilo,
+    region: &dyn FillRegion,
     rng: &mut impl Rng,
     count: usize,
     draws: &ParticleDraws,
@@ -76,6 +121,9 @@ pub fn insert_silo_batch(
     v0: DVec3,
     max_attempts: usize,
 ) -> Result<Vec<Inserted>, dem::DemError> {
+    let ([x0, x1], [y0, y1], [z0, z1]) = region.draw_ranges();
+    // A band inside the region's z range is drawn from as it is (a silo's band always is).
+    let band = (band.0.max(z0), band.1.min(z1));
     let max_radius = draws.max_radius();
     let mut placed = Placed::new(2.0 * max_radius + GAP);
     let p = sim.particles();
@@ -84,17 +132,19 @@ pub fn insert_silo_batch(
             placed.add(*x, *r);
         }
     }
-    let reach = silo.radius;
     let mut inserted = Vec::new();
+    if band.0 >= band.1 {
+        return Ok(inserted);
+    }
     let mut attempts = 0;
     while inserted.len() < count && attempts < max_attempts {
         attempts += 1;
         let drawn = *pending.get_or_insert_with(|| draws.draw(rng));
         let r = drawn.radius;
-        let x = rng.gen_range(-reach..reach);
-        let y = rng.gen_range(-reach..reach);
+        let x = rng.gen_range(x0..x1);
+        let y = rng.gen_range(y0..y1);
         let z = rng.gen_range(band.0..band.1);
-        if !silo.holds(x, y, z, r, GAP) {
+        if !region.holds(x, y, z, r, GAP) {
             continue;
         }
         let c = DVec3::new(x, y, z);

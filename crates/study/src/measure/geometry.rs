@@ -35,6 +35,14 @@ pub enum OutletShape {
         /// y of the orifice centre [m].
         centre_y: f64,
     },
+    /// A rectangle x_c ± R by `centre_y` ± `half_depth` (a box's square orifice, the
+    /// rectangle of STL walls); its profiles run along x.
+    Rectangle {
+        /// y of the orifice centre [m].
+        centre_y: f64,
+        /// Half its extent in y [m].
+        half_depth: f64,
+    },
 }
 
 impl OutletGeometry {
@@ -76,13 +84,17 @@ impl OutletGeometry {
     }
 
     /// Whether a crossing at (x, y) [m] lies within the orifice: its span in x for a slot,
-    /// the disc for a circle.
+    /// the disc for a circle, both spans for a rectangle.
     pub fn contains(&self, x: f64, y: f64) -> bool {
         match self.shape {
             OutletShape::Slot => self.spans(x),
             OutletShape::Circle { centre_y } => {
                 (x - self.centre).hypot(y - centre_y) <= self.half_width
             }
+            OutletShape::Rectangle {
+                centre_y,
+                half_depth,
+            } => self.spans(x) && (y - centre_y).abs() <= half_depth,
         }
     }
 

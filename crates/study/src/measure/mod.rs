@@ -29,6 +29,7 @@ mod silo_bulk;
 mod strip;
 mod summary;
 mod velocity_field;
+mod x_profile;
 
 pub use block_error::ERROR_BLOCKS;
 pub use bulk::{sphere_volume_below, BulkMeasurement, BulkProbe, ContainerOutline, CrossSection};
@@ -41,7 +42,7 @@ pub use error::MeasureError;
 pub use frame::{FrameView, TimeWindow};
 pub use geometry::{OutletBins, OutletGeometry, OutletShape, CENTRE_HALF_WIDTH};
 pub use radial::{radial_profiles, RadialBin, RadialBins, RadialPackingProbe};
-pub use silo_bulk::silo_bulk;
+pub use silo_bulk::{bed_bulk, silo_bulk};
 pub use strip::{
     AreaFractionBin, AreaFractionProfile, StripConfig, StripFrame, StripProbe, StripRecord,
 };
@@ -50,3 +51,4 @@ pub use velocity_field::{
     FieldBlock, FieldCell, FieldGrid, Kernel, VelocityField, VelocityFieldProbe,
     VelocityFieldRecord, DEFAULT_BLOCK_DURATION,
 };
+pub use x_profile::{x_profiles, XProfileBin};

@@ -1,5 +1,5 @@
-//! Bulk volume fraction and bed height of a settled bed in an axisymmetric silo
-//! (docs/physics.md §7.6), the 3D counterpart of the slab's `bulk` probe:
+//! Bulk volume fraction and bed height of a settled bed in an axisymmetric silo or a
+//! rectangular one (docs/physics.md §7.6), the 3D counterpart of the slab's `bulk` probe:
 //!
 //! - **Bed height** h_bed: the disc ρ < R − d about the axis is cut into square columns d
 //!   wide; in each column that holds a particle the free surface is the highest sphere top
@@ -25,6 +25,26 @@ pub fn silo_bulk(
     diameter: f64,
     volume_below: impl Fn(f64) -> f64,
 ) -> Result<BulkMeasurement, MeasureError> {
+    let reach = radius - diameter;
+    bed_bulk(
+        centres,
+        radii,
+        |x, y| x.hypot(y) < reach,
+        diameter,
+        volume_below,
+    )
+}
+
+/// [`silo_bulk`] for any container: the columns are those whose particles' centres (x, y)
+/// satisfy `in_columns` (the floor plan less a diameter along the walls), the rest as there.
+/// A rectangular silo uses it with its rectangle (docs/physics.md §7.6).
+pub fn bed_bulk(
+    centres: &[[f64; 3]],
+    radii: &[f64],
+    in_columns: impl Fn(f64, f64) -> bool,
+    diameter: f64,
+    volume_below: impl Fn(f64) -> f64,
+) -> Result<BulkMeasurement, MeasureError> {
     if !(diameter.is_finite() && diameter > 0.0) {
         return Err(MeasureError::InvalidParameter {
             name: "diameter",
@@ -34,9 +54,8 @@ pub fn silo_bulk(
     }
     // Columns keyed by their integer cell: a BTreeMap keeps the mean's summation order fixed.
     let mut tops: BTreeMap<(i64, i64), f64> = BTreeMap::new();
-    let reach = radius - diameter;
     for (c, r) in centres.iter().zip(radii) {
-        if c[0].hypot(c[1]) < reach && c[2] > 0.0 {
+        if in_columns(c[0], c[1]) && c[2] > 0.0 {
             let key = (
                 (c[0] / diameter).floor() as i64,
                 (c[1] / diameter).floor() as i64,

@@ -75,7 +75,7 @@ pub struct GridPoint {
     pub crossing_area_fraction_profile: Option<BinnedProfile>,
     /// W(t) of the first replica: times [s] and rates [kg/s], when `flow.csv` was saved.
     pub flow: Option<(Vec<f64>, Vec<f64>)>,
-    /// The geometry kind of the case (`geometry.kind`: "slab", "cylinder").
+    /// The geometry kind of the case (`geometry.kind`: "slab", "cylinder", "box", "mesh").
     pub kind: String,
     /// The first replica's radial profile fits (circular orifices only).
     pub radial_fit: Option<crate::summary::RadialFit>,
@@ -203,13 +203,22 @@ fn average_profiles(
     BinnedProfile::new(centres, values, counts, errors).ok()
 }
 
-/// The geometry kind of a case from the resolved `case.toml` its run wrote; a case folder
-/// without one is told by its row: only a slab has a slab width.
+/// The geometry kind of a case from the resolved `case.toml` its run wrote (its
+/// `geometry.kind`, which a slab leaves out; read as TOML, not resolved, so that a mesh case
+/// whose STL files have moved is still told); a case folder without one is told by its row:
+/// only a slab has a slab width.
 fn case_kind(dir: &Path, row: &ResultRow) -> String {
     std::fs::read_to_string(dir.join("case.toml"))
         .ok()
-        .and_then(|text| crate::config::parse_case(&text, "case.toml", &[]).ok())
-        .map(|case| case.geometry.kind().to_string())
+        .and_then(|text| text.parse::<toml::Table>().ok())
+        .map(|table| {
+            table
+                .get("geometry")
+                .and_then(|g| g.get("kind"))
+                .and_then(|k| k.as_str())
+                .unwrap_or("slab")
+                .to_string()
+        })
         .unwrap_or_else(|| {
             if row.width.is_finite() {
                 "slab"

@@ -11,15 +11,19 @@ use analysis::selfsimilar::{
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
 use super::composition::{composition_columns, composition_rows};
-use super::protocol::{CaseRun, Phase};
+use super::protocol::{outlet_depth, CaseRun, Phase};
 use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
 use super::RunError;
 use crate::config::{Case, Geometry};
-use crate::hopper::{outline, silo_outline, silo_wall_polygons};
+use crate::hopper::{
+    box_outline, box_wall_polygons, mesh_outline, mesh_wall_polygons, outline, silo_outline,
+    silo_wall_polygons, wall_names,
+};
 use crate::measure::{
-    radial_profiles, CrossingRecord, OutletShape, OutletSummary, RadialBin, TimeWindow,
+    radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
+    XProfileBin,
 };
 use crate::output::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
@@ -76,10 +80,11 @@ pub struct Pictures {
     frames: usize,
     walls: Vec<WallSegment>,
     geometry_height: f64,
-    half_width: f64,
-    /// Half-thickness of the vertical cut y ∈ [−c, c] a frame of a silo draws [m]; `None`
-    /// for a slab, which is drawn whole.
-    cut: Option<f64>,
+    /// The x range a frame shows [m].
+    x_range: (f64, f64),
+    /// The vertical cut a frame of a 3D container draws: its plane y = y_c [m] and its
+    /// half-thickness c, y ∈ [y_c − c, y_c + c] [m]; `None` for a slab, which is drawn whole.
+    cut: Option<(f64, f64)>,
 }
 
 impl Pictures {
@@ -106,17 +111,37 @@ impl Pictures {
                     })
                     .collect(),
                 Geometry::Cylinder(g) => silo_wall_polygons(g),
+                Geometry::Box(g) => box_wall_polygons(g),
+                Geometry::Mesh(g) => mesh_wall_polygons(g),
             };
             write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
         }
-        let (segments, half_width, cut) = match &case.geometry {
-            Geometry::Slab(g) => (outline(g), 0.5 * g.width, None),
-            // A cut two mean diameters thick: one layer of spheres about the axis.
+        // A cut two mean diameters thick: one layer of spheres about the plane.
+        let layer = case.particles.mean_diameter();
+        let (segments, x_range, cut, top) = match &case.geometry {
+            Geometry::Slab(g) => (outline(g), (-0.5 * g.width, 0.5 * g.width), None, g.height),
             Geometry::Cylinder(g) => (
                 silo_outline(g),
-                g.radius,
-                Some(case.particles.mean_diameter()),
+                (-g.radius, g.radius),
+                Some((0.0, layer)),
+                g.height,
             ),
+            Geometry::Box(g) => (
+                box_outline(g),
+                (-0.5 * g.width, 0.5 * g.width),
+                Some((0.0, layer)),
+                g.height,
+            ),
+            // The cut through the orifice's centre; the view spans the walls' bounds.
+            Geometry::Mesh(g) => {
+                let (lo, hi) = g.bounds();
+                (
+                    mesh_outline(g),
+                    (lo[0], hi[0]),
+                    Some((g.outlet.centre()[1], layer)),
+                    hi[2].max(g.fill_max[2]),
+                )
+            }
         };
         let walls = segments
             .iter()
@@ -134,8 +159,8 @@ impl Pictures {
             next_frame: f64::NAN,
             frames: 0,
             walls,
-            geometry_height: case.geometry.height(),
-            half_width,
+            geometry_height: top,
+            x_range,
             cut,
         })
     }
@@ -195,7 +220,7 @@ impl Pictures {
                 self.next_frame += FRAME_INTERVAL;
                 let cut = self.cut;
                 let particles: Vec<FrameParticle> = (0..p.len())
-                    .filter(|&k| cut.is_none_or(|c| p.positions()[k].y.abs() <= c))
+                    .filter(|&k| cut.is_none_or(|(y, c)| (p.positions()[k].y - y).abs() <= c))
                     .map(|k| FrameParticle {
                         x: p.positions()[k].x,
                         z: p.positions()[k].z,
@@ -204,7 +229,7 @@ impl Pictures {
                     })
                     .collect();
                 let view = FrameView::fitted(
-                    (-self.half_width, self.half_width),
+                    self.x_range,
                     (-0.02, self.geometry_height),
                     1200,
                     (0.0, 1.5),
@@ -246,10 +271,10 @@ pub(crate) const CROSSING_COLUMNS: [&str; 8] = [
 /// and identifier. The record is part of the checkpointed run state, so a resumed run
 /// writes the same file.
 ///
-/// A circular orifice adds the crossing's y as a column, `y_m`; a mixture adds the name of
-/// the particle's component as the last column, `component`.
+/// A 3D container (every kind but the slab) adds the crossing's y as a column, `y_m`; a
+/// mixture adds the name of the particle's component as the last column, `component`.
 fn write_crossings(path: &Path, record: &CrossingRecord, run: &CaseRun) -> Result<(), RunError> {
-    let circular = matches!(record.geometry.shape, OutletShape::Circle { .. });
+    let circular = run.case.slab().is_none();
     let particles = &run.case.particles;
     let mixture = particles.is_mixture();
     let component = |id: u64| {
@@ -358,7 +383,7 @@ pub fn finish(
     write_csv_table(
         out_dir.join("wall_forces.csv"),
         &WALL_FORCE_COLUMNS,
-        &state.wall_forces.table(),
+        &state.wall_forces.table(&wall_names(&case.geometry)),
     )?;
 
     let outlet_window = window
@@ -467,18 +492,37 @@ pub fn finish(
         })
         .collect();
     let mut radial_fit = None;
+    let mut centre_velocity = outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.centre_speed));
     // What the profile figures draw: the slot's bins, or a circle's annuli mirrored to ±r*.
     let mut plotted = profile_rows.clone();
-    match (&state.radial, outlet_window) {
+    match (&state.radial, outlet_depth(case)) {
         // A circular orifice: the radial profiles replace the slot's x-profiles.
-        (Some(packing), window) => {
-            let bins = window.map(|w| radial_profiles(record, packing, w));
+        (Some(packing), _) => {
+            let bins = outlet_window.map(|w| radial_profiles(record, packing, w));
             let bins = bins.unwrap_or_default();
             write_radial_profiles(&out_dir.join("profiles.csv"), &bins)?;
             radial_fit = fit_radial(&bins, packing.bins().radius, density);
             plotted = mirrored(&bins);
         }
-        (None, _) => write_csv_table(out_dir.join("profiles.csv"), &headers, &rows)?,
+        // A slot or rectangle of a 3D container: x-profiles from the crossings alone.
+        (None, Some(depth)) => {
+            let bins = OutletBins::with_width(&record.geometry, case.measure.x_bin_width)?;
+            let rows = outlet_window.map_or_else(Vec::new, |w| x_profiles(record, &bins, depth, w));
+            write_x_profiles(&out_dir.join("profiles.csv"), &rows)?;
+            if !rows.is_empty() {
+                let central: Vec<f64> = bins
+                    .central_bins()
+                    .into_iter()
+                    .map(|i| rows[i].velocity)
+                    .filter(|v| v.is_finite())
+                    .collect();
+                if !central.is_empty() {
+                    centre_velocity = central.iter().sum::<f64>() / central.len() as f64;
+                }
+            }
+            plotted = rows.iter().map(x_profile_row).collect();
+        }
+        (None, None) => write_csv_table(out_dir.join("profiles.csv"), &headers, &rows)?,
     }
 
     // field.csv: coarse-grained velocity around the outlet over the steady window (Fig. 9).
@@ -546,7 +590,7 @@ pub fn finish(
         bulk_volume_fraction: bulk.map_or(f64::NAN, |b| b.volume_fraction),
         bulk_area_fraction: bulk.map_or(f64::NAN, |b| b.area_fraction),
         bed_height: bulk.map_or(f64::NAN, |b| b.bed_height),
-        centre_velocity: outlet.as_ref().map_or(f64::NAN, |o| or_nan(o.centre_speed)),
+        centre_velocity,
         centre_area_fraction: outlet
             .as_ref()
             .map_or(f64::NAN, |o| or_nan(o.centre_area_fraction)),
@@ -614,6 +658,56 @@ fn write_radial_profiles(path: &Path, bins: &[RadialBin]) -> Result<(), RunError
         .collect();
     write_csv_table(path, &RADIAL_COLUMNS, &rows)?;
     Ok(())
+}
+
+/// Columns of `profiles.csv` for a slot or rectangle of a 3D container: the bin's centre in
+/// x* and x [m], v(x) [m/s] with its error, the crossings counted, and the volume fraction from
+/// the number flux [-] with its error (`measure::x_profile`).
+const X_PROFILE_COLUMNS: [&str; 7] = [
+    "x_star",
+    "x",
+    "velocity",
+    "velocity_error",
+    "crossings",
+    "volume_fraction",
+    "volume_fraction_error",
+];
+
+fn write_x_profiles(path: &Path, rows: &[XProfileBin]) -> Result<(), RunError> {
+    let rows: Vec<Vec<Cell>> = rows
+        .iter()
+        .map(|b| {
+            vec![
+                b.x_star.into(),
+                b.x.into(),
+                b.velocity.into(),
+                b.velocity_error.into(),
+                (b.crossings as f64).into(),
+                b.volume_fraction.into(),
+                b.volume_fraction_error.into(),
+            ]
+        })
+        .collect();
+    write_csv_table(path, &X_PROFILE_COLUMNS, &rows)?;
+    Ok(())
+}
+
+/// An x-bin of a 3D slot as a profile row (the volume fraction in the area fraction's place),
+/// for the profile figures.
+fn x_profile_row(b: &XProfileBin) -> ProfileRow {
+    ProfileRow {
+        x_star: b.x_star,
+        x: b.x,
+        velocity: b.velocity,
+        velocity_error: b.velocity_error,
+        crossings: b.crossings as usize,
+        area_fraction: b.volume_fraction,
+        area_fraction_error: b.volume_fraction_error,
+        area_fraction_velocity: f64::NAN,
+        snapshot_velocity: f64::NAN,
+        crossing_area_fraction: f64::NAN,
+        crossing_area_fraction_error: f64::NAN,
+    }
 }
 
 /// A circle's annuli as profile rows at −r* and r* (the volume fraction in the area

@@ -8,16 +8,16 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Case, Geometry};
-use crate::hopper::silo_fill::insert_silo_batch;
+use crate::config::{Case, Geometry, MeshOutlet};
+use crate::hopper::silo_fill::{insert_silo_batch, FillRegion};
 use crate::hopper::{
     adopt_walls, case_simulation_by_component, fill::insert_batch, ContainerWalls, Draw, Packing,
     ParticleDraws,
 };
 use crate::measure::{
-    silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid, FrameView,
-    Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe, StripConfig,
-    StripProbe, VelocityFieldProbe,
+    bed_bulk, silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid,
+    FrameView, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
+    StripConfig, StripProbe, VelocityFieldProbe,
 };
 use crate::summary::StopReason;
 
@@ -125,7 +125,7 @@ pub struct CaseRun {
     /// The state kept at the end of the settling, gate closed, until taken.
     bed: Option<Box<RunState>>,
     /// The walls a run from a bed rebuilt for its case ([`CaseRun::from_bed`]), by name.
-    rebuilt: Vec<&'static str>,
+    rebuilt: Vec<String>,
 }
 
 /// The wall-pressure recorder of a silo's walls in `sim` (its gate left out); `None` for a
@@ -170,6 +170,64 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
             particle_diameter,
             shape: OutletShape::Circle { centre_y: 0.0 },
         },
+        Geometry::Box(g) => OutletGeometry {
+            outlet_height: 0.0,
+            centre: g.outlet_offset,
+            half_width: g.outlet_radius(),
+            particle_diameter,
+            shape: match g.outlet {
+                crate::config::BoxOutlet::Slot => OutletShape::Slot,
+                crate::config::BoxOutlet::Square => OutletShape::Rectangle {
+                    centre_y: 0.0,
+                    half_depth: g.outlet_radius(),
+                },
+            },
+        },
+        Geometry::Mesh(g) => match g.outlet {
+            MeshOutlet::Disc { centre, radius, .. } => OutletGeometry {
+                outlet_height: 0.0,
+                centre: centre[0],
+                half_width: radius,
+                particle_diameter,
+                shape: OutletShape::Circle {
+                    centre_y: centre[1],
+                },
+            },
+            MeshOutlet::Rectangle { centre, size } => OutletGeometry {
+                outlet_height: 0.0,
+                centre: centre[0],
+                half_width: 0.5 * size[0],
+                particle_diameter,
+                shape: OutletShape::Rectangle {
+                    centre_y: centre[1],
+                    half_depth: 0.5 * size[1],
+                },
+            },
+        },
+    }
+}
+
+/// The region a 3D container's fill is poured into (all kinds but the slab).
+fn fill_region(geometry: &Geometry) -> &dyn FillRegion {
+    match geometry {
+        Geometry::Cylinder(g) => g,
+        Geometry::Box(g) => g,
+        Geometry::Mesh(g) => g,
+        Geometry::Slab(_) => unreachable!("the slab fills through `insert_batch`"),
+    }
+}
+
+/// The extent in y of a slot or rectangular orifice of a 3D container [m] (its x-profiles'
+/// strips are that deep): a box's slot spans the depth; `None` for the slab (whose profiles
+/// are per unit of its thickness) and for circular orifices.
+pub fn outlet_depth(case: &Case) -> Option<f64> {
+    match &case.geometry {
+        Geometry::Box(g) => Some(g.outlet_depth()),
+        Geometry::Mesh(g) => match g.outlet {
+            MeshOutlet::Rectangle { size, .. } => Some(size[1]),
+            MeshOutlet::Disc { .. } => None,
+        },
+        Geometry::Slab(_) | Geometry::Cylinder(_) => None,
     }
 }
 
@@ -200,7 +258,7 @@ impl CaseRun {
                     )?),
                 )
             }
-            Geometry::Cylinder(_) => (None, None),
+            Geometry::Cylinder(_) | Geometry::Box(_) | Geometry::Mesh(_) => (None, None),
         };
         let radial = match outlet.shape {
             OutletShape::Circle { centre_y } => Some(RadialPackingProbe::new(
@@ -212,7 +270,7 @@ impl CaseRun {
                 outlet.outlet_height,
                 case.measure.strip_height,
             )?),
-            OutletShape::Slot => None,
+            OutletShape::Slot | OutletShape::Rectangle { .. } => None,
         };
         let pressure = pressure_recorder(case, &walls, &mut sim)?;
         let wall_forces =
@@ -289,7 +347,7 @@ impl CaseRun {
                     .walls
                     .name_of(id)
                     .or_else(|| bed.walls.name_of(id))
-                    .unwrap_or("unnamed")
+                    .unwrap_or_else(|| "unnamed".to_string())
             })
             .collect();
         run.sim = sim;
@@ -337,7 +395,7 @@ impl CaseRun {
 
     /// The walls that a run from a bed rebuilt for its case, by name (`gate`,
     /// `plate_left`, `bottom`, …); empty when the bed's walls were all kept.
-    pub fn rebuilt_walls(&self) -> &[&'static str] {
+    pub fn rebuilt_walls(&self) -> &[String] {
         &self.rebuilt
     }
 
@@ -439,9 +497,9 @@ impl CaseRun {
                     v0,
                     attempts,
                 )?,
-                Geometry::Cylinder(g) => insert_silo_batch(
+                Geometry::Cylinder(_) | Geometry::Box(_) | Geometry::Mesh(_) => insert_silo_batch(
                     &mut self.sim,
-                    g,
+                    fill_region(&self.case.geometry),
                     &mut state.rng,
                     want,
                     &draws,
@@ -541,18 +599,33 @@ impl CaseRun {
     }
 
     fn measure_bulk(&self) -> Result<BulkMeasurement, RunError> {
+        let p = self.sim.particles();
+        let centres = || -> Vec<[f64; 3]> { p.positions().iter().map(|x| x.to_array()).collect() };
+        let d = self.case.particles.mean_diameter();
         let g = match &self.case.geometry {
             Geometry::Slab(g) => g,
             Geometry::Cylinder(silo) => {
-                let p = self.sim.particles();
-                let centres: Vec<[f64; 3]> = p.positions().iter().map(|x| x.to_array()).collect();
-                return Ok(silo_bulk(
-                    &centres,
+                return Ok(silo_bulk(&centres(), p.radii(), silo.radius, d, |h| {
+                    silo.volume_below(h)
+                })?);
+            }
+            Geometry::Box(silo) => {
+                // Columns over the floor plan less a diameter along every wall, as for the
+                // cylinder (docs/physics.md §7.6).
+                let (hw, hb) = (0.5 * silo.width - d, 0.5 * silo.depth - d);
+                return Ok(bed_bulk(
+                    &centres(),
                     p.radii(),
-                    silo.radius,
-                    self.case.particles.mean_diameter(),
+                    |x, y| x.abs() < hw && y.abs() < hb,
+                    d,
                     |h| silo.volume_below(h),
                 )?);
+            }
+            // STL walls have no known inside volume: no bulk fraction (NaN in the summary).
+            Geometry::Mesh(_) => {
+                return Err(RunError::NotMeasured(
+                    "the bulk fraction of STL walls, whose inside volume is not known",
+                ))
             }
         };
         let outlet = outlet_geometry(&self.case);
@@ -691,13 +764,19 @@ impl CaseRun {
         (0..p.len()).any(|k| {
             let x = p.positions()[k];
             let r = p.radii()[k];
-            let off_axis = match o.shape {
-                OutletShape::Slot => (x.x - o.centre).abs(),
-                OutletShape::Circle { centre_y } => (x.x - o.centre).hypot(x.y - centre_y),
+            let inside = |reach: f64| reach < o.half_width - 0.5 * r;
+            let over = match o.shape {
+                OutletShape::Slot => inside((x.x - o.centre).abs()),
+                OutletShape::Circle { centre_y } => inside((x.x - o.centre).hypot(x.y - centre_y)),
+                // Inside both spans: the x span as for a slot, the y span likewise.
+                OutletShape::Rectangle {
+                    centre_y,
+                    half_depth,
+                } => {
+                    inside((x.x - o.centre).abs()) && (x.y - centre_y).abs() < half_depth - 0.5 * r
+                }
             };
-            off_axis < o.half_width - 0.5 * r
-                && x.z > 0.0
-                && x.z < 2.0 * o.half_width + o.particle_diameter
+            over && x.z > 0.0 && x.z < 2.0 * o.half_width + o.particle_diameter
         })
     }
 }

@@ -18,7 +18,7 @@
 use dem::{WallId, WallLoad, Watched};
 use serde::{Deserialize, Serialize};
 
-use crate::hopper::{ContainerWalls, WALL_NAMES};
+use crate::hopper::ContainerWalls;
 use crate::output::Cell;
 
 /// Columns of `wall_forces.csv`; units in the module's and the docs' description.
@@ -30,7 +30,7 @@ pub(crate) const WALL_FORCE_COLUMNS: [&str; 8] =
 struct WallForceRow {
     /// Middle of the window [s from the start of the run].
     time: f64,
-    /// Index into [`WALL_NAMES`].
+    /// Index into the case's wall names (`crate::hopper::wall_names`).
     wall: u8,
     /// Mean force [N] then mean torque about the origin [N m] over the window's steps.
     load: [f64; 6],
@@ -42,7 +42,7 @@ struct WallForceRow {
 pub struct WallForceRecorder {
     /// Steps of a whole window.
     window_steps: u64,
-    /// The walls recorded: index into [`WALL_NAMES`] and the engine's id.
+    /// The walls recorded: index into the case's wall names and the engine's id.
     walls: Vec<(u8, WallId)>,
     /// Finished rows, in time order and, within a window, in the order of `walls`.
     rows: Vec<WallForceRow>,
@@ -125,17 +125,16 @@ impl WallForceRecorder {
             })
     }
 
-    /// The table of `wall_forces.csv`: the finished windows and the open one.
-    pub(crate) fn table(&self) -> Vec<Vec<Cell>> {
+    /// The table of `wall_forces.csv`: the finished windows and the open one, each wall
+    /// under its name in `names` (`crate::hopper::wall_names`).
+    pub(crate) fn table(&self, names: &[String]) -> Vec<Vec<Cell>> {
         self.rows
             .iter()
             .copied()
             .chain(self.open_rows())
             .map(|r| {
-                let mut row: Vec<Cell> = vec![
-                    r.time.into(),
-                    Cell::Text(WALL_NAMES[r.wall as usize].into()),
-                ];
+                let mut row: Vec<Cell> =
+                    vec![r.time.into(), Cell::Text(names[r.wall as usize].clone())];
                 row.extend(r.load.iter().map(|&v| Cell::from(v)));
                 row
             })

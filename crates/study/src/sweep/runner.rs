@@ -38,16 +38,24 @@ pub trait CaseRunner: Sync {
 
 /// A case's expected cost, for scheduling only (arbitrary units): the number of
 /// particles times the time they take to drain, N / W, with the Beverloo rate
-/// W ∝ (D − 1.5 d)^{3/2} of a slot, or (D − 1.5 d)^{5/2} of a circular orifice. In the paper's study the 11 cases with D = 18 mm take
+/// W ∝ (D − 1.5 d)^{3/2} of a slot (or a rectangle), or (D − 1.5 d)^{5/2} of a circular or square
+/// orifice. In the paper's study the 11 cases with D = 18 mm take
 /// 2–5 min each and those with D = 60 mm under one; they now start first.
 pub fn expected_cost(case: &crate::config::Case) -> f64 {
     let d = case.particles.mean_diameter();
     // Outlets of 1.5 d or less clog at once; keep the estimate finite and large.
     let opening = (case.geometry.outlet_size() - 1.5 * d).max(0.1 * d);
     let n = case.particles.count as f64;
-    let exponent = match case.geometry {
-        crate::config::Geometry::Slab(_) => 1.5,
-        crate::config::Geometry::Cylinder(_) => 2.5,
+    use crate::config::{BoxOutlet, Geometry, MeshOutlet};
+    let exponent = match &case.geometry {
+        Geometry::Slab(_) => 1.5,
+        Geometry::Cylinder(_) => 2.5,
+        Geometry::Box(g) if g.outlet == BoxOutlet::Slot => 1.5,
+        Geometry::Box(_) => 2.5,
+        Geometry::Mesh(g) => match g.outlet {
+            MeshOutlet::Disc { .. } => 2.5,
+            MeshOutlet::Rectangle { .. } => 1.5,
+        },
     };
     n * n / opening.powf(exponent)
 }

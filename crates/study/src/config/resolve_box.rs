@@ -1,0 +1,174 @@
+//! Reads `[geometry]` of a rectangular silo (`kind = "box"`), collecting every error with its
+//! key, line, value and allowed range.
+
+use super::box_silo::{BoxOutlet, BoxSilo};
+use super::error::{number, rounded, ConfigError, ErrorKind};
+use super::reader::Section;
+use super::resolve::MIN_OUTLET_DIAMETERS;
+use super::resolve_particles::source;
+use super::silo::WallSurface;
+
+/// Keys of a rectangular silo's `[geometry]`.
+pub(crate) const BOX_KEYS: &[&str] = &[
+    "kind",
+    "width",
+    "depth",
+    "height",
+    "outlet",
+    "outlet_width",
+    "hopper_angle_deg",
+    "outlet_offset",
+    "walls",
+];
+
+/// Reads a rectangular silo; `d_max` is the largest particle diameter [m] with the key that
+/// set it, when the particles are valid.
+pub(crate) fn read_box(
+    section: &mut Section<'_>,
+    d_max: Option<(f64, &str)>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<BoxSilo> {
+    let base = BoxSilo::example();
+    let width = section.float_or("width", "m", base.width, errors);
+    let depth = section.float_or("depth", "m", base.depth, errors);
+    let height = section.float_or("height", "m", base.height, errors);
+    let before = errors.len();
+    let outlet = section.choice(
+        "outlet",
+        &[("slot", BoxOutlet::Slot), ("square", BoxOutlet::Square)],
+        base.outlet,
+        errors,
+    );
+    let mut ok = errors.len() == before;
+    let outlet_width = section.float_or("outlet_width", "m", base.outlet_width, errors);
+    let angle = section.float_or("hopper_angle_deg", "°", base.hopper_angle_deg, errors);
+    let offset = section.float_or("outlet_offset", "m", 0.0, errors);
+    let before = errors.len();
+    let walls = section.choice(
+        "walls",
+        &[
+            ("smooth", WallSurface::Smooth),
+            ("meshed", WallSurface::Meshed),
+        ],
+        WallSurface::Smooth,
+        errors,
+    );
+    ok &= errors.len() == before;
+    section.finish(BOX_KEYS, errors);
+
+    ok &= width.require_positive(errors)
+        & depth.require_positive(errors)
+        & height.require_positive(errors)
+        & outlet_width.require_positive(errors);
+    if !offset.value.is_finite() {
+        errors.push(offset.error(ErrorKind::Invalid, "must be a finite number"));
+        ok = false;
+    }
+    if !(angle.value > 0.0 && angle.value <= 90.0) {
+        errors.push(angle.error(
+            ErrorKind::Invalid,
+            "must lie in (0°, 90°]: the plates' angle from the vertical, 90° = flat bottom",
+        ));
+        ok = false;
+    }
+    if !ok {
+        return None;
+    }
+    let (w, b, d, e) = (width.value, depth.value, outlet_width.value, offset.value);
+    if let Some((d_max, d_source)) = d_max {
+        let smallest = MIN_OUTLET_DIAMETERS * d_max;
+        if d < smallest * (1.0 - 4.0 * f64::EPSILON) {
+            errors.push(outlet_width.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the \
+                     largest diameter, {d_source}",
+                    rounded(smallest)
+                ),
+            ));
+            ok = false;
+        }
+        if b < d_max {
+            errors.push(depth.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be ≥ the largest particle diameter ({} m), {d_source}",
+                    rounded(d_max)
+                ),
+            ));
+            ok = false;
+        }
+    }
+    if e != 0.0 && angle.value < 90.0 {
+        errors.push(offset.error(
+            ErrorKind::Invalid,
+            format!(
+                "an off-centre orifice needs a flat bottom ({} = 90°); the plates meet at the \
+                 axis",
+                angle.key
+            ),
+        ));
+        ok = false;
+    }
+    if e.abs() + 0.5 * d >= 0.5 * w {
+        errors.push(outlet_width.error(
+            ErrorKind::DoesNotFit,
+            format!(
+                "the orifice lies outside the bottom: |e| + D/2 = {} m must be < W/2 = {} m \
+                 ({}, {})",
+                rounded(e.abs() + 0.5 * d),
+                rounded(0.5 * w),
+                source(&width),
+                source(&offset)
+            ),
+        ));
+        ok = false;
+    }
+    if outlet == BoxOutlet::Square && d >= b {
+        errors.push(outlet_width.error(
+            ErrorKind::DoesNotFit,
+            format!(
+                "a square orifice must be narrower than the depth: D must be < {} ({} m); a \
+                 slot (geometry.outlet = \"slot\") spans the whole depth",
+                depth.key,
+                number(b)
+            ),
+        ));
+        ok = false;
+    }
+    if !ok {
+        return None;
+    }
+    let silo = BoxSilo {
+        width: w,
+        depth: b,
+        height: height.value,
+        outlet,
+        outlet_width: d,
+        hopper_angle_deg: angle.value,
+        outlet_offset: e,
+        walls,
+    };
+    if silo.hopper_height() >= silo.height {
+        let what = match outlet {
+            BoxOutlet::Slot => format!("(W − D)/2 · cot α, from {}", source(&width)),
+            BoxOutlet::Square => format!(
+                "the larger of (W − D)/2 and (B − D)/2 times cot α, from {} and {}",
+                source(&width),
+                source(&depth)
+            ),
+        };
+        errors.push(angle.error(
+            ErrorKind::DoesNotFit,
+            format!(
+                "the plates would rise {} m ({what} and {}), not below {} ({} m)",
+                rounded(silo.hopper_height()),
+                source(&outlet_width),
+                height.key,
+                number(silo.height)
+            ),
+        ));
+        return None;
+    }
+    Some(silo)
+}
