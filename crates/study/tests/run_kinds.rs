@@ -1,7 +1,7 @@
 //! Runs of small rectangular silos (`kind = "box"`) and of STL walls (`kind = "mesh"`): the
 //! protocol works for each, what it writes obeys the invariants of a discharge, and STL files
 //! of the cylindrical silo's own triangles give that silo's walls and physics bit for bit
-//! (docs/physics.md §5.7–5.8, §7.7).
+//! (docs/physics.md §5.7–5.8, §7.8).
 
 use std::path::Path;
 

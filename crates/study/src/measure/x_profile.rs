@@ -1,5 +1,5 @@
 //! Outlet profiles along x over a slot or a rectangular orifice of a 3D container (a box, STL
-//! walls; docs/physics.md §7.7), from the crossings alone:
+//! walls; docs/physics.md §7.8), from the crossings alone:
 //!
 //! - v(x): the mean downward speed of the centres crossing each x-bin of the orifice, as for
 //!   the slab (§7.2);
