@@ -9,7 +9,9 @@ codes settle the packing on the closed gate for --settle-steps, remove the gate,
 with the loop time of the `run` between the log lines BENCH_WINDOW_BEGIN and BENCH_WINDOW_END
 and the mean atom count from the thermo rows of that run (trapezoidal rule). The script also
 reports the atoms at the window's ends, how many spheres left the silo (centre below the
-orifice plane) during the window, and the wall time of the LIGGGHTS case.
+orifice plane) during the window, and the wall time of the LIGGGHTS case. When it runs
+LIGGGHTS itself, it also reads LIGGGHTS' CPU time over the window (window_cpu_s,
+cpu_ns_per_particle_step): loop / CPU above about 1.05 means the core was shared.
 
 hopperflow's half is a hook: --hopperflow-cmd TEMPLATE is run on one thread, with the
 placeholders below filled in, and must print one JSON object with `ns_per_particle_step`
@@ -237,8 +239,24 @@ def case_description(packing, n, args):
     }
 
 
+def process_cpu_s(pid):
+    """User + system CPU seconds of a running process, from /proc (None where absent)."""
+    try:
+        fields = open("/proc/%d/stat" % pid).read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 def run_liggghts(out_dir, data, args):
-    """Runs in.silo on one core in out_dir; returns (log text, wall seconds measured here)."""
+    """Runs in.silo on one core in out_dir.
+
+    Returns (log text, wall seconds measured here, CPU seconds of the window or None). The
+    window's CPU time is LIGGGHTS' user + system time from the moment its log shows
+    BENCH_WINDOW_BEGIN (the log is flushed with the window's first thermo row, at its set-up)
+    to its exit (the window is the last run); it is read every 0.2 s. Unlike the loop time it
+    does not grow when other work takes the core, so wall / CPU says how contended the
+    window was."""
     exe = find_liggghts()
     if exe is None:
         raise FileNotFoundError("no LIGGGHTS executable found (install: apt-get install liggghts)")
@@ -251,11 +269,37 @@ def run_liggghts(out_dir, data, args):
     for name, value in args.var:
         cmd += ["-var", name, value]
     env = dict(os.environ, OMP_NUM_THREADS="1")
+    if os.path.exists(log):
+        os.remove(log)  # a log of an earlier run would show its markers
     start = time.monotonic()
+    cpu_begin = None
     with open(os.path.join(out_dir, "screen.out"), "w") as screen:
-        subprocess.run(cmd, cwd=out_dir, env=env, stdout=screen, stderr=subprocess.STDOUT,
-                       check=True, preexec_fn=niced)
-    return open(log).read(), time.monotonic() - start
+        proc = subprocess.Popen(cmd, cwd=out_dir, env=env, stdout=screen,
+                                stderr=subprocess.STDOUT, preexec_fn=niced)
+        seen = 0
+        while True:
+            try:
+                _, status, usage = os.wait4(proc.pid, os.WNOHANG)
+            except ChildProcessError:
+                raise subprocess.CalledProcessError(-1, cmd)
+            if _ == proc.pid:
+                break
+            if cpu_begin is None and os.path.exists(log):
+                with open(log, "rb") as f:
+                    f.seek(seen)
+                    chunk = f.read()
+                if b"\nBENCH_WINDOW_BEGIN" in chunk:
+                    cpu_begin = process_cpu_s(proc.pid)
+                # Read on from a little before the end, in case the marker is cut in two.
+                seen = max(seen, seen + len(chunk) - 64)
+            time.sleep(0.2)
+        proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise subprocess.CalledProcessError(proc.returncode, cmd)
+    window_cpu = None
+    if cpu_begin is not None:
+        window_cpu = usage.ru_utime + usage.ru_stime - cpu_begin
+    return open(log).read(), time.monotonic() - start, window_cpu
 
 
 def run_hopperflow(template, fields):
@@ -342,9 +386,13 @@ def main():
         else:
             print("running LIGGGHTS (one core); packing, log and screen output in %s" % out,
                   flush=True)
-            text, wall = run_liggghts(out, data, args)
+            text, wall, window_cpu = run_liggghts(out, data, args)
             lig = parse_liggghts_log(text)
             lig["measured_wall_s"] = wall
+            if window_cpu:
+                lig["window_cpu_s"] = window_cpu
+                lig["cpu_ns_per_particle_step"] = (window_cpu / (lig["window_steps"]
+                                                   * lig["window_mean_atoms"]) * 1e9)
         result["liggghts"] = lig
         print("LIGGGHTS   : %.1f ns/particle-step  (loop %.2f s, %d steps, mean %.1f atoms)"
               % (lig["ns_per_particle_step"], lig["window_loop_s"], lig["window_steps"],
@@ -354,6 +402,11 @@ def main():
                   lig["atoms_window_begin"], lig["atoms_window_end"],
                   lig["in_silo_window_begin"], lig["in_silo_window_end"],
                   lig["window_outflow_per_s"], lig["window_outflow_kg_per_s"]))
+        if lig.get("window_cpu_s"):
+            print("             CPU time over the window %.2f s (%.1f ns/particle-step); "
+                  "loop / CPU = %.2f (above ~1.05: the core was shared)"
+                  % (lig["window_cpu_s"], lig["cpu_ns_per_particle_step"],
+                     lig["window_loop_s"] / lig["window_cpu_s"]))
         if lig["in_silo_window_end"] >= lig["in_silo_window_begin"]:
             print("caution    : no sphere left the silo during the window: it is not a discharge")
         print("             settled %d steps (KE %.3g J, %d atoms)%s" % (
