@@ -8,12 +8,12 @@ spheres start at rest. Any packing in this format will do, e.g. a settled one wr
 either code; this script makes one when none is at hand.
 
 The packing is a simple cubic lattice of spacing `--spacing` diameters (default 1.1, solid
-fraction about 0.39) with its columns on the axis, every site moved by a random offset of at
+fraction about 0.39) with a column on the axis, every site moved by a random offset of at
 most `--jitter` x (spacing - 1) d / 2 along each axis (default 0.9), so that two spheres are
-at least spacing x d - 2 x that offset >= d apart: nothing overlaps. Sites are taken layer by layer from the gate upwards; the top layer is a
-random subset. Every sphere, wherever its offset puts it, keeps `--clearance` diameters
-(default 0.1) from the gate, the cone and the cylinder, and stays below the top of the
-cylinder. Deterministic for a given --seed.
+at least spacing x d - 2 x that offset >= d apart: nothing overlaps. Sites are taken layer
+by layer from the gate upwards; the top layer is a random subset. Every sphere, wherever its
+offset puts it, keeps `--clearance` diameters (default 0.1) from the gate, the cone and the
+cylinder, and stays below the top of the cylinder. Deterministic for a given --seed.
 
 Usage: make_packing.py [-n 20000] [--out packing.csv] [--seed 1] [--spacing 1.1]
 """

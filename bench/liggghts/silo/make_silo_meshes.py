@@ -44,9 +44,8 @@ def ring(radius, z, segments):
 
 
 def band(lower, upper):
-    """Triangles between two rings of equal size, normals towards the axis: seen from the
-    axis, each quad (lower k, lower k+1, upper k+1, upper k) runs counter-clockwise when
-    split as below, with the angle increasing to the right of a viewer looking outward."""
+    """Triangles between two rings of equal size, two per segment; their vertex order
+    (right-hand rule) makes the normals point towards the axis."""
     n = len(lower)
     tris = []
     for k in range(n):
