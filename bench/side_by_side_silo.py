@@ -20,14 +20,18 @@ over the same window (it may add `phases`, `mean_particles`, ...):
     {packing}          the packing CSV both codes start from (absolute path)
     {meshes}           the folder of cylinder.stl, cone.stl, gate.stl (absolute path)
     {case}             case.json in the run folder: geometry, materials and protocol
+    {particles}        the number of spheres in the packing
     {settle_steps} {transient_steps} {window_steps} {dt} {skin} {delete_below}
 The template is filled with Python's str.format (double any literal brace) and split like a
-shell command line (no shell runs it). The default is DEFAULT_HOPPERFLOW_CMD below.
+shell command line (no shell runs it). The default, DEFAULT_HOPPERFLOW_CMD below, is
+hopperflow's own silo bench: the same case and window (0.05-0.08 s after the opening), but
+from its own fill and settling and its own meshed walls. A template without {packing} is
+flagged as such in the output.
 
 Ratio printed: LIGGGHTS ns / hopperflow ns (above 1 means hopperflow is faster).
 
 Usage:
-  python3 bench/side_by_side_silo.py                    # 20 000 spheres; LIGGGHTS ~3 min
+  python3 bench/side_by_side_silo.py                    # 20 000 spheres; LIGGGHTS 7-10 min
   python3 bench/side_by_side_silo.py --particles 5000 --settle-steps 20000   # a quick look
   python3 bench/side_by_side_silo.py --liggghts-log L   # reuse an existing LIGGGHTS log
   python3 bench/side_by_side_silo.py --hopperflow-cmd '{hopperflow} bench --case silo ...'
@@ -58,11 +62,11 @@ TIME_STEP = 1.5e-6  # Δt [s]; must match in.silo
 DELETE_BELOW = packing_to_data.DELETE_BELOW  # [m]; spheres below are deleted
 # Mass of one benchmark sphere (M1, d = 4 mm) [kg], for the discharge rate in kg/s.
 SPHERE_MASS = 2500.0 * 3.141592653589793 / 6.0 * 0.004 ** 3
-# The command the hook runs when --hopperflow-cmd is not given: the interface proposed for
-# hopperflow's silo bench. Until hopperflow has it, the script says the command failed.
-DEFAULT_HOPPERFLOW_CMD = ("{hopperflow} bench --case silo --threads 1 --json --packing {packing} "
-                          "--meshes {meshes} --settle-steps {settle_steps} "
-                          "--transient-steps {transient_steps} --window-steps {window_steps}")
+# The command the hook runs when --hopperflow-cmd is not given: hopperflow's silo bench, timed
+# over the same window as in.silo's, from its own fill (it reads neither {packing} nor the STL
+# files). Where hopperflow's bench reads a packing, add `--packing {packing}` and the rest.
+DEFAULT_HOPPERFLOW_CMD = ("{hopperflow} bench --case silo --meshed --particles {particles} "
+                          "--threads 1 --json")
 
 LOOP_RE = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 # The timing table LIGGGHTS prints after each run, e.g. "Pair  time (%) = 22.0291 (61.4617)".
@@ -418,6 +422,7 @@ def main():
 
     if not args.skip_hopperflow:
         fields = {"hopperflow": HOPPERFLOW, "packing": packing, "meshes": MESHES, "case": case,
+                  "particles": len(packing_to_data.read_packing(packing)),
                   "settle_steps": args.settle_steps, "transient_steps": args.transient_steps,
                   "window_steps": args.window_steps, "dt": TIME_STEP, "skin": args.skin,
                   "delete_below": DELETE_BELOW}
@@ -426,6 +431,9 @@ def main():
             print("hopperflow : %s" % why)
         else:
             result["hopperflow"] = hf
+            if "{packing}" not in args.hopperflow_cmd:
+                print("caution    : the hopperflow command reads no {packing}: hopperflow timed "
+                      "its own fill of the silo, not the shared packing")
             ns = hf.get("ns_per_particle_step")
             print("hopperflow : %s ns/particle-step  %s" % (
                 "%.1f" % ns if isinstance(ns, (int, float)) else "?",
