@@ -628,12 +628,11 @@ pub fn finish(
     })
 }
 
-/// Columns of `profiles.csv` for a circular orifice: the annulus's area-weighted mean
-/// radius (over R, and in m), v(r) [m/s] with its error, the crossings counted, and φ(r) [-]
-/// with its error.
-const RADIAL_COLUMNS: [&str; 7] = [
-    "r_star",
-    "r",
+/// The last five columns of `profiles.csv` in a 3D container: v [m/s] with its error, the
+/// crossings counted, and the volume fraction [-] with its error. The first two give the bin's
+/// position: `r_star`, `r` [m] over a circular orifice (the annulus's area-weighted mean
+/// radius, `measure::radial`), `x_star`, `x` [m] along a slot or rectangle (`measure::x_profile`).
+const PROFILE_3D_COLUMNS: [&str; 5] = [
     "velocity",
     "velocity_error",
     "crossings",
@@ -641,55 +640,41 @@ const RADIAL_COLUMNS: [&str; 7] = [
     "volume_fraction_error",
 ];
 
-fn write_radial_profiles(path: &Path, bins: &[RadialBin]) -> Result<(), RunError> {
+/// Writes a 3D container's `profiles.csv`: per bin its position `[normalised, in m]` under the
+/// names `position`, then the columns of [`PROFILE_3D_COLUMNS`].
+fn write_profiles_3d(
+    path: &Path,
+    position: [&str; 2],
+    bins: impl Iterator<Item = ([f64; 2], [f64; 5])>,
+) -> Result<(), RunError> {
     let rows: Vec<Vec<Cell>> = bins
-        .iter()
-        .map(|b| {
-            vec![
-                b.r_star.into(),
-                b.r.into(),
-                b.velocity.into(),
-                b.velocity_error.into(),
-                (b.crossings as f64).into(),
-                b.volume_fraction.into(),
-                b.volume_fraction_error.into(),
-            ]
-        })
+        .map(|(at, values)| at.into_iter().chain(values).map(Cell::from).collect())
         .collect();
-    write_csv_table(path, &RADIAL_COLUMNS, &rows)?;
+    let columns: Vec<&str> = position.into_iter().chain(PROFILE_3D_COLUMNS).collect();
+    write_csv_table(path, &columns, &rows)?;
     Ok(())
 }
 
-/// Columns of `profiles.csv` for a slot or rectangle of a 3D container: the bin's centre in
-/// x* and x [m], v(x) [m/s] with its error, the crossings counted, and the volume fraction from
-/// the number flux [-] with its error (`measure::x_profile`).
-const X_PROFILE_COLUMNS: [&str; 7] = [
-    "x_star",
-    "x",
-    "velocity",
-    "velocity_error",
-    "crossings",
-    "volume_fraction",
-    "volume_fraction_error",
-];
+fn write_radial_profiles(path: &Path, bins: &[RadialBin]) -> Result<(), RunError> {
+    let rows = bins.iter().map(|b| {
+        let v = [b.velocity, b.velocity_error, b.crossings as f64];
+        (
+            [b.r_star, b.r],
+            [v[0], v[1], v[2], b.volume_fraction, b.volume_fraction_error],
+        )
+    });
+    write_profiles_3d(path, ["r_star", "r"], rows)
+}
 
-fn write_x_profiles(path: &Path, rows: &[XProfileBin]) -> Result<(), RunError> {
-    let rows: Vec<Vec<Cell>> = rows
-        .iter()
-        .map(|b| {
-            vec![
-                b.x_star.into(),
-                b.x.into(),
-                b.velocity.into(),
-                b.velocity_error.into(),
-                (b.crossings as f64).into(),
-                b.volume_fraction.into(),
-                b.volume_fraction_error.into(),
-            ]
-        })
-        .collect();
-    write_csv_table(path, &X_PROFILE_COLUMNS, &rows)?;
-    Ok(())
+fn write_x_profiles(path: &Path, bins: &[XProfileBin]) -> Result<(), RunError> {
+    let rows = bins.iter().map(|b| {
+        let v = [b.velocity, b.velocity_error, b.crossings as f64];
+        (
+            [b.x_star, b.x],
+            [v[0], v[1], v[2], b.volume_fraction, b.volume_fraction_error],
+        )
+    });
+    write_profiles_3d(path, ["x_star", "x"], rows)
 }
 
 /// An x-bin of a 3D slot as a profile row (the volume fraction in the area fraction's place),
