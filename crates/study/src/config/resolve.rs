@@ -46,6 +46,23 @@ pub(crate) const MAX_PARTICLE_COUNT: i64 = 10_000_000;
 /// Smallest outlet width in largest particle diameters (the issue's rule: D ≥ 3 d).
 pub(crate) const MIN_OUTLET_DIAMETERS: f64 = 3.0;
 
+/// Why an outlet of size `value` [m] is refused: narrower than [`MIN_OUTLET_DIAMETERS`]
+/// largest particle diameters, `d_max` with the key that set it; `None` when it is wide
+/// enough or the particles are unknown.
+pub(crate) fn outlet_too_small(value: f64, d_max: Option<(f64, &str)>) -> Option<String> {
+    let (d_max, source) = d_max?;
+    let smallest = MIN_OUTLET_DIAMETERS * d_max;
+    // The product rounds: 3 × 0.003 is 0.009000000000000001, above the 0.009 a user writes
+    // for exactly three diameters. A few units in the last place decide nothing.
+    (value < smallest * (1.0 - 4.0 * f64::EPSILON)).then(|| {
+        format!(
+            "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the largest \
+             diameter, {source}",
+            rounded(smallest)
+        )
+    })
+}
+
 const TOP_KEYS: &[&str] = &[
     "version",
     "seed",
@@ -340,18 +357,8 @@ fn read_geometry(
         ok = false;
     }
     if let Some((d_max, d_source)) = d_max {
-        let smallest = MIN_OUTLET_DIAMETERS * d_max;
-        // The product rounds: 3 × 0.003 is 0.009000000000000001, above the 0.009 a user
-        // writes for exactly three diameters. A few units in the last place decide nothing.
-        if d < smallest * (1.0 - 4.0 * f64::EPSILON) {
-            errors.push(outlet.error(
-                ErrorKind::Invalid,
-                format!(
-                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the \
-                     largest diameter, {d_source}",
-                    rounded(smallest)
-                ),
-            ));
+        if let Some(why) = outlet_too_small(d, Some((d_max, d_source))) {
+            errors.push(outlet.error(ErrorKind::Invalid, why));
             ok = false;
         }
         if thickness.value < d_max {
@@ -509,47 +516,35 @@ fn check_particles_fit(
         // `Case::particles_fit` holds for STL walls.
         Geometry::Mesh(_) => return,
         Geometry::Box(silo) => {
-            let silo_keys = [
+            let keys = [
                 key("width", "m", silo.width),
                 key("depth", "m", silo.depth),
                 key("height", "m", silo.height),
                 key("outlet_width", "m", silo.outlet_width),
                 key("hopper_angle_deg", "°", silo.hopper_angle_deg),
-            ]
-            .join(", ");
-            errors.push(count.error(
-                ErrorKind::DoesNotFit,
-                format!(
-                    "the particles cannot fit: their volume needs {} m³ of the silo at volume \
-                     fraction {}, but the silo below H holds {} m³; lower the count or enlarge \
-                     the silo (the need comes from the count and the sizes, the largest \
-                     diameter being {diameter_source}; the volume from {silo_keys})",
-                    rounded(case.packed_volume()),
-                    super::case::BULK_VOLUME_FRACTION,
-                    rounded(silo.volume()),
-                ),
+            ];
+            errors.push(silo_does_not_fit(
+                &count,
+                case,
+                silo.volume(),
+                &keys,
+                diameter_source,
             ));
             return;
         }
         Geometry::Cylinder(silo) => {
-            let silo_keys = [
+            let keys = [
                 key("radius", "m", silo.radius),
                 key("height", "m", silo.height),
                 key("outlet_diameter", "m", silo.outlet_diameter),
                 key("hopper_angle_deg", "°", silo.hopper_angle_deg),
-            ]
-            .join(", ");
-            errors.push(count.error(
-                ErrorKind::DoesNotFit,
-                format!(
-                    "the particles cannot fit: their volume needs {} m³ of the silo at volume \
-                     fraction {}, but the silo below H holds {} m³; lower the count or enlarge \
-                     the silo (the need comes from the count and the sizes, the largest \
-                     diameter being {diameter_source}; the volume from {silo_keys})",
-                    rounded(case.packed_volume()),
-                    super::case::BULK_VOLUME_FRACTION,
-                    rounded(silo.volume()),
-                ),
+            ];
+            errors.push(silo_does_not_fit(
+                &count,
+                case,
+                silo.volume(),
+                &keys,
+                diameter_source,
             ));
             return;
         }
@@ -585,6 +580,30 @@ fn check_particles_fit(
             rounded(g.cross_section_area()),
         ),
     ));
+}
+
+/// The refusal of a silo's count at `count` whose particles need more than the silo's
+/// `volume` [m³] below H, naming the sizes' key `diameter_source` and the silo's `keys`.
+fn silo_does_not_fit(
+    count: &super::reader::Located<i64>,
+    case: &Case,
+    volume: f64,
+    keys: &[String],
+    diameter_source: &str,
+) -> ConfigError {
+    count.error(
+        ErrorKind::DoesNotFit,
+        format!(
+            "the particles cannot fit: their volume needs {} m³ of the silo at volume fraction \
+             {}, but the silo below H holds {} m³; lower the count or enlarge the silo (the need \
+             comes from the count and the sizes, the largest diameter being {diameter_source}; \
+             the volume from {})",
+            rounded(case.packed_volume()),
+            super::case::BULK_VOLUME_FRACTION,
+            rounded(volume),
+            keys.join(", ")
+        ),
+    )
 }
 
 /// Reads `[wall]`. `named` is the case's material table, if any, and `particle_materials`

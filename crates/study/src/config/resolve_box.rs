@@ -4,7 +4,7 @@
 use super::box_silo::{BoxOutlet, BoxSilo};
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::reader::Section;
-use super::resolve::MIN_OUTLET_DIAMETERS;
+use super::resolve::outlet_too_small;
 use super::resolve_particles::source;
 use super::silo::WallSurface;
 
@@ -76,16 +76,8 @@ pub(crate) fn read_box(
     }
     let (w, b, d, e) = (width.value, depth.value, outlet_width.value, offset.value);
     if let Some((d_max, d_source)) = d_max {
-        let smallest = MIN_OUTLET_DIAMETERS * d_max;
-        if d < smallest * (1.0 - 4.0 * f64::EPSILON) {
-            errors.push(outlet_width.error(
-                ErrorKind::Invalid,
-                format!(
-                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the \
-                     largest diameter, {d_source}",
-                    rounded(smallest)
-                ),
-            ));
+        if let Some(why) = outlet_too_small(d, Some((d_max, d_source))) {
+            errors.push(outlet_width.error(ErrorKind::Invalid, why));
             ok = false;
         }
         if b < d_max {

@@ -17,7 +17,7 @@ use super::mesh_container::{
     box_meets_triangle, MeshContainer, MeshOutlet, MeshWall, MAX_MESH_WALLS,
 };
 use super::reader::{Located, Section};
-use super::resolve::MIN_OUTLET_DIAMETERS;
+use super::resolve::outlet_too_small;
 
 /// Keys of a mesh container's `[geometry]`.
 pub(crate) const MESH_KEYS: &[&str] = &["kind", "walls", "outlet", "fill_min", "fill_max"];
@@ -403,18 +403,7 @@ fn read_outlet(
         section.finish(&[], &mut Vec::new());
         return None;
     };
-    let smallest = d_max.map(|(d, source)| (MIN_OUTLET_DIAMETERS * d, source));
-    let too_small = |value: f64| {
-        smallest.and_then(|(least, source)| {
-            (value < least * (1.0 - 4.0 * f64::EPSILON)).then(|| {
-                format!(
-                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the \
-                     largest diameter, {source}",
-                    rounded(least)
-                )
-            })
-        })
-    };
+    let too_small = |value: f64| outlet_too_small(value, d_max);
     match shape.value.as_str() {
         "disc" => {
             let radius = section.float("radius", "m", errors);

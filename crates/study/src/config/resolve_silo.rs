@@ -3,7 +3,7 @@
 
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::reader::Section;
-use super::resolve::MIN_OUTLET_DIAMETERS;
+use super::resolve::outlet_too_small;
 use super::resolve_particles::source;
 use super::silo::{CylinderSilo, WallSurface, DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
 
@@ -72,16 +72,8 @@ pub(crate) fn read_cylinder(
     }
     let (r, d, e) = (radius.value, outlet.value, offset.value);
     if let Some((d_max, d_source)) = d_max {
-        let smallest = MIN_OUTLET_DIAMETERS * d_max;
-        if d < smallest * (1.0 - 4.0 * f64::EPSILON) {
-            errors.push(outlet.error(
-                ErrorKind::Invalid,
-                format!(
-                    "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the \
-                     largest diameter, {d_source}",
-                    rounded(smallest)
-                ),
-            ));
+        if let Some(why) = outlet_too_small(d, Some((d_max, d_source))) {
+            errors.push(outlet.error(ErrorKind::Invalid, why));
             ok = false;
         }
     }
