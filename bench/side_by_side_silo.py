@@ -54,8 +54,10 @@ SILO_DIR = os.path.join(HERE, "liggghts", "silo")
 MESHES = os.path.join(SILO_DIR, "meshes")
 HOPPERFLOW = os.path.join(REPO, "target", "release", "hopperflow")
 sys.path.insert(0, SILO_DIR)
+sys.path.insert(0, HERE)
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 import make_packing  # noqa: E402  (bench/liggghts/silo)
+from side_by_side import find_liggghts, load_average, niced  # noqa: E402  (bench/)
 import packing_to_data  # noqa: E402
 
 TIME_STEP = 1.5e-6  # Δt [s]; must match in.silo
@@ -173,27 +175,6 @@ def parse_liggghts_log(text):
         "log_wall_s": wall,
         "window_sections_ns": window_sections,
     }
-
-
-def find_liggghts():
-    """The LIGGGHTS executable: Debian installs `liggghts`; source builds make `lmp_auto`."""
-    for name in ("liggghts", "lmp_auto", "lmp_serial", "lmp_mpi"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
-def load_average():
-    """The 1-minute load average, or None where /proc is absent."""
-    try:
-        return float(open("/proc/loadavg").read().split()[0])
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-def niced():
-    os.nice(10)
 
 
 def prepare(out_dir, args):
