@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The Python part of the project's test command (scripts/test.sh runs it): a fresh virtual
 # environment under target/, the abi3 wheel of crates/python built by maturin and
-# installed in it, the release CLI that the tests compare against, then pytest.
+# installed in it, the CLI that the tests compare against, then pytest.
 #
 # Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
 # pandas, matplotlib and pytest.
@@ -20,8 +20,13 @@ rm -rf "$wheels"
 "$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
 
 # The tests compare runs from Python with the command line's, byte for byte.
-cargo build --release --locked -p hopperflow
-export HOPPERFLOW_CLI="$PWD/target/release/hopperflow"
+# The CLI the tests compare with: scripts/test.sh passes the one its `cargo test` built;
+# run alone, this script builds the release binary.
+if [ -z "${HOPPERFLOW_CLI:-}" ]; then
+    cargo build --release --locked -p hopperflow
+    HOPPERFLOW_CLI="$PWD/target/release/hopperflow"
+fi
+export HOPPERFLOW_CLI
 
 # Run from outside the source tree, so that `import hopperflow` finds the installed wheel.
 (cd target && "../$venv/bin/python" -m pytest ../crates/python/tests -q -p no:cacheprovider)

@@ -11,7 +11,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# Every later step reuses this build: the CLI binary it made (the test profile is optimised)
+# and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
+# package alone (`-p`) unifies features differently and compiles the CLI again.
 cargo test --workspace --locked
+export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
 
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
     echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
@@ -26,4 +30,4 @@ fi
 cluster=$(mktemp -d -t hopperflow-slurm.XXXXXX)
 trap 'scripts/slurm-cluster.sh stop "$cluster"' EXIT
 scripts/slurm-cluster.sh start "$cluster"
-SLURM_CONF="$cluster/slurm.conf" cargo test -p hopperflow --test slurm --locked -- --ignored
+SLURM_CONF="$cluster/slurm.conf" cargo test --workspace --test slurm --locked -- --ignored

@@ -113,22 +113,26 @@ fn one_task_runs_one_case_and_collect_writes_the_local_table() {
         );
         output
     };
-    hf(&[
+    // The quick study cut to 300 spheres and its first 40 % of discharge: the test is about
+    // which case runs where, and every case still fills, opens and measures a rate.
+    let reduced = [
         "study",
         "fan2023",
         "--quick",
         "--no-pictures",
+        "--set",
+        "particles.count=300",
+        "--set",
+        "protocol.stop_fraction=0.4",
+        "--set",
+        "measure.steady_end_fraction=0.4",
         "--out",
-        utf8(&local),
-    ]);
-    let base = [
-        "study",
-        "fan2023",
-        "--quick",
-        "--no-pictures",
-        "--out",
-        utf8(&tasks),
     ];
+    let mut local_run = reduced.to_vec();
+    local_run.push(utf8(&local));
+    hf(&local_run);
+    let mut base = reduced.to_vec();
+    base.push(utf8(&tasks));
     let mut write = base.to_vec();
     write.push("--slurm");
     hf(&write);

@@ -14,7 +14,7 @@ TINY_SWEEP = HERE / "cases" / "tiny-sweep.toml"
 
 
 def cli_path() -> Path:
-    """The release CLI (scripts/test-python.sh builds it and names it in HOPPERFLOW_CLI)."""
+    """The CLI (scripts/test-python.sh names it in HOPPERFLOW_CLI; the release build if unset)."""
     return Path(os.environ.get("HOPPERFLOW_CLI", REPO / "target" / "release" / "hopperflow"))
 
 
