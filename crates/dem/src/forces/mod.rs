@@ -27,6 +27,7 @@ mod general;
 pub(crate) mod loads;
 mod pairs;
 mod parallel;
+mod surface_batch;
 pub(crate) mod surfaces;
 mod surfaces_parallel;
 #[cfg(test)]

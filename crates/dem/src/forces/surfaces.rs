@@ -1,6 +1,8 @@
-//! The contacts of curved and meshed walls, and of spinning walls, one at a time through
-//! `ContactLaws::resolve` (docs/physics.md §5.2–5.4): after every other contact, on one
-//! thread, in list order, so the sums are the same bits at any thread count.
+//! The contacts of curved and meshed walls, and of spinning walls (docs/physics.md
+//! §5.2–5.4): after every other contact, each wall's candidates in list order, so the sums
+//! are the same bits at any thread count. Under the paper's laws the contacts found are
+//! resolved in batches (`surface_batch`); other laws resolve them one at a time through
+//! `ContactLaws::resolve`, the textbook form the batches are tested against.
 //!
 //! A sphere may touch such a wall in several places (a mesh's fold); each contact keeps
 //! its own history, carried from step to step by its normal: a contact takes the history
@@ -27,10 +29,13 @@ const NEAR_MARGIN: f64 = 0.02;
 /// Working arrays of the pass, reused from step to step.
 #[derive(Debug, Default)]
 pub(crate) struct SurfaceScratch {
-    mesh: MeshScratch,
-    contacts: Vec<MeshContact>,
-    previous: Vec<SurfaceContact>,
-    taken: Vec<bool>,
+    pub(super) mesh: MeshScratch,
+    pub(super) contacts: Vec<MeshContact>,
+    pub(super) previous: Vec<SurfaceContact>,
+    pub(super) taken: Vec<bool>,
+    /// The batched path's contacts found and not yet resolved, and their batch.
+    pub(super) pending: Vec<super::surface_batch::Pending>,
+    pub(super) batch: Box<crate::contact::batch::Batch>,
 }
 
 /// Where the pass writes: the bodies' forces and torques, each wall's load in fixed point,
@@ -70,37 +75,123 @@ pub(crate) fn surface_pass(
         let from = run.start + ids.partition_point(|&i| (i as usize) < bodies.start);
         let to = run.start + ids.partition_point(|&i| (i as usize) < bodies.end);
         let mut elements = sinks.elements.get_mut(w);
-        for k in from..to {
-            let i = pi[k] as usize;
-            let target = Target {
-                force: &mut sinks.force[i],
-                torque: &mut sinks.torque[i],
-                sum: &mut sum,
-                quanta: sinks.quanta,
-            };
-            count += resolve_candidate(
-                input,
-                (wall, w, bands),
-                (i, k),
-                &mut slots[k],
-                scratch,
-                target,
-                &mut worst,
-                |triangle, normal, force| {
-                    if let Some(loads) = elements.as_deref_mut() {
-                        loads.book(triangle as usize, normal, force, input.dt);
-                    }
-                },
-            );
-        }
+        let stretch = Stretch {
+            wall,
+            index: w,
+            bands,
+            ids: &pi[from..to],
+            first: from,
+            slots: &mut slots[from..to],
+        };
+        let mut target = StretchSinks {
+            force: sinks.force,
+            torque: sinks.torque,
+            offset: 0,
+            sum: &mut sum,
+            quanta: sinks.quanta,
+        };
+        count += resolve_stretch(
+            input,
+            stretch,
+            &mut target,
+            scratch,
+            &mut worst,
+            &mut |triangle, normal, force| {
+                if let Some(loads) = elements.as_deref_mut() {
+                    loads.book(triangle as usize, normal, force, input.dt);
+                }
+            },
+        );
         super::loads::merge_loads(&mut sinks.loads[w..=w], &[sum]);
     }
     (worst, count)
 }
 
+/// One wall's candidates whose particles lie in one body range: the wall, its index and
+/// element count (triangles or bands), the candidates' particles (increasing), the list
+/// index of the first, and their remembered contacts (index-aligned with `ids`).
+pub(super) struct Stretch<'a> {
+    pub wall: &'a Wall,
+    pub index: usize,
+    pub bands: usize,
+    pub ids: &'a [u32],
+    pub first: usize,
+    pub slots: &'a mut [SurfaceSlot],
+}
+
+/// Where a stretch's contacts go: the forces and torques of bodies `offset..` (indexed by
+/// particle − `offset`) and the wall's fixed-point load.
+pub(super) struct StretchSinks<'a> {
+    pub force: &'a mut [DVec3],
+    pub torque: &'a mut [DVec3],
+    pub offset: usize,
+    pub sum: &'a mut LoadSum,
+    pub quanta: &'a LoadQuanta,
+}
+
+/// Resolves the candidates of `stretch` in order into `sinks`; `book` receives each
+/// contact's element, normal and force on the particle, in the same order. Returns the
+/// number of contacts. The paper's laws go through the batches of `surface_batch`; the
+/// forces agree with the one-at-a-time path to a few ulps, and each particle receives its
+/// contacts in the same order on both.
+pub(super) fn resolve_stretch(
+    input: &KernelInput,
+    stretch: Stretch,
+    sinks: &mut StretchSinks,
+    scratch: &mut SurfaceScratch,
+    worst: &mut WorstOverlap,
+    book: &mut impl FnMut(u32, DVec3, DVec3),
+) -> usize {
+    if *input.laws == ContactLaws::default() {
+        return super::surface_batch::resolve_batched(input, stretch, sinks, scratch, worst, book);
+    }
+    resolve_one_by_one(input, stretch, sinks, scratch, worst, book)
+}
+
+/// [`resolve_stretch`] through `ContactLaws::resolve`, one contact at a time: any laws.
+pub(super) fn resolve_one_by_one(
+    input: &KernelInput,
+    stretch: Stretch,
+    sinks: &mut StretchSinks,
+    scratch: &mut SurfaceScratch,
+    worst: &mut WorstOverlap,
+    book: &mut impl FnMut(u32, DVec3, DVec3),
+) -> usize {
+    let Stretch {
+        wall,
+        index: w,
+        bands,
+        ids,
+        first,
+        slots,
+    } = stretch;
+    let mut count = 0;
+    for (offset, (&i, slot)) in ids.iter().zip(slots.iter_mut()).enumerate() {
+        let i = i as usize;
+        let local = i - sinks.offset;
+        let target = Target {
+            force: &mut sinks.force[local],
+            torque: &mut sinks.torque[local],
+            sum: sinks.sum,
+            quanta: sinks.quanta,
+        };
+        count += resolve_candidate(
+            input,
+            (wall, w, bands),
+            (i, first + offset),
+            slot,
+            scratch,
+            target,
+            worst,
+            &mut *book,
+        );
+    }
+    count
+}
+
 /// Where one candidate's contacts go: its particle's force and torque, and its wall's
 /// fixed-point load.
-pub(super) struct Target<'a> {
+struct Target<'a> {
     pub force: &'a mut DVec3,
     pub torque: &'a mut DVec3,
     pub sum: &'a mut LoadSum,
@@ -112,7 +203,7 @@ pub(super) struct Target<'a> {
 /// `target`; `book` receives each contact's element (triangle or band), normal and force on
 /// the particle. Returns the number of contacts.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn resolve_candidate(
+fn resolve_candidate(
     input: &KernelInput,
     (wall, w, bands): (&Wall, usize, usize),
     (i, k): (usize, usize),
@@ -124,7 +215,13 @@ pub(super) fn resolve_candidate(
 ) -> usize {
     let p = input.particles;
     let (x, r) = (p.position[i], p.radius[i]);
-    touching(wall, (x, r), bands, slot, scratch);
+    touching(
+        wall,
+        (x, r),
+        bands,
+        slot,
+        (&mut scratch.mesh, &mut scratch.contacts),
+    );
     let slot = &mut slot.contacts;
     if scratch.contacts.is_empty() {
         slot.clear();
@@ -170,14 +267,13 @@ pub(super) fn resolve_candidate(
 /// `scratch.contacts`; for a frustum, `triangle` holds the contact's band, of `bands` equal
 /// lengths along the axis. For a mesh, the triangles near the sphere are looked up in the
 /// mesh's index only when it has left the margin about where `slot` last found them.
-fn touching(
+pub(super) fn touching(
     wall: &Wall,
     (x, r): (DVec3, f64),
     bands: usize,
     slot: &mut SurfaceSlot,
-    scratch: &mut SurfaceScratch,
+    (mesh, out): (&mut MeshScratch, &mut Vec<MeshContact>),
 ) {
-    let out = &mut scratch.contacts;
     match wall.shape() {
         WallShape::Mesh(m) => {
             let margin = NEAR_MARGIN * r;
@@ -189,7 +285,7 @@ fn touching(
                 m.triangles_near(here, r + margin, &mut slot.near);
                 slot.anchor = Some(here);
             }
-            m.contacts_among(x, r, &slot.near, &mut scratch.mesh, out);
+            m.contacts_among(x, r, &slot.near, mesh, out);
         }
         WallShape::Frustum(f) => {
             out.clear();
@@ -220,7 +316,11 @@ fn touching(
 
 /// The history a contact of normal `normal` continues: that of the nearest remembered
 /// contact not yet taken, if within [`SAME_CONTACT_COS`]; otherwise none.
-fn continued(normal: DVec3, previous: &[SurfaceContact], taken: &mut [bool]) -> ContactHistory {
+pub(super) fn continued(
+    normal: DVec3,
+    previous: &[SurfaceContact],
+    taken: &mut [bool],
+) -> ContactHistory {
     let best = previous
         .iter()
         .enumerate()

@@ -16,7 +16,7 @@
 use rayon::prelude::*;
 
 use super::loads::{merge_loads, LoadSum, SurfaceLoads};
-use super::surfaces::{resolve_candidate, SurfaceScratch, SurfaceSinks, Target};
+use super::surfaces::{resolve_stretch, Stretch, StretchSinks, SurfaceScratch, SurfaceSinks};
 use super::*;
 use crate::history::SurfaceSlot;
 
@@ -191,34 +191,36 @@ fn range_pass(
             .as_ref()
             .expect("a resolved wall's candidates come from a present wall");
         let mut sum = LoadSum::default();
-        for (offset, slot) in stretch.iter_mut().enumerate() {
-            let k = first + offset;
-            let i = pi[k] as usize;
-            let local = i - bodies.start;
-            let bookings = &mut result.bookings;
-            result.count += resolve_candidate(
-                input,
-                (wall, w, bands[w]),
-                (i, k),
-                slot,
-                scratch,
-                Target {
-                    force: &mut force[local],
-                    torque: &mut torque[local],
-                    sum: &mut sum,
-                    quanta,
-                },
-                &mut result.worst,
-                |element, normal, force| {
-                    bookings.push(Booking {
-                        wall: w as u32,
-                        element,
-                        normal,
-                        force,
-                    })
-                },
-            );
-        }
+        let len = stretch.len();
+        let bookings = &mut result.bookings;
+        result.count += resolve_stretch(
+            input,
+            Stretch {
+                wall,
+                index: w,
+                bands: bands[w],
+                ids: &pi[first..first + len],
+                first,
+                slots: stretch,
+            },
+            &mut StretchSinks {
+                force: &mut *force,
+                torque: &mut *torque,
+                offset: bodies.start,
+                sum: &mut sum,
+                quanta,
+            },
+            scratch,
+            &mut result.worst,
+            &mut |element, normal, force| {
+                bookings.push(Booking {
+                    wall: w as u32,
+                    element,
+                    normal,
+                    force,
+                })
+            },
+        );
         result.loads.push((w, sum));
     }
     result
