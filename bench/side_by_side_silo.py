@@ -2,9 +2,10 @@
 """Side-by-side timing on the reduced benchmark silo: LIGGGHTS (bench/liggghts/silo/in.silo)
 against hopperflow, both starting from one packing CSV and the same STL walls.
 
-The figure compared is the cost per particle-step, in ns, over the same discharge window. Both
-codes settle the packing on the closed gate for --settle-steps, remove the gate, run
---transient-steps untimed and then time --window-steps (Δt = 1.5 µs). For LIGGGHTS it is
+The figure compared is the cost per particle-step, in ns, over the same discharge window.
+LIGGGHTS settles the packing on the closed gate for --settle-steps, removes the gate, runs
+--transient-steps untimed and then times --window-steps (Δt = 1.5 µs); hopperflow's bench
+does the same, with its own end of the settling and its fixed window (below). For LIGGGHTS it is
     Loop time / (steps × mean atom count over the window)
 with the loop time of the `run` between the log lines BENCH_WINDOW_BEGIN and BENCH_WINDOW_END
 and the mean atom count from the thermo rows of that run (trapezoidal rule). The script also
@@ -19,14 +20,23 @@ over the same window (it may add `phases`, `mean_particles`, ...):
     {hopperflow}       target/release/hopperflow
     {packing}          the packing CSV both codes start from (absolute path)
     {meshes}           the folder of cylinder.stl, cone.stl, gate.stl (absolute path)
+    {silo_case}        hopperflow's case file of this silo (bench/liggghts/silo/
+                       hopperflow-silo.toml, absolute path)
     {case}             case.json in the run folder: geometry, materials and protocol
     {particles}        the number of spheres in the packing
     {settle_steps} {transient_steps} {window_steps} {dt} {skin} {delete_below}
 The template is filled with Python's str.format (double any literal brace) and split like a
 shell command line (no shell runs it). The default, DEFAULT_HOPPERFLOW_CMD below, is
-hopperflow's own silo bench: the same case and window (0.05-0.08 s after the opening), but
-from its own fill and settling and its own meshed walls. A template without {packing} is
-flagged as such in the output.
+hopperflow's silo bench on {silo_case} started from {packing}: the same STL walls
+(cylinder.stl and cone.stl, read as they are; the gate is hopperflow's polygon around the
+orifice), materials, time step and deletion plane, and the same packing, placed at rest. Two
+things differ: the packing settles on the closed gate until hopperflow's criterion holds (mean
+kinetic energy below 1e-9 J per sphere, after at least 0.05 s) instead of for --settle-steps,
+and the window is hopperflow's fixed one, 0.05-0.08 s after the opening, that is the defaults
+of --transient-steps and --window-steps (the script says so when they are changed). hopperflow
+caches the settled bed (out/bench-cache/ under the current folder) under a name that stands
+for the case and the packing's bytes, so a rerun on the same packing times the window again
+without settling. A template without {packing} is flagged as such in the output.
 
 Ratio printed: LIGGGHTS ns / hopperflow ns (above 1 means hopperflow is faster).
 
@@ -64,11 +74,15 @@ TIME_STEP = 1.5e-6  # Δt [s]; must match in.silo
 DELETE_BELOW = packing_to_data.DELETE_BELOW  # [m]; spheres below are deleted
 # Mass of one benchmark sphere (M1, d = 4 mm) [kg], for the discharge rate in kg/s.
 SPHERE_MASS = 2500.0 * 3.141592653589793 / 6.0 * 0.004 ** 3
-# The command the hook runs when --hopperflow-cmd is not given: hopperflow's silo bench, timed
-# over the same window as in.silo's, from its own fill (it reads neither {packing} nor the STL
-# files). Where hopperflow's bench reads a packing, add `--packing {packing}` and the rest.
-DEFAULT_HOPPERFLOW_CMD = ("{hopperflow} bench --case silo --meshed --particles {particles} "
-                          "--threads 1 --json")
+# hopperflow's case file of this silo: the STL walls of meshes/, in.silo's materials and Δt.
+SILO_CASE = os.path.join(SILO_DIR, "hopperflow-silo.toml")
+# The command the hook runs when --hopperflow-cmd is not given: hopperflow's silo bench on its
+# case file of this silo, started from the shared packing, timed 0.05-0.08 s after the opening.
+DEFAULT_HOPPERFLOW_CMD = ("{hopperflow} bench --case silo --case-file {silo_case} "
+                          "--packing {packing} --threads 1 --json")
+# hopperflow's silo window [steps of Δt]: 0.05 s after the opening, then 0.03 s timed.
+HOPPERFLOW_TRANSIENT_STEPS = 33333
+HOPPERFLOW_WINDOW_STEPS = 20000
 
 LOOP_RE = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 # The timing table LIGGGHTS prints after each run, e.g. "Pair  time (%) = 22.0291 (61.4617)".
@@ -402,7 +416,8 @@ def main():
             print("             whole case wall time %.0f s" % wall)
 
     if not args.skip_hopperflow:
-        fields = {"hopperflow": HOPPERFLOW, "packing": packing, "meshes": MESHES, "case": case,
+        fields = {"hopperflow": HOPPERFLOW, "packing": packing, "meshes": MESHES,
+                  "silo_case": SILO_CASE, "case": case,
                   "particles": len(packing_to_data.read_packing(packing)),
                   "settle_steps": args.settle_steps, "transient_steps": args.transient_steps,
                   "window_steps": args.window_steps, "dt": TIME_STEP, "skin": args.skin,
@@ -415,6 +430,12 @@ def main():
             if "{packing}" not in args.hopperflow_cmd:
                 print("caution    : the hopperflow command reads no {packing}: hopperflow timed "
                       "its own fill of the silo, not the shared packing")
+            window = (args.transient_steps, args.window_steps)
+            if (args.hopperflow_cmd == DEFAULT_HOPPERFLOW_CMD
+                    and window != (HOPPERFLOW_TRANSIENT_STEPS, HOPPERFLOW_WINDOW_STEPS)):
+                print("caution    : hopperflow's bench timed its own window (%d steps from %d "
+                      "after the opening), not --transient-steps %d --window-steps %d"
+                      % ((HOPPERFLOW_WINDOW_STEPS, HOPPERFLOW_TRANSIENT_STEPS) + window))
             ns = hf.get("ns_per_particle_step")
             print("hopperflow : %s ns/particle-step  %s" % (
                 "%.1f" % ns if isinstance(ns, (int, float)) else "?",

@@ -5,10 +5,13 @@ use std::path::PathBuf;
 
 use study::bench::{
     bidisperse_benchmark, combine, hopper_benchmark, mesh_floor_benchmark, scaling_benchmark,
-    settled_bed, silo_benchmark, time_steps, BenchResult, BidisperseBed,
+    settled_bed, silo_benchmark, time_steps, BenchResult, BidisperseBed, SiloBench, SiloInputError,
+    SiloRequest, SiloSource, SiloStart,
 };
 
-#[derive(Clone, Copy, ValueEnum)]
+use crate::run_cmd::EXIT_BAD_INPUT;
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum BenchCase {
     /// A settled bed of 3000 Table-1 spheres in the slab, gate closed.
     Bed,
@@ -25,24 +28,26 @@ pub enum BenchCase {
     MeshFloor,
     /// The benchmark silo of Dosta et al. (2024), M1 and the large orifice, with
     /// `--particles` spheres (default 20 000), timed over 0.05–0.08 s after the gate opens;
-    /// `--meshed` for triangle-mesh walls.
+    /// `--meshed` for triangle-mesh walls, `--case-file` for any case instead, `--packing`
+    /// to start from a packing file.
     Silo,
 }
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// Which benchmark.
-    #[arg(long, value_enum, default_value = "bed")]
-    case: BenchCase,
+    /// Which benchmark [default: bed; silo with --case-file or --packing].
+    #[arg(long, value_enum)]
+    case: Option<BenchCase>,
     /// Worker threads (default: report 1 thread and all cores).
     #[arg(long)]
     threads: Option<usize>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
-    /// Particles in the bed (default 3000), the scaling packing (default 10^4, 10^5, 10^6) or
-    /// the bidisperse bed (default 10^4, rounded to whole blocks).
-    #[arg(long)]
+    /// Particles in the bed (default 3000), the scaling packing (default 10^4, 10^5, 10^6),
+    /// the bidisperse bed (default 10^4, rounded to whole blocks) or the silo (default 20 000;
+    /// with --case-file it replaces the file's particles.count and any --set of it).
+    #[arg(long, conflicts_with = "packing")]
     particles: Option<usize>,
     /// Steps timed (bed and bidisperse: default 4000; scaling: default 20 per
     /// repetition, repeated from a fresh packing until each size has 2·10^7 particle-steps).
@@ -62,7 +67,10 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=10))]
     ratio: u32,
     /// Checkpoint of the filled, settled hopper, reused between hopper benchmarks; the
-    /// settled bidisperse beds are cached beside it.
+    /// settled bidisperse beds and silos are cached beside it, a silo as
+    /// silo-n{N}-{walls}-{key}.bin with a key of its resolved case (the --set overrides and
+    /// the STL files' SHA-256 included) and its packing file's bytes, so that a bed is reused
+    /// only for the inputs that made it.
     #[arg(long, default_value = "out/bench-cache/hopper.bin")]
     cache: PathBuf,
     /// Runs of the whole benchmark: the median run is reported, with every run's time and
@@ -71,12 +79,115 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
     runs: u32,
     /// Silo only: meshed cylinder and cone instead of the exact ones.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "case_file")]
     meshed: bool,
+    /// Silo only: time the discharge of this case file instead of the built-in silo, over the
+    /// same window (0.05–0.08 s after the gate opens). The file and the --set overrides are
+    /// read and checked as `hopperflow run FILE` reads them (exit 2 on any error, nothing
+    /// timed); the file says its walls, so not with --meshed.
+    #[arg(long, value_name = "FILE")]
+    case_file: Option<PathBuf>,
+    /// Silo only: start from a packing file instead of the fill, as `hopperflow run --packing`
+    /// does (CSV with the columns x,y,z,radius,material, or VTU): the particles are placed at
+    /// rest, settle on the closed gate under the case's settling criterion, the gate opens and
+    /// the same window is timed. particles.count is the packing's, so not with --particles.
+    #[arg(long, value_name = "FILE")]
+    packing: Option<PathBuf>,
+    /// Silo only: override a key of the silo's case (the built-in one or --case-file's), e.g.
+    /// `--set seed=2` (repeatable), as for `hopperflow run`; --particles and --meshed are
+    /// applied after it.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
 }
 
-fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
-    match args.case {
+impl BenchArgs {
+    /// The benchmark asked for: --case, or the silo where only a silo option names one.
+    fn case(&self) -> BenchCase {
+        match self.case {
+            Some(case) => case,
+            None if self.case_file.is_some() || self.packing.is_some() => BenchCase::Silo,
+            None => BenchCase::Bed,
+        }
+    }
+
+    /// The silo's inputs as the options give them.
+    fn silo_request(&self) -> SiloRequest {
+        SiloRequest {
+            source: match &self.case_file {
+                Some(file) => SiloSource::File(file.clone()),
+                None => SiloSource::Template {
+                    meshed: self.meshed,
+                },
+            },
+            sets: self.sets.clone(),
+            start: match &self.packing {
+                Some(file) => SiloStart::Packing(file.clone()),
+                None => SiloStart::Fill {
+                    particles: self.particles,
+                },
+            },
+        }
+    }
+}
+
+/// The options that only the silo takes, as given on the command line.
+fn silo_options(args: &BenchArgs) -> Vec<&'static str> {
+    let mut given = Vec::new();
+    if args.case_file.is_some() {
+        given.push("--case-file");
+    }
+    if args.packing.is_some() {
+        given.push("--packing");
+    }
+    if !args.sets.is_empty() {
+        given.push("--set");
+    }
+    if args.meshed {
+        given.push("--meshed");
+    }
+    given
+}
+
+/// The silo's inputs read and checked, or the exit code of the refusal (its message printed):
+/// each error names the option and the file it came from.
+fn resolve_silo(args: &BenchArgs) -> Result<SiloBench, i32> {
+    args.silo_request().resolve().map_err(|e| {
+        match &e {
+            SiloInputError::Case {
+                file: Some(file), ..
+            } => eprintln!(
+                "error: --case-file {}: not a usable case; nothing was timed\n{e}",
+                file.display()
+            ),
+            SiloInputError::Case { file: None, .. } => eprintln!(
+                "error: the built-in silo with these options is not a valid case; nothing was \
+                 timed\n{e}"
+            ),
+            SiloInputError::Packing(p) => eprintln!(
+                "error: --packing {}: not a usable packing; nothing was timed\n{}",
+                p.file.display(),
+                error_lines(&e)
+            ),
+        }
+        EXIT_BAD_INPUT
+    })
+}
+
+/// Every line of an error as an `error:` line (a packing error has one per problem).
+fn error_lines(e: &SiloInputError) -> String {
+    e.to_string()
+        .lines()
+        .map(|l| format!("error: {l}"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn one(
+    args: &BenchArgs,
+    silo: Option<&SiloBench>,
+    threads: usize,
+) -> anyhow::Result<Vec<BenchResult>> {
+    match args.case() {
         BenchCase::Bed => {
             let settle = args.settle_steps.unwrap_or(120_000);
             let mut sim = settled_bed(args.particles.unwrap_or(3000), threads, settle)?;
@@ -89,17 +200,9 @@ fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
         }
         BenchCase::Hopper => Ok(vec![hopper_benchmark(threads, Some(&args.cache))?]),
         BenchCase::Silo => {
-            let particles = args.particles.unwrap_or(20_000);
-            let walls = if args.meshed { "meshed" } else { "smooth" };
-            let cache = args
-                .cache
-                .with_file_name(format!("silo-n{particles}-{walls}.bin"));
-            Ok(vec![silo_benchmark(
-                particles,
-                args.meshed,
-                threads,
-                Some(&cache),
-            )?])
+            let silo = silo.ok_or_else(|| anyhow::anyhow!("the silo's inputs were not read"))?;
+            let cache = args.cache.with_file_name(silo.cache_name());
+            Ok(vec![silo_benchmark(silo, threads, Some(&cache))?])
         }
         BenchCase::Scaling => {
             let sizes = match args.particles {
@@ -155,10 +258,14 @@ fn one(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
 
 /// `args.runs` runs of the benchmark on `threads` threads, each entry (one per size for the
 /// scaling benchmark) combined over the runs into its median run.
-fn repeated(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>> {
+fn repeated(
+    args: &BenchArgs,
+    silo: Option<&SiloBench>,
+    threads: usize,
+) -> anyhow::Result<Vec<BenchResult>> {
     let mut runs = Vec::new();
     for _ in 0..args.runs {
-        runs.push(one(args, threads)?);
+        runs.push(one(args, silo, threads)?);
     }
     if runs.len() == 1 {
         return Ok(runs.pop().unwrap_or_default());
@@ -183,6 +290,29 @@ fn repeated(args: &BenchArgs, threads: usize) -> anyhow::Result<Vec<BenchResult>
 }
 
 pub fn run(args: BenchArgs) -> i32 {
+    // Refuse inputs before anything is timed: silo options on another benchmark, then the
+    // silo's case and packing, read once for every run and thread count.
+    let case = args.case();
+    let given = silo_options(&args);
+    if case != BenchCase::Silo && !given.is_empty() {
+        let name = case
+            .to_possible_value()
+            .map_or_else(String::new, |v| v.get_name().to_string());
+        let verb = if given.len() == 1 { "applies" } else { "apply" };
+        eprintln!(
+            "error: {} {verb} to --case silo only, not to --case {name}",
+            given.join(", ")
+        );
+        return EXIT_BAD_INPUT;
+    }
+    let silo = if case == BenchCase::Silo {
+        match resolve_silo(&args) {
+            Ok(silo) => Some(silo),
+            Err(code) => return code,
+        }
+    } else {
+        None
+    };
     let all = std::thread::available_parallelism().map_or(1, |n| n.get());
     let list: Vec<usize> = match args.threads {
         Some(t) => vec![if t == 0 { all } else { t }],
@@ -196,7 +326,7 @@ pub fn run(args: BenchArgs) -> i32 {
     };
     let mut results = Vec::new();
     for t in list {
-        match repeated(&args, t) {
+        match repeated(&args, silo.as_ref(), t) {
             Ok(r) => results.extend(r),
             Err(e) => {
                 eprintln!("error: {e:#}");

@@ -13,10 +13,14 @@ use crate::hopper::{hopper_simulation, lattice_bed};
 mod bidisperse;
 mod mesh_floor;
 mod repeat;
+mod silo_inputs;
 pub use bidisperse::{bidisperse_bed, bidisperse_benchmark, BidisperseBed};
 use bidisperse::{settled_bidisperse_bed, SMALL_DIAMETER};
 pub use mesh_floor::mesh_floor_benchmark;
 pub use repeat::{combine, RunSpread};
+pub use silo_inputs::{
+    SiloBench, SiloInputError, SiloRequest, SiloSource, SiloStart, SILO_PARTICLES,
+};
 
 /// One timing.
 #[derive(Debug, Clone, Serialize)]
@@ -303,7 +307,7 @@ pub fn hopper_benchmark(
     cache: Option<&std::path::Path>,
 ) -> Result<BenchResult, crate::run::RunError> {
     let window = (HOPPER_WINDOW_START, HOPPER_WINDOW);
-    discharge_benchmark(&Case::paper_base(), "hopper", window, threads, cache)
+    discharge_benchmark(&Case::paper_base(), None, "hopper", window, threads, cache)
 }
 
 /// Simulated time after the gate opens at which the silo benchmark's window starts [s],
@@ -313,34 +317,35 @@ pub const SILO_WINDOW_START: f64 = 0.05;
 /// LIGGGHTS side-by-side input (`bench/liggghts/silo`).
 pub const SILO_WINDOW: f64 = 0.03;
 
-/// Times the benchmark silo of Dosta et al. (2024), reduced to `particles` spheres of its
-/// material M1 with the large orifice (`hopperflow init --kind cylinder`), with smooth or
-/// meshed walls, over [`SILO_WINDOW`] from [`SILO_WINDOW_START`] after the opening; the
-/// settled silo is cached in `cache`.
+/// Times the silo benchmark's case ([`SiloRequest::resolve`]; by default the benchmark silo of
+/// Dosta et al. (2024), reduced to [`SILO_PARTICLES`] spheres of its material M1 with the large
+/// orifice, `hopperflow init --kind cylinder`) over [`SILO_WINDOW`] from [`SILO_WINDOW_START`]
+/// after the opening, from its fill or its packing; the settled silo is cached in `cache`,
+/// which should be named by [`SiloBench::cache_name`].
 pub fn silo_benchmark(
-    particles: usize,
-    meshed: bool,
+    bench: &SiloBench,
     threads: usize,
     cache: Option<&std::path::Path>,
 ) -> Result<BenchResult, crate::run::RunError> {
-    let sets = [
-        format!("particles.count={particles}"),
-        format!(
-            "geometry.walls=\"{}\"",
-            if meshed { "meshed" } else { "smooth" }
-        ),
-    ];
-    let case = crate::config::parse_case(crate::config::CYLINDER_TEMPLATE, "silo", &sets)
-        .map_err(|e| DemError::InvalidInput(e.to_string()))?;
-    let label = if meshed { "silo-meshed" } else { "silo" };
     let window = (SILO_WINDOW_START, SILO_WINDOW);
-    discharge_benchmark(&case, label, window, threads, cache)
+    discharge_benchmark(
+        &bench.case,
+        bench.packing.as_ref(),
+        &bench.label,
+        window,
+        threads,
+        cache,
+    )
 }
 
 /// Times `case` over the window (`start` after the gate opens, `length` long) [s], probes and
-/// particle deletion included; the filled, settled case is cached in `cache`.
+/// particle deletion included. The bed is the protocol's fill, or `packing` placed at rest
+/// (as `hopperflow run --packing`); either settles on the closed gate under the case's
+/// criterion. The settled case is cached in `cache`, whose name must stand for all of these
+/// inputs: a cached state is taken as it is.
 pub fn discharge_benchmark(
     case: &Case,
+    packing: Option<&crate::hopper::Packing>,
     label: &str,
     (window_start, window_length): (f64, f64),
     threads: usize,
@@ -354,7 +359,10 @@ pub fn discharge_benchmark(
     let mut run = match cached {
         Some(state) => CaseRun::resume(&case, state, threads)?,
         None => {
-            let mut run = CaseRun::new(&case, threads)?;
+            let mut run = match packing {
+                Some(p) => CaseRun::from_packing(&case, p, threads)?,
+                None => CaseRun::new(&case, threads)?,
+            };
             while !matches!(run.phase(), Phase::Discharge { .. } | Phase::Done { .. }) {
                 run.advance()?;
             }
@@ -369,13 +377,29 @@ pub fn discharge_benchmark(
             run
         }
     };
-    let Phase::Discharge { opened, .. } = run.phase() else {
-        return Err(crate::run::RunError::Engine(DemError::InvalidInput(
-            "the container emptied before the benchmark window".into(),
-        )));
+    // The window after the opening, and in simulated time.
+    let after = (window_start, window_start + window_length);
+    let opened = match run.phase() {
+        Phase::Discharge { opened, .. } => opened,
+        Phase::Done { reason, opened } => {
+            return Err(crate::run::RunError::EndedBeforeWindow {
+                reason,
+                stopped: run.simulation().time() - opened,
+                start: after.0,
+                end: after.1,
+            })
+        }
+        // The loop above ends only in the discharge or after it.
+        Phase::Fill { .. } | Phase::Settle { .. } => {
+            return Err(crate::run::RunError::NotMeasured(
+                "a benchmark window before the gate opened",
+            ))
+        }
     };
-    while run.simulation().time() < opened + window_start {
+    let window = (opened + after.0, opened + after.1);
+    while run.simulation().time() < window.0 {
         run.advance()?;
+        ended_before(&run, opened, after)?;
     }
     let rebuilds = run.simulation().rebuilds();
     let steps0 = run.simulation().steps();
@@ -384,11 +408,11 @@ pub fn discharge_benchmark(
     let (mut contacts, mut wall_contacts, mut candidates) = (0.0, 0.0, 0.0);
     let cpu0 = thread_cpu_ns();
     let start = Instant::now();
-    let end = opened + window_start + window_length;
-    while run.simulation().time() < end - 0.5 * case.time_step {
+    while run.simulation().time() < window.1 - 0.5 * case.time_step {
         let before = run.simulation().steps();
         let n = run.simulation().particles().len() as f64;
         run.advance()?;
+        ended_before(&run, opened, after)?;
         let steps = (run.simulation().steps() - before) as f64;
         particle_steps += steps * n;
         let c = run.simulation().contacts();
@@ -419,6 +443,29 @@ pub fn discharge_benchmark(
         bytes_per_particle: None,
         phases: PhaseBreakdown::of(run.simulation().phase_times(), secs, particle_steps),
         runs: None,
+    })
+}
+
+/// An error when the run's discharge has ended (emptied, clogged, or at its time limit) before
+/// the end of the window `(start, end)` [s after the opening]: a finished run takes no more
+/// steps, so the window could not be timed.
+fn ended_before(
+    run: &crate::run::CaseRun,
+    opened: f64,
+    (start, end): (f64, f64),
+) -> Result<(), crate::run::RunError> {
+    let crate::run::Phase::Done { reason, .. } = run.phase() else {
+        return Ok(());
+    };
+    let stopped = run.simulation().time() - opened;
+    if stopped >= end - 0.5 * run.simulation().config().time_step {
+        return Ok(());
+    }
+    Err(crate::run::RunError::EndedBeforeWindow {
+        reason,
+        stopped,
+        start,
+        end,
     })
 }
 

@@ -23,8 +23,8 @@ pub use cut::vertical_cut;
 pub use draw::{Draw, ParticleDraws};
 pub use mesh_walls::{build_mesh_walls, gate_outline, mesh_outline, mesh_wall_polygons, MeshWalls};
 pub use packing::{
-    read_packing, PackedParticle, Packing, PackingError, PackingPlace, PackingProblem,
-    PACKING_COLUMNS, PACKING_OVERLAP_FRACTION, RADIUS_TOLERANCE,
+    packing_count, read_packing, PackedParticle, Packing, PackingError, PackingPlace,
+    PackingProblem, PACKING_COLUMNS, PACKING_OVERLAP_FRACTION, RADIUS_TOLERANCE,
 };
 pub use setup::{
     case_simulation, case_simulation_by_component, contact_laws, hopper_simulation, lattice_bed,

@@ -236,9 +236,9 @@ fn hex(bytes: &[u8]) -> String {
 
 /// Reads and checks the packing file `path` for `case`: CSV or VTU by its extension.
 pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
-    let mut problems = Problems::default();
     // A packing gives no particle its component: a mixture's cannot be placed from it yet.
     if case.particles.components.len() > 1 {
+        let mut problems = Problems::default();
         problems.push(
             PackingPlace::File,
             format!(
@@ -249,6 +249,30 @@ pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
         );
         return Err(problems.into_error(path));
     }
+    let parsed = parse_file(path)?;
+    checked(path, parsed.raw, case, parsed.sha256, parsed.material)
+}
+
+/// The number of particles in the packing file `path`, read as [`read_packing`] reads it but
+/// not checked against a case: for a case that takes its `particles.count` from the packing
+/// (`hopperflow bench --packing`). Every problem of the file's format is an error, as there.
+pub fn packing_count(path: &Path) -> Result<usize, PackingError> {
+    parse_file(path).map(|parsed| parsed.raw.len())
+}
+
+/// A packing file's particles as written, before the checks against a case.
+struct ParsedFile {
+    raw: Vec<RawParticle>,
+    /// The one material name of a CSV (`None` for a VTU file).
+    material: Option<String>,
+    /// Hex SHA-256 of the file's bytes.
+    sha256: String,
+}
+
+/// Reads the packing file `path` (CSV or VTU by its extension) into its particles, or every
+/// problem of its format.
+fn parse_file(path: &Path) -> Result<ParsedFile, PackingError> {
+    let mut problems = Problems::default();
     let bytes = match std::fs::read(path) {
         Ok(bytes) => bytes,
         Err(e) => {
@@ -290,7 +314,11 @@ pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
         }
     };
     match parsed {
-        Some((raw, material)) if problems.is_empty() => checked(path, raw, case, sha256, material),
+        Some((raw, material)) if problems.is_empty() => Ok(ParsedFile {
+            raw,
+            material,
+            sha256,
+        }),
         _ => Err(problems.into_error(path)),
     }
 }

@@ -123,6 +123,19 @@ pub enum RunError {
         /// Particles requested.
         total: usize,
     },
+    /// A benchmark's discharge stopped before the end of its timed window
+    /// (`hopperflow bench`): a finished run takes no more steps, so the window cannot be timed.
+    #[error("the discharge stopped ({reason:?}) {stopped:.4} s after the gate opened, before the end of the benchmark window ({start:.4}-{end:.4} s after the opening): it needs more particles, or a longer protocol.time_limit or clog_timeout")]
+    EndedBeforeWindow {
+        /// Why the discharge stopped.
+        reason: crate::summary::StopReason,
+        /// When, after the opening [s].
+        stopped: f64,
+        /// The window's start after the opening [s].
+        start: f64,
+        /// The window's end after the opening [s].
+        end: f64,
+    },
     /// The output directory could not be created.
     #[error("cannot create output directory {path}: {source}")]
     Directory {
