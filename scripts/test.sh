@@ -11,9 +11,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# The Slurm tests below reuse this build's workspace-wide feature set: a step that builds one
+# Every later step reuses this build: the CLI binary it made (the test profile is optimised)
+# and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
 # package alone (`-p`) unifies features differently and compiles the CLI again.
 cargo test --workspace --locked
+export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
 
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
     echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
