@@ -128,9 +128,13 @@ def test_ctrl_c_stops_a_run_with_a_checkpoint(tmp_path):
     # A real SIGINT to a Python process running the paper's base case (minutes long): it
     # must stop within seconds, raise KeyboardInterrupt and leave a checkpoint.
     out = tmp_path / "base"
+    # The child installs Python's own SIGINT handler: a test command started in the
+    # background (nohup, `cmd &` in a script, some CI runners) passes SIGINT on as ignored,
+    # and Python then leaves it ignored, so the run would go on to its end.
     script = textwrap.dedent(
         f"""
-        import sys, hopperflow as hf
+        import signal, sys, hopperflow as hf
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         started = []
         def progress(*args):
             if not started:
