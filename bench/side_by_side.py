@@ -52,24 +52,16 @@ COLUMNS = ("step", "atoms", "ke", "mass_out", "count_out", "deleted")
 STAMP_RE = re.compile(r"(?:Setting up run at|finish time) (\w{3} \w{3} +\d+ \d+:\d+:\d+ \d{4})")
 
 
-def parse_liggghts_log(text):
-    """Extracts the timing and discharge figures from a log written by in.hopper.
+def scan_log(text, columns):
+    """The parts of a LIGGGHTS log that the benchmarks read, each with its line index.
 
-    Returns a dict with window_loop_s [s], window_steps, window_mean_atoms,
-    ns_per_particle_step [ns], discharge_rate_kg_per_s [kg/s], window_discharge_rate_kg_per_s
-    [kg/s], mass_discharged_kg [kg], particles_discharged, settle_step, gate_open_step,
-    end_step, loop_total_s [s] (sum of all loop times), log_wall_s [s] (first run set-up
-    to last run finish, from the log's time stamps; None if they are missing) and
-    window_sections_ns (LIGGGHTS' own timing table for the window, per particle-step [ns]:
-    pair, neigh, comm, outpt, modify where printed, other).
+    Returns (rows, markers, loops, sections): the thermo rows of every run as (index, dict of
+    `columns`, all values), the BENCH_ marker lines by name as (index, tokens), each run's
+    loop as (index, seconds, steps) and its timing table as (index, section, seconds).
     """
-    lines = text.splitlines()
     in_thermo = False
-    rows = []  # (line index, dict of thermo columns)
-    markers = {}
-    loops = []  # (line index, loop seconds, steps)
-    sections = []  # (line index, section name, seconds)
-    for i, line in enumerate(lines):
+    rows, markers, loops, sections = [], {}, [], []
+    for i, line in enumerate(text.splitlines()):
         tokens = line.split()
         if not tokens:
             continue
@@ -88,17 +80,44 @@ def parse_liggghts_log(text):
             loops.append((i, float(m.group(1)), int(m.group(3))))
             in_thermo = False
             continue
-        if in_thermo and len(tokens) >= len(COLUMNS) and re.fullmatch(r"\d+", tokens[0]):
+        if in_thermo and len(tokens) >= len(columns) and re.fullmatch(r"\d+", tokens[0]):
             try:
-                rows.append((i, dict(zip(COLUMNS, (float(t) for t in tokens)))))
+                values = [float(t) for t in tokens]
             except ValueError:
-                pass
+                continue
+            rows.append((i, dict(zip(columns, values)), values))
+    return rows, markers, loops, sections
+
+
+def log_wall_seconds(text):
+    """Seconds from the log's first run set-up to its last run's finish (its time stamps), or
+    None where there are fewer than two."""
+    stamps = STAMP_RE.findall(text)
+    if len(stamps) < 2:
+        return None
+    first, last = (time.mktime(time.strptime(" ".join(s.split()), "%a %b %d %H:%M:%S %Y"))
+                   for s in (stamps[0], stamps[-1]))
+    return last - first
+
+
+def parse_liggghts_log(text):
+    """Extracts the timing and discharge figures from a log written by in.hopper.
+
+    Returns a dict with window_loop_s [s], window_steps, window_mean_atoms,
+    ns_per_particle_step [ns], discharge_rate_kg_per_s [kg/s], window_discharge_rate_kg_per_s
+    [kg/s], mass_discharged_kg [kg], particles_discharged, settle_step, gate_open_step,
+    end_step, loop_total_s [s] (sum of all loop times), log_wall_s [s] (first run set-up
+    to last run finish, from the log's time stamps; None if they are missing) and
+    window_sections_ns (LIGGGHTS' own timing table for the window, per particle-step [ns]:
+    pair, neigh, comm, outpt, modify where printed, other).
+    """
+    rows, markers, loops, sections = scan_log(text, COLUMNS)
     for name in ("BENCH_GATE_OPEN", "BENCH_WINDOW_BEGIN", "BENCH_WINDOW_END"):
         if name not in markers:
             raise LogError("log has no %s line: the run did not reach it" % name)
     begin, end = markers["BENCH_WINDOW_BEGIN"][0], markers["BENCH_WINDOW_END"][0]
     window_loops = [lp for lp in loops if begin < lp[0] < end]
-    window_rows = [r for (i, r) in rows if begin < i < end]
+    window_rows = [r for (i, r, _) in rows if begin < i < end]
     if len(window_loops) != 1 or len(window_rows) < 2:
         raise LogError("the timed window has no complete run in the log")
     _, loop_s, steps = window_loops[0]
@@ -115,12 +134,12 @@ def parse_liggghts_log(text):
     open_step = int(markers["BENCH_GATE_OPEN"][1][2])
     # Rows at a run boundary appear twice (end of one run, start of the next): keep one.
     discharge = sorted({int(r["step"]): (r["mass_out"], r["count_out"])
-                        for (i, r) in rows if i > open_line}.items())
+                        for (i, r, _) in rows if i > open_line}.items())
     total_mass, total_count = discharge[-1][1]
     # The window's fractions refer to the fill (as hopperflow's, docs/physics.md §7): the atoms
     # present when the gate opened times the mass of one sphere (they are all alike). A run
     # that discharged less than STEADY_TO of its fill falls back to what did leave.
-    fill_atoms = next(r["atoms"] for (i, r) in rows if i > open_line)
+    fill_atoms = next(r["atoms"] for (i, r, _) in rows if i > open_line)
     fill_mass = fill_atoms * total_mass / total_count if total_count > 0 else total_mass
     reference = fill_mass if total_mass >= STEADY_TO * fill_mass else total_mass
     pts = [((s - open_step) * TIME_STEP, mass) for (s, (mass, _)) in discharge
@@ -133,12 +152,7 @@ def parse_liggghts_log(text):
         sxx = sum((t - mt) ** 2 for t, _ in pts)
         rate = sum((t - mt) * (mass - mm) for t, mass in pts) / sxx
     window_rate = (window_rows[-1]["mass_out"] - window_rows[0]["mass_out"]) / (steps * TIME_STEP)
-    stamps = STAMP_RE.findall(text)
-    wall = None
-    if len(stamps) >= 2:
-        first, last = (time.mktime(time.strptime(" ".join(s.split()), "%a %b %d %H:%M:%S %Y"))
-                       for s in (stamps[0], stamps[-1]))
-        wall = last - first
+    wall = log_wall_seconds(text)
     settle_step = int(markers["BENCH_SETTLED"][1][2]) if "BENCH_SETTLED" in markers else None
     return {
         "window_loop_s": loop_s,

@@ -50,7 +50,6 @@ Both codes run on one thread at nice 10 (the machine is shared).
 import argparse
 import json
 import os
-import re
 import shlex
 import shutil
 import subprocess
@@ -67,7 +66,8 @@ sys.path.insert(0, SILO_DIR)
 sys.path.insert(0, HERE)
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 import make_packing  # noqa: E402  (bench/liggghts/silo)
-from side_by_side import find_liggghts, load_average, niced  # noqa: E402  (bench/)
+from side_by_side import (  # noqa: E402  (bench/)
+    find_liggghts, load_average, log_wall_seconds, niced, scan_log)
 import packing_to_data  # noqa: E402
 
 TIME_STEP = 1.5e-6  # Δt [s]; must match in.silo
@@ -84,10 +84,6 @@ DEFAULT_HOPPERFLOW_CMD = ("{hopperflow} bench --case silo --case-file {silo_case
 HOPPERFLOW_TRANSIENT_STEPS = 33333
 HOPPERFLOW_WINDOW_STEPS = 20000
 
-LOOP_RE = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
-# The timing table LIGGGHTS prints after each run, e.g. "Pair  time (%) = 22.0291 (61.4617)".
-SECTION_RE = re.compile(r"^(Pair|Neigh|Comm|Outpt|Modify|Other)\s+time \(%\) = ([0-9.eE+-]+)")
-STAMP_RE = re.compile(r"(?:Setting up run at|finish time) (\w{3} \w{3} +\d+ \d+:\d+:\d+ \d{4})")
 # in.silo's thermo columns, by position: step, atoms, translational KE [J], spheres with the
 # centre above the orifice plane; the settling run adds Δt/t_Rayleigh and Δt/t_Hertz.
 COLUMNS = ("step", "atoms", "ke", "in_silo")
@@ -108,37 +104,7 @@ def parse_liggghts_log(text):
     [s] (first run set-up to last run finish, from the log's time stamps) and
     window_sections_ns (LIGGGHTS' timing table for the window per particle-step [ns]).
     """
-    lines = text.splitlines()
-    in_thermo = False
-    rows = []  # (line index, dict of thermo columns, all tokens)
-    markers = {}
-    loops = []  # (line index, loop seconds, steps)
-    sections = []  # (line index, section name, seconds)
-    for i, line in enumerate(lines):
-        tokens = line.split()
-        if not tokens:
-            continue
-        m = SECTION_RE.match(line)
-        if m:
-            sections.append((i, m.group(1).lower(), float(m.group(2))))
-            continue
-        if tokens[0] == "Step":
-            in_thermo = True
-            continue
-        if tokens[0].startswith("BENCH_"):
-            markers[tokens[0]] = (i, tokens)
-            continue
-        m = LOOP_RE.search(line)
-        if m:
-            loops.append((i, float(m.group(1)), int(m.group(3))))
-            in_thermo = False
-            continue
-        if in_thermo and len(tokens) >= len(COLUMNS) and re.fullmatch(r"\d+", tokens[0]):
-            try:
-                values = [float(t) for t in tokens]
-            except ValueError:
-                continue
-            rows.append((i, dict(zip(COLUMNS, values)), values))
+    rows, markers, loops, sections = scan_log(text, COLUMNS)
     for name in ("BENCH_SETTLED", "BENCH_GATE_OPEN", "BENCH_WINDOW_BEGIN", "BENCH_WINDOW_END"):
         if name not in markers:
             raise LogError("log has no %s line: the run did not reach it" % name)
@@ -162,12 +128,7 @@ def parse_liggghts_log(text):
     # Δt / t_Rayleigh from the settling run's check/timestep/gran column, where present.
     settled_line = markers["BENCH_SETTLED"][0]
     checks = [v[4] for (i, _, v) in rows if i < settled_line and len(v) >= 6 and v[4] > 0]
-    stamps = STAMP_RE.findall(text)
-    wall = None
-    if len(stamps) >= 2:
-        first, last = (time.mktime(time.strptime(" ".join(s.split()), "%a %b %d %H:%M:%S %Y"))
-                       for s in (stamps[0], stamps[-1]))
-        wall = last - first
+    wall = log_wall_seconds(text)
     settled = markers["BENCH_SETTLED"][1]
     return {
         "window_loop_s": loop_s,
