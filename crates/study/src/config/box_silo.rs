@@ -263,20 +263,7 @@ impl BoxSilo {
 
     /// Height [m] below which the container holds `volume` [m³], or `None` if it cannot.
     pub fn height_holding(&self, volume: f64) -> Option<f64> {
-        if volume > self.volume() {
-            return None;
-        }
-        // volume_below is continuous and increasing: bisection to 2^-60 of H.
-        let (mut low, mut high) = (0.0, self.height);
-        for _ in 0..60 {
-            let mid = 0.5 * (low + high);
-            if self.volume_below(mid) < volume {
-                low = mid;
-            } else {
-                high = mid;
-            }
-        }
-        Some(high)
+        super::silo::height_holding(self.height, volume, |z| self.volume_below(z))
     }
 
     /// Whether a sphere of radius `r` [m] centred at (x, y, z) lies inside the container with

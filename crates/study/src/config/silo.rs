@@ -128,20 +128,7 @@ impl CylinderSilo {
 
     /// Height [m] below which the container holds `volume` [m³], or `None` if it cannot.
     pub fn height_holding(&self, volume: f64) -> Option<f64> {
-        if volume > self.volume() {
-            return None;
-        }
-        // volume_below is continuous and increasing: bisection to 1e-18 of H.
-        let (mut low, mut high) = (0.0, self.height);
-        for _ in 0..60 {
-            let mid = 0.5 * (low + high);
-            if self.volume_below(mid) < volume {
-                low = mid;
-            } else {
-                high = mid;
-            }
-        }
-        Some(high)
+        height_holding(self.height, volume, |z| self.volume_below(z))
     }
 
     /// Whether a sphere of radius `r` [m] centred at (x, y, z) lies inside the container
@@ -161,6 +148,29 @@ impl CylinderSilo {
         let cone = self.outlet_radius() + z * theta.tan();
         (cone - rho) * theta.cos() >= c
     }
+}
+
+/// Height [m] below which a container of height `height` [m] whose volume below z is
+/// `volume_below(z)` [m³] holds `volume` [m³], or `None` if it cannot. `volume_below` is
+/// continuous and increasing: bisection to 2^-60 of the height.
+pub(super) fn height_holding(
+    height: f64,
+    volume: f64,
+    volume_below: impl Fn(f64) -> f64,
+) -> Option<f64> {
+    if volume > volume_below(height) {
+        return None;
+    }
+    let (mut low, mut high) = (0.0, height);
+    for _ in 0..60 {
+        let mid = 0.5 * (low + high);
+        if volume_below(mid) < volume {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    Some(high)
 }
 
 /// The container of a case.
