@@ -11,7 +11,7 @@
 
 use super::loads::add_load;
 use super::pairs::batch_force;
-use super::surfaces::{continued, touching, Stretch, StretchSinks, SurfaceScratch};
+use super::surfaces::{continued, remember, touching, Stretch, StretchSinks, SurfaceScratch};
 use super::*;
 use crate::contact::batch::{Batch, BATCH};
 use crate::history::{SurfaceContact, SurfaceSlot};
@@ -65,11 +65,7 @@ pub(super) fn resolve_batched(
             slot.contacts.clear();
             continue;
         }
-        previous.clear();
-        previous.extend_from_slice(&slot.contacts);
-        taken.clear();
-        taken.resize(previous.len(), false);
-        slot.contacts.clear();
+        remember(&mut slot.contacts, previous, taken);
         // `slots[candidate]` is indexed anew below: a full batch hands out into `slots`.
         let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
         for contact in contacts.iter() {

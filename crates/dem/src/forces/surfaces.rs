@@ -227,11 +227,7 @@ fn resolve_candidate(
         slot.clear();
         return 0;
     }
-    scratch.previous.clear();
-    scratch.previous.extend_from_slice(slot);
-    scratch.taken.clear();
-    scratch.taken.resize(slot.len(), false);
-    slot.clear();
+    remember(slot, &mut scratch.previous, &mut scratch.taken);
     let sphere = Sphere {
         radius: r,
         mass: p.mass[i],
@@ -312,6 +308,20 @@ pub(super) fn touching(
             }
         }
     }
+}
+
+/// Moves a candidate's remembered contacts `slot` into `previous`, none of them `taken`
+/// yet, leaving `slot` empty for this step's contacts: what [`continued`] matches against.
+pub(super) fn remember(
+    slot: &mut Vec<SurfaceContact>,
+    previous: &mut Vec<SurfaceContact>,
+    taken: &mut Vec<bool>,
+) {
+    previous.clear();
+    previous.extend_from_slice(slot);
+    taken.clear();
+    taken.resize(previous.len(), false);
+    slot.clear();
 }
 
 /// The history a contact of normal `normal` continues: that of the nearest remembered
