@@ -11,8 +11,11 @@
 //! |---|---|
 //! | 8 | [`MAGIC`] |
 //! | 8 | body length n, little-endian u64 |
-//! | n | body: postcard of [`CheckpointHeader`], then of [`RunState`] and [`PictureSchedule`] |
+//! | n | body: postcard of [`CheckpointHeader`], then of [`RunState`] and [`PictureSchedule`], then of [`TimeSpent`] |
 //! | 32 | SHA-256 of the body |
+//!
+//! [`TimeSpent`] came last so that checkpoints written before it existed still resume (their
+//! time spent is then unknown) and builds that predate it read the ones written after.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -60,6 +63,65 @@ pub struct CheckpointHeader {
     pub start: Option<StartRecord>,
 }
 
+/// Wall-clock time a run has spent up to a checkpoint, over every process that worked on it:
+/// each earlier process's share up to the checkpoint it left, this process's up to now.
+/// Work redone after a kill (from the last checkpoint to the kill) is counted once.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TimeSpent {
+    /// Wall-clock time from each process's start to the checkpoint, summed [s].
+    pub wall: f64,
+    /// The same by protocol phase [s].
+    pub protocol: ProtocolTime,
+    /// Processes whose time is counted, this one included [-].
+    pub processes: u32,
+    /// Whether some earlier process's time is missing: it left a checkpoint written before
+    /// checkpoints recorded the time spent.
+    pub partial: bool,
+}
+
+impl TimeSpent {
+    /// This record followed by a process that spent `wall` [s], `protocol` by phase.
+    pub fn then(self, wall: f64, protocol: ProtocolTime) -> Self {
+        Self {
+            wall: self.wall + wall,
+            protocol: self.protocol.plus(protocol),
+            processes: self.processes + 1,
+            partial: self.partial,
+        }
+    }
+
+    /// What is known before a process resumed from a checkpoint that did not record it.
+    pub fn unknown() -> Self {
+        Self {
+            partial: true,
+            ..Self::default()
+        }
+    }
+}
+
+/// Wall-clock time in each phase of the protocol, the probes, pictures and checkpoints of
+/// each chunk included [s].
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ProtocolTime {
+    /// Pouring the particles in [s].
+    pub fill: f64,
+    /// Waiting for the bed to come to rest [s].
+    pub settle: f64,
+    /// From the gate's opening to the stop [s].
+    pub discharge: f64,
+}
+
+impl ProtocolTime {
+    /// The sum of two records, phase by phase.
+    pub fn plus(self, other: Self) -> Self {
+        Self {
+            fill: self.fill + other.fill,
+            settle: self.settle + other.settle,
+            discharge: self.discharge + other.discharge,
+        }
+    }
+}
+
 /// Why a checkpoint file cannot be resumed from.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CheckpointError {
@@ -95,18 +157,23 @@ pub enum CheckpointError {
     },
 }
 
-/// Writes `header`, `state` and the snapshot schedule `pictures` to `path` atomically.
+/// Writes `header`, `state`, the snapshot schedule `pictures` and the time `spent` so far to
+/// `path` atomically.
 pub(crate) fn write_checkpoint(
     path: &Path,
     header: &CheckpointHeader,
     state: &RunState,
     pictures: &PictureSchedule,
+    spent: &TimeSpent,
 ) -> Result<(), OutputError> {
     let mut body = postcard::to_allocvec(header)
         .map_err(|e| OutputError::invalid(path, format!("checkpoint header: {e}")))?;
     let state = postcard::to_allocvec(&(state, pictures))
         .map_err(|e| OutputError::invalid(path, format!("checkpoint state: {e}")))?;
     body.extend_from_slice(&state);
+    let spent = postcard::to_allocvec(spent)
+        .map_err(|e| OutputError::invalid(path, format!("checkpoint time spent: {e}")))?;
+    body.extend_from_slice(&spent);
     write_atomic(path, &framed(&MAGIC, &body))
 }
 
@@ -188,6 +255,9 @@ pub(crate) struct Checkpoint {
     pub(crate) state: RunState,
     /// Where the snapshot series stands.
     pub(crate) pictures: PictureSchedule,
+    /// The run's time spent up to the checkpoint; `None` in a checkpoint written before
+    /// checkpoints recorded it.
+    pub(crate) spent: Option<TimeSpent>,
 }
 
 /// Reads a checkpoint, checking its signature, length, checksum and program version.
@@ -202,12 +272,21 @@ pub(crate) fn read_checkpoint(path: &Path) -> Result<Checkpoint, CheckpointError
             expected: env!("CARGO_PKG_VERSION").to_string(),
         });
     }
-    let (state, pictures): (RunState, PictureSchedule) =
-        postcard::from_bytes(rest).map_err(|e| CheckpointError::Undecodable(e.to_string()))?;
+    let ((state, pictures), rest): ((RunState, PictureSchedule), _) =
+        postcard::take_from_bytes(rest).map_err(|e| CheckpointError::Undecodable(e.to_string()))?;
+    let spent = if rest.is_empty() {
+        None
+    } else {
+        Some(
+            postcard::from_bytes::<TimeSpent>(rest)
+                .map_err(|e| CheckpointError::Undecodable(format!("time spent: {e}")))?,
+        )
+    };
     Ok(Checkpoint {
         header,
         state,
         pictures,
+        spent,
     })
 }
 

@@ -26,7 +26,7 @@ pub use bed::{
 };
 pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
-    KeyChange, MAGIC as CHECKPOINT_MAGIC,
+    KeyChange, ProtocolTime, TimeSpent, MAGIC as CHECKPOINT_MAGIC,
 };
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
 pub use start::{Start, StartKind, StartRecord, START_FILE};
@@ -451,12 +451,14 @@ fn write_checkpoint(
     header: &CheckpointHeader,
     run: &mut CaseRun,
     pictures: &outputs::Pictures,
+    spent: &TimeSpent,
 ) -> Result<(), RunError> {
     Ok(checkpoint::write_checkpoint(
         path,
         header,
         run.checkpoint(),
         &pictures.schedule(),
+        spent,
     )?)
 }
 
@@ -537,6 +539,14 @@ pub fn run_case_from(
     let draw = options.pictures && case.output.plots;
     let mut pictures = outputs::Pictures::new(out_dir, case, draw)?;
     let fresh = matches!(prior, Prior::Nothing);
+    // The time earlier processes spent on this run, and where this one takes it up.
+    let (earlier, resumed_at) = match &prior {
+        Prior::Checkpoint(saved) => (
+            saved.spent.unwrap_or_else(TimeSpent::unknown),
+            Some(saved.header.time),
+        ),
+        _ => (TimeSpent::default(), None),
+    };
     let mut run = match prior {
         Prior::Checkpoint(saved) => {
             let saved = *saved;
@@ -602,7 +612,8 @@ pub fn run_case_from(
         if case.output.checkpoint_interval > 0.0 && t >= next_checkpoint {
             next_checkpoint = t + case.output.checkpoint_interval;
             let header = checkpoint_header(case, &case_text, &hash, &run, record.as_ref());
-            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
+            let spent = earlier.then(started.elapsed().as_secs_f64(), protocol_time);
+            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures, &spent)?;
         }
         if let Some(report) = &options.progress {
             let sim = run.simulation();
@@ -634,38 +645,38 @@ pub fn run_case_from(
             .is_some_and(|flag| flag.load(Ordering::Relaxed));
         if stopped || options.chunk_limit.is_some_and(|limit| chunks >= limit) {
             let header = checkpoint_header(case, &case_text, &hash, &run, record.as_ref());
-            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures)?;
+            let spent = earlier.then(started.elapsed().as_secs_f64(), protocol_time);
+            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures, &spent)?;
             return Ok(RunOutcome::Interrupted);
         }
     }
     let mut summary = outputs::finish(&run, out_dir, &hash, draw)?;
     summary.start = record;
     let engine = run.simulation().phase_times().unwrap_or_default();
+    let wall = started.elapsed().as_secs_f64();
+    let whole = earlier.then(wall, protocol_time);
+    // This process's time, and the whole run's over every process that worked on it
+    // (`TimeSpent`): a resumed run's own figures leave out what came before its checkpoint.
     write_json_atomic(
         out_dir.join("timing.json"),
         &serde_json::json!({
-            "wall_time_s": started.elapsed().as_secs_f64(),
+            "wall_time_s": wall,
             "steps": run.simulation().steps(),
             "threads": options.threads,
             "protocol_s": protocol_time,
             "engine_s": engine,
+            "resumed_at_s": resumed_at,
+            "run": {
+                "wall_time_s": whole.wall,
+                "protocol_s": whole.protocol,
+                "processes": whole.processes,
+                "partial": whole.partial,
+            },
         }),
     )?;
     write_json_atomic(&summary_path, &summary)?;
     let _ = std::fs::remove_file(&checkpoint_path);
     Ok(RunOutcome::Finished(Box::new(summary)))
-}
-
-/// Wall-clock time of this process in each phase of the protocol, the probes, pictures and
-/// checkpoints of each chunk included [s]. A resumed run counts only its own part.
-#[derive(Debug, Default, Clone, Copy, serde::Serialize)]
-struct ProtocolTime {
-    /// Pouring the particles in [s].
-    fill: f64,
-    /// Waiting for the bed to come to rest [s].
-    settle: f64,
-    /// From the gate's opening to the stop [s].
-    discharge: f64,
 }
 
 impl ProtocolTime {
