@@ -573,3 +573,259 @@ proptest! {
         }
     }
 }
+
+/// The benchmark's material table as cases/README.md writes it, between its markers.
+fn benchmark_materials() -> String {
+    let readme = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../cases/README.md"
+    ))
+    .expect("cases/README.md");
+    let block = &readme[readme
+        .find("<!-- dosta2024-table -->")
+        .expect("the table's marker")..];
+    let body = &block[block.find("```toml\n").expect("a TOML block") + 8..];
+    body[..body.find("```").expect("the block's end")].to_string()
+}
+
+/// A small cylindrical silo (R = 16 mm, a 45° cone to a 16 mm orifice, 50 mm tall) holding
+/// `count` spheres of two components: `big`, 4 mm spheres of M1 (2500 kg/m³), and `fine`,
+/// 2 mm spheres of M2 (2000 kg/m³), in steel walls.
+fn mixture_case(count: usize) -> study::config::Case {
+    let text = format!(
+        r#"version = 1
+seed = 3
+{table}
+[geometry]
+kind = "cylinder"
+radius = 0.016
+height = 0.05
+outlet_diameter = 0.016
+hopper_angle_deg = 45.0
+
+[wall]
+material = "steel"
+
+[particles]
+count = {count}
+fraction_by = "number"
+
+[[particles.components]]
+name = "big"
+diameter = 0.004
+material = "M1"
+fraction = 0.5
+
+[[particles.components]]
+name = "fine"
+diameter = 0.002
+material = "M2"
+fraction = 0.5
+
+[time]
+time_step = 2.0e-6
+
+[protocol]
+settle_kinetic_energy = 1.0e-8
+max_settle_time = 0.15
+clog_timeout = 0.1
+time_limit = 0.4
+
+[output]
+plots = false
+checkpoint_interval = 0.0
+"#,
+        table = benchmark_materials()
+    );
+    parse_case(&text, "mixture.toml", &[])
+        .unwrap_or_else(|e| panic!("the mixture case is valid: {e}"))
+}
+
+/// A packing of the mixture case's silo: square layers of `big` spheres (4 mm) above the
+/// cone, then layers of `fine` ones (2 mm) above them, each sphere 0.1 mm clear of its
+/// neighbours and the wall. Rows: (x, y, z, radius, label).
+fn mixture_packing() -> Vec<(f64, f64, f64, f64, &'static str)> {
+    let mut rows = Vec::new();
+    let silo_radius: f64 = 0.016;
+    // The cone meets the cylinder at z = R − D/2 = 8 mm; the layers start above it.
+    let mut z = 0.0085;
+    for (radius, label, layers) in [(0.002_f64, "big", 3), (0.001_f64, "fine", 4)] {
+        let spacing = 2.0 * radius + 1.0e-4;
+        z += radius;
+        for _ in 0..layers {
+            let n = (silo_radius / spacing).ceil() as i32;
+            for i in -n..=n {
+                for j in -n..=n {
+                    let (x, y) = (f64::from(i) * spacing, f64::from(j) * spacing);
+                    if x.hypot(y) + radius + 1.0e-4 <= silo_radius {
+                        rows.push((x, y, z, radius, label));
+                    }
+                }
+            }
+            z += spacing;
+        }
+        z += 1.0e-4 - radius;
+    }
+    rows
+}
+
+fn mixture_csv(rows: &[(f64, f64, f64, f64, &str)]) -> String {
+    let mut text = String::from("x,y,z,radius,material\n");
+    for (x, y, z, r, label) in rows {
+        text.push_str(&format!("{x:?},{y:?},{z:?},{r:?},{label}\n"));
+    }
+    text
+}
+
+#[test]
+fn a_mixture_starts_from_a_csv_naming_each_particles_component() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let rows = mixture_packing();
+    let bigs = rows.iter().filter(|r| r.4 == "big").count();
+    let fines = rows.len() - bigs;
+    assert!(
+        bigs > 20 && fines > 100,
+        "{bigs} big and {fines} fine spheres"
+    );
+    let case = mixture_case(rows.len());
+    let path = write(root.path(), "mixture.csv", &mixture_csv(&rows));
+    let packing = read_packing(&path, &case).unwrap_or_else(|e| panic!("{e}"));
+    // Components by index into particles.components, in file order: big = 0, fine = 1.
+    let expected: Vec<u8> = rows.iter().map(|r| u8::from(r.4 == "fine")).collect();
+    assert_eq!(packing.components(), &expected[..]);
+    assert_eq!(packing.material(), None);
+
+    // A component may also be named by its material when no other is made of it.
+    let by_material = mixture_csv(
+        &rows
+            .iter()
+            .map(|&(x, y, z, r, label)| (x, y, z, r, if label == "big" { "M1" } else { "M2" }))
+            .collect::<Vec<_>>(),
+    );
+    let again = read_packing(&write(root.path(), "m.csv", &by_material), &case)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(again.components(), packing.components());
+
+    // The run: every particle has its component's material, so each crossing's density is
+    // its component's (M1 2500, M2 2000 kg/m³), and composition.csv counts the components.
+    let out = root.path().join("run");
+    let options = RunOptions {
+        pictures: false,
+        ..RunOptions::default()
+    };
+    let outcome = run_case_from(&case, &out, &options, &Start::Packing(Box::new(packing)))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(outcome, RunOutcome::Finished(_)));
+    let crossings = String::from_utf8(read(&out, "crossings.csv")).expect("UTF-8");
+    let mut lines = crossings.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let at = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("crossings.csv lacks {name}: {header:?}"))
+    };
+    let (density, component) = (at("material_density_kg_per_m3"), at("component"));
+    let mut seen = (0, 0);
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let rho: f64 = cells[density].parse().expect("a density");
+        match cells[component] {
+            "big" => {
+                assert_eq!(rho, 2500.0, "{line}");
+                seen.0 += 1;
+            }
+            "fine" => {
+                assert_eq!(rho, 2000.0, "{line}");
+                seen.1 += 1;
+            }
+            other => panic!("crossing of component `{other}`: {line}"),
+        }
+    }
+    // The fine layers lie on top, so both components leave; none more often than placed.
+    assert!(seen.0 > 0 && seen.1 > 0, "crossings by component: {seen:?}");
+    assert!(
+        seen.0 <= bigs && seen.1 <= fines,
+        "{seen:?} of {bigs}, {fines}"
+    );
+    let start: serde_json::Value =
+        serde_json::from_slice(&read(&out, "start.json")).expect("start.json is JSON");
+    assert_eq!(
+        start["components"]["big"],
+        serde_json::json!(bigs),
+        "{start}"
+    );
+    assert_eq!(
+        start["components"]["fine"],
+        serde_json::json!(fines),
+        "{start}"
+    );
+}
+
+#[test]
+fn a_mixture_packing_that_misnames_or_missizes_a_component_is_refused() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let rows = mixture_packing();
+    let case = mixture_case(rows.len());
+    let refuse = |name: &str, text: &str| -> String {
+        let path = write(root.path(), name, text);
+        read_packing(&path, &case)
+            .map(|_| ())
+            .expect_err("refused")
+            .to_string()
+    };
+    // Line 1 is the header, so particle k is on line k + 2.
+    let mut named = rows.clone();
+    named[5].4 = "sand";
+    let message = refuse("sand.csv", &mixture_csv(&named));
+    assert_names(
+        &message,
+        &[
+            "sand.csv line 7",
+            "material `sand` names no component",
+            "`big`, `fine`",
+        ],
+    );
+    // A 4 mm sphere called fine: outside fine's radii, though inside the case's.
+    let mut sized = rows.clone();
+    sized[0].4 = "fine";
+    let message = refuse("sized.csv", &mixture_csv(&sized));
+    assert_names(
+        &message,
+        &[
+            "sized.csv line 2",
+            "radius = 0.002 m",
+            "component `fine`'s radii [0.001, 0.001]",
+        ],
+    );
+    // A VTU names no component.
+    let vtu = root.path().join("mixture.vtu");
+    let positions: Vec<[f64; 3]> = rows.iter().map(|r| [r.0, r.1, r.2]).collect();
+    let radii: Vec<f64> = rows.iter().map(|r| r.3).collect();
+    let zeros = vec![[0.0; 3]; rows.len()];
+    let ids: Vec<u64> = (0..rows.len() as u64).collect();
+    write_particles_vtu(
+        &vtu,
+        &ParticleFields {
+            ids: &ids,
+            positions: &positions,
+            radii: &radii,
+            velocities: &zeros,
+            angular_velocities: &zeros,
+        },
+        0.0,
+    )
+    .expect("VTU written");
+    let message = read_packing(&vtu, &case)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert_names(
+        &message,
+        &[
+            "mixture.vtu",
+            "gives no particle its component",
+            "CSV packing",
+        ],
+    );
+}

@@ -5,12 +5,16 @@
 //! gate closed and goes on as after a fill. Two formats:
 //!
 //! - **CSV** with a header naming the columns `x`, `y`, `z`, `radius` and `material`, in any
-//!   order, one particle per line, SI units (m). Lines starting with `#` are comments. The
-//!   case has one particle material and case files give it no name, so `material` may hold
-//!   any name, the same on every line; a second name is refused.
+//!   order, one particle per line, SI units (m). Lines starting with `#` are comments. For a
+//!   case of one component, whose material case files do not name, `material` may hold any
+//!   name, the same on every line; a second name is refused. For a mixture
+//!   (`particles.components`) it names each particle's component, by the component's `name`
+//!   or by its material's name when that names one component only; the particle then gets
+//!   that component's material, and its radius is checked against that component's sizes.
 //! - **VTU** as hopperflow writes its snapshots (`output::vtu`): the points and a point-data
 //!   array `radius`, inline ASCII. Binary, appended or compressed data are refused with a
-//!   message that says how to save the file as ASCII.
+//!   message that says how to save the file as ASCII. A VTU names no component, so it starts
+//!   cases of one component only.
 //!
 //! Everything is checked before anything is written, and each problem names the file, the
 //! line (CSV) or the array and index (VTU), the value and what is allowed: numbers that are
@@ -165,6 +169,8 @@ pub(super) struct RawParticle {
     pub(super) position: [f64; 3],
     /// Radius [m].
     pub(super) radius: f64,
+    /// What its `material` column says (CSV); `None` from a file without one (VTU).
+    pub(super) label: Option<String>,
 }
 
 /// A checked packing, ready to start a run of the case it was checked against.
@@ -174,6 +180,9 @@ pub struct Packing {
     sha256: String,
     particles: Vec<PackedParticle>,
     material: Option<String>,
+    /// Each particle's component (an index into `particles.components`), in file order;
+    /// empty for a case of one component.
+    components: Vec<u8>,
 }
 
 impl Packing {
@@ -192,9 +201,16 @@ impl Packing {
         &self.sha256
     }
 
-    /// The material name the CSV gave every particle (`None` for a VTU file).
+    /// The material name the CSV gave every particle of a case of one component (`None` for a
+    /// VTU file and for a mixture).
     pub fn material(&self) -> Option<&str> {
         self.material.as_deref()
+    }
+
+    /// Each particle's component, an index into the case's `particles.components`, in file
+    /// order; empty for a case of one component.
+    pub fn components(&self) -> &[u8] {
+        &self.components
     }
 
     /// A packing of `particles` checked against `case` as a file's would be; `name` stands
@@ -211,6 +227,7 @@ impl Packing {
                 place: PackingPlace::Point(k),
                 position: p.position.to_array(),
                 radius: p.radius,
+                label: None,
             })
             .collect();
         let mut hasher = Sha256::new();
@@ -220,13 +237,34 @@ impl Packing {
             }
         }
         let sha256 = hex(&hasher.finalize());
-        checked(name, raw, case, sha256, None)
+        checked(name, raw, case, sha256)
     }
 
     /// Checks the packing against `case` again (what [`read_packing`] checked): a run
     /// refuses a packing of another case.
     pub fn check(&self, case: &Case) -> Result<(), PackingError> {
-        Self::new(&self.source, &self.particles, case).map(|_| ())
+        // Each particle labelled as it was read: by its component's name (a mixture) or the
+        // one material name (a CSV of one component).
+        let names = &case.particles.components;
+        let raw = self
+            .particles
+            .iter()
+            .enumerate()
+            .map(|(k, p)| RawParticle {
+                place: PackingPlace::Point(k),
+                position: p.position.to_array(),
+                radius: p.radius,
+                label: match self.components.get(k) {
+                    Some(&c) => Some(
+                        names
+                            .get(usize::from(c))
+                            .map_or_else(|| format!("component {c}"), |c| c.name.clone()),
+                    ),
+                    None => self.material.clone(),
+                },
+            })
+            .collect();
+        checked(&self.source, raw, case, self.sha256.clone()).map(|_| ())
     }
 }
 
@@ -236,21 +274,8 @@ fn hex(bytes: &[u8]) -> String {
 
 /// Reads and checks the packing file `path` for `case`: CSV or VTU by its extension.
 pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
-    // A packing gives no particle its component: a mixture's cannot be placed from it yet.
-    if case.particles.components.len() > 1 {
-        let mut problems = Problems::default();
-        problems.push(
-            PackingPlace::File,
-            format!(
-                "cannot start a mixture of {} components (particles.components): a packing file \
-                 places particles of the case's one material only",
-                case.particles.components.len()
-            ),
-        );
-        return Err(problems.into_error(path));
-    }
     let parsed = parse_file(path)?;
-    checked(path, parsed.raw, case, parsed.sha256, parsed.material)
+    checked(path, parsed.raw, case, parsed.sha256)
 }
 
 /// The number of particles in the packing file `path`, read as [`read_packing`] reads it but
@@ -263,8 +288,6 @@ pub fn packing_count(path: &Path) -> Result<usize, PackingError> {
 /// A packing file's particles as written, before the checks against a case.
 struct ParsedFile {
     raw: Vec<RawParticle>,
-    /// The one material name of a CSV (`None` for a VTU file).
-    material: Option<String>,
     /// Hex SHA-256 of the file's bytes.
     sha256: String,
 }
@@ -287,7 +310,7 @@ fn parse_file(path: &Path) -> Result<ParsedFile, PackingError> {
     let parsed = match extension.as_deref() {
         Some("csv") => parse_csv(&bytes, &mut problems),
         Some("vtu") => match std::str::from_utf8(&bytes) {
-            Ok(text) => parse_vtu(text, &mut problems).map(|raw| (raw, None)),
+            Ok(text) => parse_vtu(text, &mut problems),
             Err(e) => {
                 problems.push(
                     PackingPlace::File,
@@ -314,18 +337,14 @@ fn parse_file(path: &Path) -> Result<ParsedFile, PackingError> {
         }
     };
     match parsed {
-        Some((raw, material)) if problems.is_empty() => Ok(ParsedFile {
-            raw,
-            material,
-            sha256,
-        }),
+        Some(raw) if problems.is_empty() => Ok(ParsedFile { raw, sha256 }),
         _ => Err(problems.into_error(path)),
     }
 }
 
-/// The particles of CSV `bytes` and their one material name, or `None` with the problems
+/// The particles of CSV `bytes`, each with its `material` label, or `None` with the problems
 /// pushed.
-fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<(Vec<RawParticle>, Option<String>)> {
+fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> {
     // A byte-order mark (spreadsheets write one) is not part of the first column's name.
     let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
     let mut reader = csv::ReaderBuilder::new()
@@ -398,7 +417,6 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<(Vec<RawParticle>,
     let column = column.map(|c| c.unwrap_or_default());
     let width = header.len();
     let mut raw = Vec::new();
-    let mut material: Option<(String, u64)> = None;
     for record in records {
         let record = match record {
             Ok(r) => r,
@@ -447,31 +465,17 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<(Vec<RawParticle>,
         if name.is_empty() {
             problems.push(
                 place.clone(),
-                "material is empty; give the case's particle material a name (any, the same on \
-                 every line)",
+                "material is empty; give each particle its material (for a mixture, the name of \
+                 its component)",
             );
             good = false;
-        } else {
-            match &material {
-                None => material = Some((name.to_string(), line)),
-                Some((first, first_line)) if first != name => {
-                    problems.push(
-                        place.clone(),
-                        format!(
-                            "material `{name}` differs from `{first}` (line {first_line}): the \
-                             case has one particle material, so every particle names the same one"
-                        ),
-                    );
-                    good = false;
-                }
-                Some(_) => {}
-            }
         }
         if good {
             raw.push(RawParticle {
                 place,
                 position: [values[0], values[1], values[2]],
                 radius: values[3],
+                label: Some(name.to_string()),
             });
         }
     }
@@ -481,7 +485,7 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<(Vec<RawParticle>,
             "has a header but no particles: one line per particle is needed",
         );
     }
-    Some((raw, material.map(|(name, _)| name)))
+    Some(raw)
 }
 
 /// The packing of `raw` after every check against `case`, or every problem found.
@@ -490,10 +494,13 @@ fn checked(
     raw: Vec<RawParticle>,
     case: &Case,
     sha256: String,
-    material: Option<String>,
 ) -> Result<Packing, PackingError> {
     let mut problems = Problems::default();
-    check_values(&raw, case, &mut problems);
+    let (material, components) = labels(&raw, case, &mut problems);
+    // A mixture's radii are checked against each particle's component, once all are known.
+    if problems.is_empty() || components.is_empty() {
+        check_values(&raw, &components, case, &mut problems);
+    }
     if problems.is_empty() {
         check_container(&raw, case, &mut problems);
         check_overlaps(&raw, &mut problems);
@@ -524,18 +531,114 @@ fn checked(
             })
             .collect(),
         material,
+        components,
     })
 }
 
-/// Finite numbers, positive radii within the case's size distribution.
-fn check_values(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
-    let size = &case.particles;
-    let (low, high) = (0.5 * size.min_diameter(), 0.5 * size.max_diameter());
-    let (low_ok, high_ok) = (
-        low * (1.0 - RADIUS_TOLERANCE),
-        high * (1.0 + RADIUS_TOLERANCE),
-    );
+/// What the particles' `material` labels say: for a case of one component, the one name
+/// they all give (a second name is a problem); for a mixture, each particle's component
+/// ([`component_named`]; a label that names none, or a file without labels, is a problem).
+fn labels(raw: &[RawParticle], case: &Case, problems: &mut Problems) -> (Option<String>, Vec<u8>) {
+    let components = &case.particles.components;
+    if components.len() <= 1 {
+        let mut first: Option<(&str, &PackingPlace)> = None;
+        for p in raw {
+            let Some(name) = p.label.as_deref() else {
+                continue;
+            };
+            match first {
+                None => first = Some((name, &p.place)),
+                Some((first_name, first_place)) if first_name != name => problems.push(
+                    p.place.clone(),
+                    format!(
+                        "material `{name}` differs from `{first_name}` ({}): the case has one \
+                         particle material, so every particle names the same one",
+                        first_place.to_string().trim_start()
+                    ),
+                ),
+                Some(_) => {}
+            }
+        }
+        return (first.map(|(name, _)| name.to_string()), Vec::new());
+    }
+    let names = components
+        .iter()
+        .map(|c| format!("`{}`", c.name))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if raw.iter().any(|p| p.label.is_none()) {
+        problems.push(
+            PackingPlace::File,
+            format!(
+                "gives no particle its component, and the case is a mixture of {} components \
+                 (particles.components: {names}): start it from a CSV packing whose material \
+                 column names each particle's component",
+                components.len()
+            ),
+        );
+        return (None, Vec::new());
+    }
+    let mut found = Vec::with_capacity(raw.len());
     for p in raw {
+        let name = p.label.as_deref().unwrap_or_default();
+        match component_named(case, name) {
+            Some(k) => found.push(k),
+            None => {
+                problems.push(
+                    p.place.clone(),
+                    format!(
+                        "material `{name}` names no component of the case; a mixture's packing \
+                         names each particle's component: one of {names} \
+                         (particles.components[].name), or a material that one component alone \
+                         is made of"
+                    ),
+                );
+                found.push(0);
+            }
+        }
+    }
+    (None, found)
+}
+
+/// The component of a mixture that `name` names: the one of that `name`, or else the only one
+/// made of the material of that name.
+fn component_named(case: &Case, name: &str) -> Option<u8> {
+    let components = &case.particles.components;
+    let index = components.iter().position(|c| c.name == name).or_else(|| {
+        let mut made_of = components
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.material_name.as_deref() == Some(name));
+        match (made_of.next(), made_of.next()) {
+            (Some((k, _)), None) => Some(k),
+            _ => None,
+        }
+    })?;
+    u8::try_from(index).ok()
+}
+
+/// Finite numbers, positive radii within the case's size distribution, or for a mixture
+/// within the sizes of each particle's component (`components`, in file order).
+fn check_values(raw: &[RawParticle], components: &[u8], case: &Case, problems: &mut Problems) {
+    let size = &case.particles;
+    let range = |k: Option<u8>| match k.and_then(|k| size.components.get(usize::from(k))) {
+        Some(c) => (
+            0.5 * c.size.min_diameter(),
+            0.5 * c.size.max_diameter(),
+            format!("component `{}`'s", c.name),
+        ),
+        None => (
+            0.5 * size.min_diameter(),
+            0.5 * size.max_diameter(),
+            "the case's".to_string(),
+        ),
+    };
+    for (index, p) in raw.iter().enumerate() {
+        let (low, high, whose) = range(components.get(index).copied());
+        let (low_ok, high_ok) = (
+            low * (1.0 - RADIUS_TOLERANCE),
+            high * (1.0 + RADIUS_TOLERANCE),
+        );
         for (name, v) in ["x", "y", "z"].iter().zip(p.position) {
             if !v.is_finite() {
                 problems.push(
@@ -554,9 +657,9 @@ fn check_values(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
             problems.push(
                 p.place.clone(),
                 format!(
-                    "radius = {r} m is outside the case's radii [{low}, {high}] m (half the \
-                     diameters of particles.diameter or particles.size_distribution; {} % \
-                     tolerance)",
+                    "radius = {r} m is outside {whose} radii [{low}, {high}] m (half the \
+                     diameters of particles.diameter or particles.size_distribution, or of the \
+                     component's; {} % tolerance)",
                     RADIUS_TOLERANCE * 100.0
                 ),
             );

@@ -266,6 +266,7 @@ pub(super) fn parse_vtu(text: &str, problems: &mut Problems) -> Option<Vec<RawPa
                 place: PackingPlace::Point(k),
                 position: [positions[3 * k], positions[3 * k + 1], positions[3 * k + 2]],
                 radius: radii[k],
+                label: None,
             })
             .collect(),
     )

@@ -565,7 +565,7 @@ pub fn run_case_from(
         if let Some(record) = &record {
             write_json_atomic(
                 out_dir.join(START_FILE),
-                &start_file(record, start, reuse.as_ref(), &run),
+                &start_file(record, start, reuse.as_ref(), (case, &run)),
             )?;
         }
     }
@@ -701,7 +701,7 @@ fn start_file(
     record: &StartRecord,
     start: &Start,
     reuse: Option<&BedReuse>,
-    run: &CaseRun,
+    (case, run): (&Case, &CaseRun),
 ) -> serde_json::Value {
     let mut value = serde_json::json!({ "start": record });
     match start {
@@ -729,6 +729,19 @@ fn start_file(
             value["particles"] = packing.particles().len().into();
             if let Some(material) = packing.material() {
                 value["material"] = material.into();
+            }
+            // A mixture's packing: how many particles of each component it placed.
+            if !packing.components().is_empty() {
+                let mut counts = serde_json::Map::new();
+                for (k, component) in case.particles.components.iter().enumerate() {
+                    let n = packing
+                        .components()
+                        .iter()
+                        .filter(|&&c| usize::from(c) == k)
+                        .count();
+                    counts.insert(component.name.clone(), n.into());
+                }
+                value["components"] = counts.into();
             }
         }
     }

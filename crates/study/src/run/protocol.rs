@@ -379,12 +379,22 @@ impl CaseRun {
     /// `MIN_SETTLE_AFTER_FILL`, as after a fill) and goes on as usual.
     pub fn from_packing(case: &Case, packing: &Packing, threads: usize) -> Result<Self, RunError> {
         let mut run = Self::new(case, threads)?;
-        for p in packing.particles() {
-            run.sim.add_particle(ParticleInit::at_rest(
-                p.position,
-                p.radius,
-                run.state.materials[0],
-            ))?;
+        // A mixture's particles each get their component's material, and the run records
+        // their components by tag, as the fill does.
+        let components = packing.components();
+        for (k, p) in packing.particles().iter().enumerate() {
+            let component = components.get(k).copied();
+            let material = run.state.materials[component.map_or(0, usize::from)];
+            let tag = run
+                .sim
+                .add_particle(ParticleInit::at_rest(p.position, p.radius, material))?;
+            if let Some(component) = component {
+                let tag = tag as usize;
+                if run.state.components.len() <= tag {
+                    run.state.components.resize(tag + 1, u8::MAX);
+                }
+                run.state.components[tag] = component;
+            }
         }
         let t = run.sim.time();
         run.state.next_check = t + MIN_SETTLE_AFTER_FILL;
