@@ -109,6 +109,7 @@ impl Sample {
             radii: &self.radii,
             velocities: &self.velocities,
             angular_velocities: &self.angular_velocities,
+            components: None,
         }
     }
 }
@@ -180,6 +181,7 @@ fn empty_particle_set_gives_an_empty_but_valid_grid() {
         radii: &[],
         velocities: &[],
         angular_velocities: &[],
+        components: None,
     };
     write_particles_vtu(&path, &fields, 2.0).expect("write");
     let xml = std::fs::read_to_string(&path).expect("read back");

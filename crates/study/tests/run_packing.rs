@@ -90,6 +90,7 @@ fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
             radii: &radii,
             velocities: &zeros,
             angular_velocities: &zeros,
+            components: None,
         },
         0.0,
     )
@@ -632,8 +633,9 @@ clog_timeout = 0.1
 time_limit = 0.4
 
 [output]
-plots = false
+plots = true
 checkpoint_interval = 0.0
+vtu_interval = 0.2
 "#,
         table = benchmark_materials()
     );
@@ -710,7 +712,8 @@ fn a_mixture_starts_from_a_csv_naming_each_particles_component() {
     // its component's (M1 2500, M2 2000 kg/m³), and composition.csv counts the components.
     let out = root.path().join("run");
     let options = RunOptions {
-        pictures: false,
+        // Pictures on (and plots in the case): the particle snapshots are among them.
+        pictures: true,
         ..RunOptions::default()
     };
     let outcome = run_case_from(&case, &out, &options, &Start::Packing(Box::new(packing)))
@@ -760,6 +763,21 @@ fn a_mixture_starts_from_a_csv_naming_each_particles_component() {
         serde_json::json!(fines),
         "{start}"
     );
+
+    // The run's first snapshot, taken while the bed settles, carries each particle's
+    // component: it reads back as a packing of the same mixture, components in tag order.
+    let mut snapshots: Vec<PathBuf> = std::fs::read_dir(out.join("snapshots"))
+        .expect("snapshots")
+        .map(|e| e.expect("an entry").path())
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("particles_"))
+        })
+        .collect();
+    snapshots.sort();
+    let first = snapshots.first().expect("a particle snapshot");
+    let snapshot = read_packing(first, &case).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(snapshot.components(), &expected[..]);
 }
 
 #[test]
@@ -812,6 +830,7 @@ fn a_mixture_packing_that_misnames_or_missizes_a_component_is_refused() {
             radii: &radii,
             velocities: &zeros,
             angular_velocities: &zeros,
+            components: None,
         },
         0.0,
     )
@@ -826,6 +845,35 @@ fn a_mixture_packing_that_misnames_or_missizes_a_component_is_refused() {
             "mixture.vtu",
             "gives no particle its component",
             "CSV packing",
+            "`component` point-data array",
+        ],
+    );
+    // With the array, each index must be a component's: 0 or 1 here.
+    let mut indices: Vec<u8> = rows.iter().map(|r| u8::from(r.4 == "fine")).collect();
+    indices[3] = 2;
+    write_particles_vtu(
+        &vtu,
+        &ParticleFields {
+            ids: &ids,
+            positions: &positions,
+            radii: &radii,
+            velocities: &zeros,
+            angular_velocities: &zeros,
+            components: Some(&indices),
+        },
+        0.0,
+    )
+    .expect("VTU written");
+    let message = read_packing(&vtu, &case)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert_names(
+        &message,
+        &[
+            "mixture.vtu point 3",
+            "component = 2 is not a component of the case",
+            "from 0 to 1",
         ],
     );
 }

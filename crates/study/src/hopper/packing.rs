@@ -13,8 +13,9 @@
 //!   that component's material, and its radius is checked against that component's sizes.
 //! - **VTU** as hopperflow writes its snapshots (`output::vtu`): the points and a point-data
 //!   array `radius`, inline ASCII. Binary, appended or compressed data are refused with a
-//!   message that says how to save the file as ASCII. A VTU names no component, so it starts
-//!   cases of one component only.
+//!   message that says how to save the file as ASCII. For a mixture it needs the point-data
+//!   array `component` (each particle's component, an index into `particles.components`),
+//!   which hopperflow writes in a mixture's snapshots.
 //!
 //! Everything is checked before anything is written, and each problem names the file, the
 //! line (CSV) or the array and index (VTU), the value and what is allowed: numbers that are
@@ -171,6 +172,9 @@ pub(super) struct RawParticle {
     pub(super) radius: f64,
     /// What its `material` column says (CSV); `None` from a file without one (VTU).
     pub(super) label: Option<String>,
+    /// Its component as a VTU's `component` array gives it (an index into
+    /// `particles.components`, as read: checked against the case later); `None` without one.
+    pub(super) component: Option<f64>,
 }
 
 /// A checked packing, ready to start a run of the case it was checked against.
@@ -228,6 +232,7 @@ impl Packing {
                 position: p.position.to_array(),
                 radius: p.radius,
                 label: None,
+                component: None,
             })
             .collect();
         let mut hasher = Sha256::new();
@@ -262,6 +267,7 @@ impl Packing {
                     ),
                     None => self.material.clone(),
                 },
+                component: None,
             })
             .collect();
         checked(&self.source, raw, case, self.sha256.clone()).map(|_| ())
@@ -476,6 +482,7 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
                 position: [values[0], values[1], values[2]],
                 radius: values[3],
                 label: Some(name.to_string()),
+                component: None,
             });
         }
     }
@@ -566,13 +573,17 @@ fn labels(raw: &[RawParticle], case: &Case, problems: &mut Problems) -> (Option<
         .map(|c| format!("`{}`", c.name))
         .collect::<Vec<_>>()
         .join(", ");
-    if raw.iter().any(|p| p.label.is_none()) {
+    if raw
+        .iter()
+        .any(|p| p.label.is_none() && p.component.is_none())
+    {
         problems.push(
             PackingPlace::File,
             format!(
                 "gives no particle its component, and the case is a mixture of {} components \
                  (particles.components: {names}): start it from a CSV packing whose material \
-                 column names each particle's component",
+                 column names each particle's component, or from a VTU with a `component` \
+                 point-data array (as hopperflow writes a mixture's snapshots)",
                 components.len()
             ),
         );
@@ -580,24 +591,41 @@ fn labels(raw: &[RawParticle], case: &Case, problems: &mut Problems) -> (Option<
     }
     let mut found = Vec::with_capacity(raw.len());
     for p in raw {
-        let name = p.label.as_deref().unwrap_or_default();
-        match component_named(case, name) {
-            Some(k) => found.push(k),
-            None => {
-                problems.push(
-                    p.place.clone(),
-                    format!(
-                        "material `{name}` names no component of the case; a mixture's packing \
-                         names each particle's component: one of {names} \
-                         (particles.components[].name), or a material that one component alone \
-                         is made of"
-                    ),
-                );
+        let component = match (&p.label, p.component) {
+            (Some(name), _) => component_named(case, name).ok_or_else(|| {
+                format!(
+                    "material `{name}` names no component of the case; a mixture's packing \
+                     names each particle's component: one of {names} \
+                     (particles.components[].name), or a material that one component alone \
+                     is made of"
+                )
+            }),
+            (None, Some(index)) => component_index(index, components.len()).ok_or_else(|| {
+                format!(
+                    "component = {index} is not a component of the case: an index from 0 to {} \
+                     into particles.components ({names})",
+                    components.len() - 1
+                )
+            }),
+            (None, None) => Err(String::new()),
+        };
+        match component {
+            Ok(k) => found.push(k),
+            Err(message) => {
+                problems.push(p.place.clone(), message);
                 found.push(0);
             }
         }
     }
     (None, found)
+}
+
+/// `value`, read as an index among `count` components: a whole number in 0..count.
+fn component_index(value: f64, count: usize) -> Option<u8> {
+    let whole = value.is_finite() && value >= 0.0 && value.fract() == 0.0;
+    (whole && value < count as f64)
+        .then(|| u8::try_from(value as usize).ok())
+        .flatten()
 }
 
 /// The component of a mixture that `name` names: the one of that `name`, or else the only one

@@ -1,5 +1,6 @@
 //! Reading a packing from a VTK XML file (`.vtu`), as far as hopperflow writes one
-//! (`output::vtu`): one piece, its points, and a point-data array `radius`, stored inline
+//! (`output::vtu`): one piece, its points, a point-data array `radius` and, for a mixture, one
+//! named `component` (each particle's component, an index), stored inline
 //! as ASCII. That is read without an XML library: the elements needed are found by their
 //! tags, and their attributes and text read directly. Binary (base64), appended or
 //! compressed data are refused with a message that says how to save the file as ASCII.
@@ -259,7 +260,17 @@ pub(super) fn parse_vtu(text: &str, problems: &mut Problems) -> Option<Vec<RawPa
     };
     let positions = ascii_values(&position_array, &position_name, 3, points, problems);
     let radii = ascii_values(radius_array, "radius", 1, points, problems);
+    // A mixture's snapshot gives each particle's component (an index into
+    // particles.components); the checks against the case read it.
+    let components = point_data
+        .iter()
+        .find(|a| a.attribute("Name") == Some("component"))
+        .map(|array| ascii_values(array, "component", 1, points, problems));
     let (positions, radii) = (positions?, radii?);
+    let components = match components {
+        Some(values) => Some(values?),
+        None => None,
+    };
     Some(
         (0..points)
             .map(|k| RawParticle {
@@ -267,6 +278,7 @@ pub(super) fn parse_vtu(text: &str, problems: &mut Problems) -> Option<Vec<RawPa
                 position: [positions[3 * k], positions[3 * k + 1], positions[3 * k + 2]],
                 radius: radii[k],
                 label: None,
+                component: components.as_ref().map(|c| c[k]),
             })
             .collect(),
     )

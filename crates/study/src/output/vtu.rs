@@ -33,12 +33,17 @@ pub struct ParticleFields<'a> {
     pub velocities: &'a [[f64; 3]],
     /// Angular velocities [rad/s].
     pub angular_velocities: &'a [[f64; 3]],
+    /// Each particle's component in a mixture, an index into the case's
+    /// `particles.components` (written as the `Int32` array `component`); `None` for a case of
+    /// one component.
+    pub components: Option<&'a [u8]>,
 }
 
 /// Writes the particles as a `.vtu` of `VTK_VERTEX` cells at simulation time `time` [s].
 ///
 /// Point data: `id` (Int64), `radius` [m], `velocity` [m/s] (3 components),
-/// `angular_velocity` [rad/s] (3 components) and `speed` = |velocity| [m/s]. The time is also
+/// `angular_velocity` [rad/s] (3 components), `speed` = |velocity| [m/s] and, for a mixture,
+/// `component` (Int32, an index into `particles.components`). The time is also
 /// stored as the `TimeValue` field, which ParaView shows when the file is opened alone.
 pub fn write_particles_vtu(
     path: impl AsRef<Path>,
@@ -52,6 +57,10 @@ pub fn write_particles_vtu(
         ("radii", particles.radii.len()),
         ("velocities", particles.velocities.len()),
         ("angular_velocities", particles.angular_velocities.len()),
+        (
+            "components",
+            particles.components.map_or(count, <[u8]>::len),
+        ),
     ];
     if let Some((name, length)) = lengths.iter().find(|(_, length)| *length != count) {
         return Err(OutputError::invalid(
@@ -83,6 +92,10 @@ pub fn write_particles_vtu(
     let ids = particles.ids.iter().map(|id| id.to_string());
     data_array(&mut xml, "Int64", "id", 1, ids);
     float_array(&mut xml, "radius", 1, particles.radii.iter().copied());
+    if let Some(components) = particles.components {
+        let values = components.iter().map(|c| c.to_string());
+        data_array(&mut xml, "Int32", "component", 1, values);
+    }
     float_array(
         &mut xml,
         "velocity",

@@ -201,12 +201,22 @@ impl Pictures {
                 .iter()
                 .map(|x| x.to_array())
                 .collect();
+            // A mixture's components, by the particles' tags, so that ParaView can colour
+            // by them and the snapshot reads back as a packing of the same mixture.
+            let by_tag = run.particle_components();
+            let components: Option<Vec<u8>> = (!by_tag.is_empty()).then(|| {
+                p.tags()
+                    .iter()
+                    .map(|&t| by_tag.get(t as usize).copied().unwrap_or(u8::MAX))
+                    .collect()
+            });
             let fields = ParticleFields {
                 ids: p.tags(),
                 positions: &positions,
                 radii: p.radii(),
                 velocities: &velocities,
                 angular_velocities: &omegas,
+                components: components.as_deref(),
             };
             write_particles_vtu(self.dir.join(&name), &fields, t)?;
             self.pvd.push(t, 0, self.dir.join(&name))?;
