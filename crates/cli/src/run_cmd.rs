@@ -11,8 +11,8 @@ use study::config::{
 use study::hopper::read_packing;
 use study::output::write_atomic;
 use study::run::{
-    bed_header, check_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError,
-    RunOptions, RunOutcome, Start, BED_CASE_FILE, BED_FILE,
+    check_bed, check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress,
+    RunError, RunOptions, RunOutcome, Start, BED_CASE_FILE,
 };
 
 /// Exit code for bad input (a malformed case file or override).
@@ -231,27 +231,13 @@ fn note_uncentred(args: &RunArgs, bed: &Bed, case: &Case) {
 /// replaces it or --resume continues the run of the same case that saved it.
 fn refuse_saved_bed(args: &RunArgs, case: &Case) -> Option<i32> {
     let dir = args.save_bed.as_ref()?;
-    if args.restart || !dir.join(BED_FILE).exists() {
-        return None;
+    match check_save_bed(dir, case, args.resume, args.restart) {
+        Ok(()) => None,
+        Err(e) => {
+            eprintln!("error: {e}");
+            Some(EXIT_BAD_INPUT)
+        }
     }
-    let header = bed_header(dir);
-    let same_case = header
-        .as_ref()
-        .is_some_and(|h| h.case_text == case.to_toml_string());
-    if args.resume && same_case {
-        return None;
-    }
-    match header {
-        Some(h) => eprintln!(
-            "error: {} holds a saved bed already ({h}); --restart replaces it, or choose another folder",
-            dir.display()
-        ),
-        None => eprintln!(
-            "error: {} holds a {BED_FILE} that is not a readable bed of this version; remove it or choose another folder",
-            dir.display()
-        ),
-    }
-    Some(EXIT_BAD_INPUT)
 }
 
 pub fn run(args: RunArgs) -> i32 {

@@ -14,7 +14,11 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use study::run::{occupant, Occupant, Progress, RunError, RunOptions, RunOutcome};
+use study::hopper::read_packing;
+use study::run::{
+    check_bed, check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions,
+    RunOutcome, Start,
+};
 
 use crate::case::Case;
 use crate::errors::RunError as PyRunError;
@@ -76,11 +80,47 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
+/// What the run starts from, checked against `case` as `hopperflow run` checks it: a saved
+/// bed (`from_bed`), a packing file (`packing`), or the fill.
+fn start_of(
+    case: &study::config::Case,
+    from_bed: Option<PathBuf>,
+    packing: Option<PathBuf>,
+) -> PyResult<Start> {
+    let refuse = |e: &dyn std::fmt::Display| PyValueError::new_err(e.to_string());
+    match (from_bed, packing) {
+        (Some(_), Some(_)) => Err(PyValueError::new_err(
+            "from_bed and packing exclude each other: a run starts from a saved bed, from a \
+             packing file, or from its own fill",
+        )),
+        (Some(dir), None) => {
+            let bed = read_bed(&dir).map_err(|e| refuse(&e))?;
+            check_bed(&bed, case).map_err(|e| refuse(&e))?;
+            Ok(Start::Bed(Box::new(bed)))
+        }
+        (None, Some(file)) => {
+            let packing = read_packing(&file, case).map_err(|e| refuse(&e))?;
+            Ok(Start::Packing(Box::new(packing)))
+        }
+        (None, None) => Ok(Start::Fill),
+    }
+}
+
+/// The resolved case text of the bed in `dir` (`bed.bin` in it, or the file), for a run from
+/// a bed that gives no case of its own: the bed's case is then its base.
+#[pyfunction]
+pub fn bed_case_text(dir: PathBuf) -> PyResult<String> {
+    read_bed(&dir)
+        .map(|bed| bed.case_text().to_string())
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 /// Runs `case` into `out`; returns "finished", or raises KeyboardInterrupt after writing a
 /// checkpoint when interrupted. `progress(phase, time, particles, fraction, rate)` is
-/// called with the latest progress a few times a second.
+/// called with the latest progress a few times a second. `from_bed`, `packing` and
+/// `save_bed` are `hopperflow run`'s `--from-bed`, `--packing` and `--save-bed`.
 #[pyfunction]
-#[pyo3(signature = (case, out, threads = 1, resume = false, restart = false, pictures = true, progress = None, chunk_limit = None))]
+#[pyo3(signature = (case, out, threads = 1, resume = false, restart = false, pictures = true, progress = None, chunk_limit = None, from_bed = None, packing = None, save_bed = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_case(
     py: Python<'_>,
@@ -92,6 +132,9 @@ pub fn run_case(
     pictures: bool,
     progress: Option<Py<PyAny>>,
     chunk_limit: Option<u64>,
+    from_bed: Option<PathBuf>,
+    packing: Option<PathBuf>,
+    save_bed: Option<PathBuf>,
 ) -> PyResult<&'static str> {
     let threads = checked_threads(threads)?;
     if resume && restart {
@@ -100,8 +143,14 @@ pub fn run_case(
              folder holds, restart discards it",
         ));
     }
+    // Every input is checked before the output folder is touched.
+    let start = start_of(&case.case, from_bed, packing)?;
     if !resume && !restart {
         refuse_occupied(&out)?;
+    }
+    if let Some(dir) = &save_bed {
+        check_save_bed(dir, &case.case, resume, restart)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
     }
     let case = case.case.clone();
     let stop = Arc::new(AtomicBool::new(false));
@@ -116,7 +165,7 @@ pub fn run_case(
         pictures,
         chunk_limit,
         stop: Some(Arc::clone(&stop)),
-        save_bed: None,
+        save_bed,
     };
     let (done_tx, done_rx) = mpsc::channel();
     // Behind a mutex so that the waiting closure, which runs without the GIL, is `Send`.
@@ -125,7 +174,7 @@ pub fn run_case(
         .name("hopperflow-run".into())
         .spawn(move || {
             let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                study::run::run_case(&case, &out, &options)
+                study::run::run_case_from(&case, &out, &options, &start)
             }));
             let _ = done_tx.send(result);
         })

@@ -245,3 +245,74 @@ def test_wall_forces_without_pandas_and_from_load_run(py_run, monkeypatch):
     assert forces["wall"].dtype.kind == "U" and forces["fx"].dtype == np.float64
     first = (py_run.path / "wall_forces.csv").read_text().splitlines()[1].split(",")
     assert forces["wall"][0] == first[1] and forces["fz"][0] == float(first[4])
+
+
+def _lattice_csv(path, material="glass"):
+    """250 spheres of the tiny hopper on a square lattice 1 % wider than a diameter, 0.1 mm
+    clear of the floor and the left wall: at rest and touching nothing (as the Rust packing
+    tests place them)."""
+    r, spacing = 1.5e-3, 3.03e-3
+    lines = ["x,y,z,radius,material"]
+    for k in range(250):
+        x = -0.025 + r + 1e-4 + (k % 16) * spacing
+        z = r + 1e-4 + (k // 16) * spacing
+        lines.append(f"{x!r},{0.5 * spacing!r},{z!r},{r!r},{material}")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_runs_from_a_saved_bed_and_from_a_packing_match_the_command_line(cli, tmp_path):
+    bed = tmp_path / "bed"
+    hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
+    assert (bed / "bed.bin").is_file()
+    # The same bed through a wider outlet, from Python and from the command line: the same
+    # summary to the byte (a run from a bed starts from its state, whatever the seed).
+    case = hf.Case.load(str(TINY))
+    case["geometry.outlet_width"] = 0.024
+    py = hf.run(case, out=tmp_path / "py-bed", progress=False, from_bed=bed)
+    subprocess.run(
+        [str(cli), "run", str(TINY), "--from-bed", str(bed), "--set", "geometry.outlet_width=0.024",
+         "--out", str(tmp_path / "cli-bed"), "--quiet"],
+        check=True, capture_output=True,
+    )
+    assert (py.path / "summary.json").read_bytes() == (tmp_path / "cli-bed" / "summary.json").read_bytes()
+    # Without a case the bed's own is the base, as `hopperflow run --from-bed DIR`.
+    own = hf.run(out=tmp_path / "py-own", progress=False, pictures=False, from_bed=bed)
+    assert own.summary["outlet_width"] == pytest.approx(0.018, abs=0.0)
+
+    packing = _lattice_csv(tmp_path / "lattice.csv")
+    py = hf.run(str(TINY), out=tmp_path / "py-packing", progress=False, packing=packing)
+    subprocess.run(
+        [str(cli), "run", str(TINY), "--packing", str(packing), "--out", str(tmp_path / "cli-packing"), "--quiet"],
+        check=True, capture_output=True,
+    )
+    assert (py.path / "summary.json").read_bytes() == (tmp_path / "cli-packing" / "summary.json").read_bytes()
+
+
+def test_bad_starts_are_refused_before_anything_is_written(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,y,z,radius,material\n0.0,0.0015,0.01,0.0015,glass\n0.0,0.0015,0.02,-1,glass\n")
+    with pytest.raises(ValueError, match=r"bad\.csv line 3: radius = -1"):
+        hf.run(str(TINY), out=tmp_path / "a", progress=False, packing=bad)
+    assert not (tmp_path / "a").exists()
+    with pytest.raises(ValueError, match="exclude each other"):
+        hf.run(str(TINY), out=tmp_path / "b", progress=False, packing=bad, from_bed=tmp_path)
+    assert not (tmp_path / "b").exists()
+    with pytest.raises(ValueError, match="no saved bed there"):
+        hf.run(str(TINY), out=tmp_path / "c", progress=False, from_bed=tmp_path / "nowhere")
+    assert not (tmp_path / "c").exists()
+
+    bed = tmp_path / "bed"
+    hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
+    # A bed holds its fill: the particle count cannot change under it.
+    case = hf.Case.load(str(TINY))
+    case["particles.count"] = 200
+    with pytest.raises(ValueError, match=r"settled under other inputs.*particles\.count"):
+        hf.run(case, out=tmp_path / "d", progress=False, from_bed=bed)
+    assert not (tmp_path / "d").exists()
+    # Another run may not overwrite a saved bed, unless it starts over.
+    other = hf.Case.load(str(TINY))
+    other["seed"] = 12
+    with pytest.raises(ValueError, match="holds a saved bed already"):
+        hf.run(other, out=tmp_path / "e", progress=False, save_bed=bed)
+    assert not (tmp_path / "e").exists()

@@ -238,10 +238,19 @@ def run(
     resume: bool = False,
     restart: bool = False,
     pictures: bool = True,
+    from_bed: Optional[PathLike] = None,
+    packing: Optional[PathLike] = None,
+    save_bed: Optional[PathLike] = None,
 ) -> Run:
     """Runs a case (the paper's base case by default) into ``out`` and returns the Run.
 
     It is ``hopperflow run CASE --out OUT --threads THREADS``: the same files and bits.
+    ``from_bed``, ``packing`` and ``save_bed`` are ``--from-bed``, ``--packing`` and
+    ``--save-bed``: start from a bed saved by another run (without ``case``, the bed's own
+    case is the base; the case may differ from it only in the outlet, the discharge rules
+    and the [measure] and [output] keys), start from a packing file (CSV or VTU), or save
+    this run's settled bed. Bad input raises ValueError naming the file, the line or key,
+    the value and what is allowed, before anything is written.
     ``out`` defaults to a new temporary folder. A folder that already holds a run is
     refused unless ``resume=True`` (continue its checkpoint, or read back its finished
     summary) or ``restart=True`` (start over). Ctrl-C stops the run after a checkpoint is
@@ -252,6 +261,9 @@ def run(
     ``progress(phase, time, particles, fraction, particle_steps_per_second)`` called a few
     times a second; an exception it raises stops the run with a checkpoint, as Ctrl-C does.
     """
+    if case is None and from_bed is not None:
+        # The bed's own resolved case, as `hopperflow run --from-bed DIR` takes it.
+        case = Case.from_toml(_native.bed_case_text(os.fspath(from_bed)), f"{os.fspath(from_bed)} (its case)")
     case = _as_case(case)
     if out is None:
         out = tempfile.mkdtemp(prefix="hopperflow-run-")
@@ -273,6 +285,9 @@ def run(
             restart=restart,
             pictures=pictures,
             progress=callback,
+            from_bed=None if from_bed is None else os.fspath(from_bed),
+            packing=None if packing is None else os.fspath(packing),
+            save_bed=None if save_bed is None else os.fspath(save_bed),
         )
     finally:
         if bar is not None:

@@ -187,6 +187,50 @@ pub enum BedError {
     },
 }
 
+/// Why a run may not save its settled bed into a folder.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SaveBedError {
+    /// The folder holds another bed (or the same one, for a run that starts over).
+    #[error("{}: holds a saved bed already ({header}); --restart replaces it (restart=True from Python), or choose another folder", .dir.display())]
+    Occupied {
+        /// The folder.
+        dir: PathBuf,
+        /// The bed it holds, in words.
+        header: String,
+    },
+    /// The folder holds a bed file that this version cannot read.
+    #[error("{}: holds a {BED_FILE} that is not a readable bed of this version; remove it or choose another folder", .dir.display())]
+    Unreadable {
+        /// The folder.
+        dir: PathBuf,
+    },
+}
+
+/// Checks, reading only, that a run of `case` may save its bed into `dir`: the folder holds
+/// no bed, or the run starts over (`restart`: its bed replaces the one there), or the run is
+/// resumed (`resume`) and the bed there is this case's own. Anything else would overwrite a
+/// bed that other runs may start from.
+pub fn check_save_bed(
+    dir: &Path,
+    case: &Case,
+    resume: bool,
+    restart: bool,
+) -> Result<(), SaveBedError> {
+    if restart || !dir.join(BED_FILE).exists() {
+        return Ok(());
+    }
+    match bed_header(dir) {
+        Some(h) if resume && h.case_text == case.to_toml_string() => Ok(()),
+        Some(h) => Err(SaveBedError::Occupied {
+            dir: dir.to_path_buf(),
+            header: h.to_string(),
+        }),
+        None => Err(SaveBedError::Unreadable {
+            dir: dir.to_path_buf(),
+        }),
+    }
+}
+
 /// "a: x -> y, b: …".
 fn list(changes: &[KeyChange]) -> String {
     let items: Vec<String> = changes.iter().map(ToString::to_string).collect();

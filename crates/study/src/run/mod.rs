@@ -21,8 +21,8 @@ use crate::output::{remove_stale_temporaries, write_atomic, write_json_atomic, O
 use crate::summary::CaseSummary;
 
 pub use bed::{
-    bed_header, check_bed, check_bed_case, read_bed, Bed, BedError, BedHeader, BedReuse,
-    BED_CASE_FILE, BED_FILE, BED_MAGIC,
+    bed_header, check_bed, check_bed_case, check_save_bed, read_bed, Bed, BedError, BedHeader,
+    BedReuse, SaveBedError, BED_CASE_FILE, BED_FILE, BED_MAGIC,
 };
 pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
