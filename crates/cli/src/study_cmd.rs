@@ -16,6 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use study::config::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
+use study::run::{read_bed, Start};
 use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyError, StudyEvent, StudyOptions};
 
 #[derive(Args)]
@@ -52,6 +53,12 @@ pub struct StudyArgs {
     /// Do not write the report at the end (build it later with `hopperflow report DIR`).
     #[arg(long)]
     no_report: bool,
+    /// Start every case from one bed saved by `hopperflow run --save-bed DIR` instead of its
+    /// own fill: the same settled packing through each outlet of the sweep. The cases may
+    /// differ from the bed's only in the outlet, the discharge rules and [measure]/[output]
+    /// keys; each takes the bed's seed, and replicas are refused (they would repeat one run).
+    #[arg(long, value_name = "DIR")]
+    from_bed: Option<PathBuf>,
 }
 
 /// The exit status of a study-level error: 2 for what the user's inputs or folder cause
@@ -61,7 +68,9 @@ pub fn exit_code_of(e: &StudyError) -> i32 {
         StudyError::DifferentStudy { .. }
         | StudyError::CaseFolder { .. }
         | StudyError::DuplicateCase(_)
-        | StudyError::UnknownCase { .. } => 2,
+        | StudyError::UnknownCase { .. }
+        | StudyError::BedDoesNotFit { .. }
+        | StudyError::ReplicasFromOneBed { .. } => 2,
         _ => 1,
     }
 }
@@ -93,6 +102,10 @@ fn task_command(args: &StudyArgs, out: &std::path::Path, threads: u32) -> Vec<St
     }
     if args.no_pictures {
         words.push("--no-pictures".into());
+    }
+    if let Some(bed) = &args.from_bed {
+        let bed = std::path::absolute(bed).unwrap_or_else(|_| bed.clone());
+        words.extend(["--from-bed".into(), bed.display().to_string()]);
     }
     words.extend(["--case-threads".into(), threads.to_string()]);
     words
@@ -182,6 +195,26 @@ pub fn run(args: StudyArgs) -> i32 {
             return 2;
         }
     };
+    // A study from one bed: every case checked against it before anything is written.
+    let (plan, start) = match &args.from_bed {
+        None => (plan, Start::Fill),
+        Some(dir) => {
+            let bed = match read_bed(dir) {
+                Ok(bed) => bed,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return 2;
+                }
+            };
+            match study::sweep::plan_from_bed(plan, &bed) {
+                Ok(plan) => (plan, Start::Bed(Box::new(bed))),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return 2;
+                }
+            }
+        }
+    };
     let out = args
         .out
         .clone()
@@ -191,6 +224,7 @@ pub fn run(args: StudyArgs) -> i32 {
         pictures: !args.no_pictures,
         stop: Some(Arc::clone(&stop)),
         threads: args.case_threads as usize,
+        start: Arc::new(start),
     };
     if let (Some(index), Some(list)) = (args.cluster.task_index, &args.cluster.task_list) {
         return crate::slurm_cmd::task(&plan, &out, list, index, &runner);

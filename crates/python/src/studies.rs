@@ -10,6 +10,7 @@ use std::time::Duration;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use study::config::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
+use study::run::{read_bed, Start};
 use study::sweep::{CaseStatus, SimulationRunner, StudyEvent, StudyOptions};
 
 use crate::errors::{case_error, RunError};
@@ -65,7 +66,7 @@ fn plan(
 /// reasons). `progress(done, total, line)` is called as cases end. Raises
 /// KeyboardInterrupt once the running cases have written their checkpoints.
 #[pyfunction]
-#[pyo3(signature = (sweep, out, jobs = 0, replicas = None, sets = Vec::new(), case_threads = 1, pictures = false, progress = None))]
+#[pyo3(signature = (sweep, out, jobs = 0, replicas = None, sets = Vec::new(), case_threads = 1, pictures = false, progress = None, from_bed = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_study<'py>(
     py: Python<'py>,
@@ -77,6 +78,7 @@ pub fn run_study<'py>(
     case_threads: i64,
     pictures: bool,
     progress: Option<Py<PyAny>>,
+    from_bed: Option<PathBuf>,
 ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     if !(0..=1024).contains(&jobs) {
         return Err(PyValueError::new_err(format!(
@@ -85,6 +87,16 @@ pub fn run_study<'py>(
     }
     let threads = checked_threads(case_threads)?;
     let (text, plan) = plan(py, sweep, replicas, &sets)?;
+    // A study from one bed (`hopperflow study --from-bed`): every case checked against it.
+    let (plan, start) = match from_bed {
+        None => (plan, Start::Fill),
+        Some(dir) => {
+            let bed = read_bed(&dir).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let plan = study::sweep::plan_from_bed(plan, &bed)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            (plan, Start::Bed(Box::new(bed)))
+        }
+    };
     study::sweep::check_study_dir(&plan, &out).map_err(|e| PyValueError::new_err(e.to_string()))?;
     std::fs::create_dir_all(&out)?;
     study::output::write_atomic(out.join("sweep.toml"), text.as_bytes())
@@ -95,6 +107,7 @@ pub fn run_study<'py>(
         pictures,
         stop: Some(Arc::clone(&stop)),
         threads,
+        start: Arc::new(start),
     };
     let options = StudyOptions {
         jobs: jobs as usize,

@@ -69,3 +69,21 @@ def test_report_is_built_from_the_saved_results(tiny_study):
     text = page.read_text()
     assert "Beverloo" in text
     assert all(case_id in text for case_id in tiny_study.cases)
+
+
+def test_a_study_from_one_bed_matches_single_runs_from_it(tmp_path):
+    from conftest import TINY
+
+    bed = tmp_path / "bed"
+    hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
+    study = hf.study(str(TINY_SWEEP), out=tmp_path / "study", jobs=2, progress=False, from_bed=bed)
+    assert study.outcome["ran"] == 3 and study.outcome["failed"] == []
+    # Each case is the single run of its outlet from the same bed, to the byte.
+    for run in study.cases.values():
+        case = hf.Case.load(str(TINY))
+        case["geometry.outlet_width"] = run.summary["outlet_width"]
+        single = hf.run(case, out=tmp_path / f"single-{run.path.name}", progress=False, pictures=False, from_bed=bed)
+        assert (run.path / "summary.json").read_bytes() == (single.path / "summary.json").read_bytes()
+    with pytest.raises(ValueError, match="replicas = 2"):
+        hf.study(str(TINY_SWEEP), out=tmp_path / "twice", replicas=2, progress=False, from_bed=bed)
+    assert not (tmp_path / "twice").exists()

@@ -352,12 +352,17 @@ def study(
     case_threads: int = 1,
     pictures: bool = False,
     progress: bool = True,
+    from_bed: Optional[PathLike] = None,
 ) -> Study:
     """Runs a built-in sweep (``builtin_sweeps()``) or a sweep file, as ``hopperflow study``.
 
     ``out`` defaults to ``study-<name>``; an existing study folder is resumed. ``jobs`` is
     the number of cases run at once (default one per core), ``replicas`` overrides the
     sweep's, and ``overrides`` sets keys of the base case (``{"protocol.time_limit": 5}``).
+    ``from_bed`` starts every case from one bed saved by ``run(..., save_bed=DIR)``, as
+    ``hopperflow study --from-bed DIR``: the cases may differ from the bed only in the
+    outlet, the discharge rules and [measure]/[output] keys, each takes the bed's seed, and
+    replicas are refused (ValueError, before anything is written).
     Ctrl-C checkpoints the running cases and raises KeyboardInterrupt; calling again
     continues.
     """
@@ -382,6 +387,7 @@ def study(
             case_threads=case_threads,
             pictures=pictures,
             progress=report if bar is not None else None,
+            from_bed=None if from_bed is None else os.fspath(from_bed),
         )
     finally:
         if bar is not None:

@@ -66,6 +66,10 @@ pub struct SweepPlan {
     pub cases: Vec<SweepCase>,
     /// Grid points that were skipped.
     pub skipped: Vec<SkippedCase>,
+    /// What every case starts from instead of its own fill: a saved bed
+    /// (`hopperflow study --from-bed`, [`crate::sweep::plan_from_bed`]); `None`: each case
+    /// fills its container.
+    pub start: Option<crate::run::StartRecord>,
 }
 
 /// Reads and expands a sweep file; `sets` override keys of the base case.
@@ -259,6 +263,7 @@ fn expand(config: &SweepConfig) -> Result<SweepPlan, ConfigErrors> {
             replicas: config.replicas,
             cases,
             skipped,
+            start: None,
         })
     } else {
         Err(ConfigErrors { errors })

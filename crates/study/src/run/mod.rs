@@ -380,11 +380,20 @@ pub fn check_run_dir(case: &Case, dir: &Path) -> Result<(), RunError> {
 /// [`check_run_dir`] for a run that starts from `start`: also refuses a folder whose run
 /// started otherwise.
 pub fn check_run_dir_from(case: &Case, dir: &Path, start: &Start) -> Result<(), RunError> {
+    check_run_dir_started(case, dir, start.record().as_ref())
+}
+
+/// [`check_run_dir_from`] for the start recorded as `start` (`None`: the fill).
+pub fn check_run_dir_started(
+    case: &Case,
+    dir: &Path,
+    start: Option<&StartRecord>,
+) -> Result<(), RunError> {
     if !dir.is_dir() {
         return Ok(());
     }
     let text = case.to_toml_string();
-    prior_run(dir, &text, &config_hash(&text), start.record().as_ref()).map(|_| ())
+    prior_run(dir, &text, &config_hash(&text), start).map(|_| ())
 }
 
 /// The start recorded in `dir`'s [`START_FILE`]; `None` when there is none (or it cannot be

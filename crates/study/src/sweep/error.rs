@@ -66,6 +66,21 @@ pub enum StudyError {
     /// Two cases of the plan share an identifier, so they would share a directory.
     #[error("the sweep has two cases named '{0}'")]
     DuplicateCase(String),
+    /// A case of a study from a saved bed changes what made the bed.
+    #[error("case {id}: {source}")]
+    BedDoesNotFit {
+        /// The case.
+        id: String,
+        /// What the bed refuses.
+        #[source]
+        source: Box<crate::run::BedError>,
+    },
+    /// A study from one bed asked for replicas, which would all be the same run.
+    #[error("replicas = {replicas}: a study from one saved bed runs each grid point once (replicas = 1), since the seed draws only the fill and every replica would repeat the same run; for independent replicas, run the sweep from fills, or one study per bed")]
+    ReplicasFromOneBed {
+        /// The replicas asked for.
+        replicas: u32,
+    },
 }
 
 impl StudyError {

@@ -47,6 +47,10 @@ pub struct StudyManifest {
     pub cases: Vec<ManifestCase>,
     /// Grid points that were left out.
     pub skipped: Vec<ManifestSkipped>,
+    /// What every case starts from instead of its fill (a saved bed); absent when each case
+    /// fills its container.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<crate::run::StartRecord>,
 }
 
 /// Hex SHA-256 of a text.
@@ -74,6 +78,11 @@ impl StudyManifest {
                 }
             })
             .collect();
+        // A study from a bed is another study than the same sweep's from fills; a study of
+        // fills hashes as it always did.
+        if let Some(start) = &plan.start {
+            whole.update(format!("start|{:?}|{}", start.kind, start.sha256).as_bytes());
+        }
         Self {
             name: plan.name.clone(),
             description: plan.description.clone(),
@@ -93,6 +102,7 @@ impl StudyManifest {
                     reasons: s.reasons.clone(),
                 })
                 .collect(),
+            start: plan.start.clone(),
         }
     }
 

@@ -6,6 +6,7 @@
 //! `results.csv` and `failures.json`, and reports each finished case through a callback.
 
 mod error;
+mod from_bed;
 mod manifest;
 mod results;
 mod runner;
@@ -13,6 +14,7 @@ mod simulation;
 mod task;
 
 pub use error::StudyError;
+pub use from_bed::plan_from_bed;
 pub use manifest::{CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
 pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
 pub use runner::{

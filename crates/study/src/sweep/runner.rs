@@ -215,12 +215,13 @@ pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> 
     }
     same_study(plan, &paths)?;
     for case in &plan.cases {
-        crate::run::check_run_dir(&case.case, &paths.case_dir(&case.id)).map_err(|source| {
-            StudyError::CaseFolder {
+        let dir = paths.case_dir(&case.id);
+        crate::run::check_run_dir_started(&case.case, &dir, plan.start.as_ref()).map_err(
+            |source| StudyError::CaseFolder {
                 id: case.id.clone(),
                 source: Box::new(source),
-            }
-        })?;
+            },
+        )?;
     }
     Ok(())
 }

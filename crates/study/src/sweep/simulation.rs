@@ -7,13 +7,13 @@ use std::sync::Arc;
 
 use super::runner::CaseRunner;
 use crate::config::SweepCase;
-use crate::run::{run_case, RunOptions, RunOutcome};
+use crate::run::{run_case_from, RunOptions, RunOutcome, Start};
 use crate::summary::CaseSummary;
 
 /// What a case stopped by the `stop` flag reports as its error.
 pub const STOPPED: &str = "stopped by a signal; its checkpoint will be resumed";
 
-/// Runs each case with [`run_case`], resuming its own checkpoints.
+/// Runs each case with [`run_case_from`], resuming its own checkpoints.
 #[derive(Debug, Clone)]
 pub struct SimulationRunner {
     /// Write each case's plots and frames too (slower; the study's report does not need them).
@@ -24,6 +24,9 @@ pub struct SimulationRunner {
     /// Worker threads of each case (1 by default: cases side by side use the cores better;
     /// results do not depend on it).
     pub threads: usize,
+    /// What every case starts from: its fill (the default), or one saved bed for all
+    /// ([`super::plan_from_bed`] must have made the plan from the same bed).
+    pub start: Arc<Start>,
 }
 
 impl Default for SimulationRunner {
@@ -32,6 +35,7 @@ impl Default for SimulationRunner {
             pictures: true,
             stop: None,
             threads: 1,
+            start: Arc::new(Start::Fill),
         }
     }
 }
@@ -52,7 +56,7 @@ impl CaseRunner for SimulationRunner {
             stop: self.stop.clone(),
             ..RunOptions::default()
         };
-        match run_case(&case.case, dir, &options) {
+        match run_case_from(&case.case, dir, &options, &self.start) {
             Ok(RunOutcome::Finished(summary)) => Ok(*summary),
             Ok(RunOutcome::Interrupted) => Err(STOPPED.to_string()),
             Err(e) => Err(e.to_string()),
