@@ -145,6 +145,15 @@ fn a_study_from_one_bed_gives_each_case_the_bytes_of_its_own_run_from_that_bed()
         }
     }
 
+    // The report says that the fits see one packing.
+    let report = hopperflow(&["report", utf8(&study)]);
+    assert!(report.status.success(), "{}", stderr(&report));
+    let text = std::fs::read_to_string(study.join("report/report.md")).expect("report.md");
+    assert!(
+        text.contains("Every case started from one saved bed"),
+        "the report does not say the cases share one bed"
+    );
+
     // The folder holds a study from the bed: the same sweep from fills is another study.
     let again = hopperflow(&["study", utf8(&file), "--out", utf8(&study), "--no-report"]);
     assert_eq!(

@@ -96,6 +96,13 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         ))),
         None => doc.push(Block::Paragraph("No study.json: version, config hash and seeds are unknown.".into())),
     }
+    if let Some(start) = data.manifest.as_ref().and_then(|m| m.start.as_ref()) {
+        // A study from one bed: its fits see the outlets of a single packing.
+        doc.push(Block::Paragraph(format!(
+            "Every case started from one saved bed (SHA-256 {}), not from a fill of its own: the cases differ in their outlets only, on one packing. The fits and their intervals below therefore leave out the scatter between fills, which independent beds would add (docs/user-guide.md §5).",
+            start.sha256
+        )));
+    }
     doc.push(Block::Paragraph(format!(
         "{} case(s) in results.csv: {} complete, {} clogged, {} failed. Clogged and failed cases are left out of every fit; replicas are averaged before fitting (mean ± standard error over replicas, floored at the runs' own errors carried to the mean where they have one). Uncertainties are one standard error unless an interval is given. g = {} m/s².",
         data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed), super::GRAVITY
