@@ -7,6 +7,7 @@ mod outputs;
 mod protocol;
 mod remaining;
 mod start;
+mod time_spent;
 mod wall_forces;
 mod wall_pressure;
 
@@ -26,10 +27,11 @@ pub use bed::{
 };
 pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
-    KeyChange, ProtocolTime, TimeSpent, MAGIC as CHECKPOINT_MAGIC,
+    KeyChange, MAGIC as CHECKPOINT_MAGIC,
 };
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
 pub use start::{Start, StartKind, StartRecord, START_FILE};
+pub use time_spent::{ProtocolTime, TimeSpent};
 
 /// Name of the checkpoint file inside a run directory.
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
@@ -686,17 +688,6 @@ pub fn run_case_from(
     write_json_atomic(&summary_path, &summary)?;
     let _ = std::fs::remove_file(&checkpoint_path);
     Ok(RunOutcome::Finished(Box::new(summary)))
-}
-
-impl ProtocolTime {
-    /// Adds `secs` [s] spent in a chunk that started in `phase`.
-    fn add(&mut self, phase: Phase, secs: f64) {
-        match phase {
-            Phase::Fill { .. } => self.fill += secs,
-            Phase::Settle { .. } => self.settle += secs,
-            Phase::Discharge { .. } | Phase::Done { .. } => self.discharge += secs,
-        }
-    }
 }
 
 /// Mass of all particles of a case, estimated from the mean sphere volume [kg].
