@@ -115,6 +115,17 @@ pub struct RunState {
     pub(crate) pressure: Option<WallPressureRecorder>,
 }
 
+impl RunState {
+    /// Records that the particle tagged `tag` belongs to mixture component `component`.
+    fn record_component(&mut self, tag: u64, component: u8) {
+        let k = tag as usize;
+        if self.components.len() <= k {
+            self.components.resize(k + 1, u8::MAX);
+        }
+        self.components[k] = component;
+    }
+}
+
 /// A case being run.
 pub struct CaseRun {
     pub(crate) case: Case,
@@ -389,11 +400,7 @@ impl CaseRun {
                 .sim
                 .add_particle(ParticleInit::at_rest(p.position, p.radius, material))?;
             if let Some(component) = component {
-                let tag = tag as usize;
-                if run.state.components.len() <= tag {
-                    run.state.components.resize(tag + 1, u8::MAX);
-                }
-                run.state.components[tag] = component;
+                run.state.record_component(tag, component);
             }
         }
         let t = run.sim.time();
@@ -521,11 +528,7 @@ impl CaseRun {
             };
             if draws.is_mixture() {
                 for &(tag, component) in &placed {
-                    let k = tag as usize;
-                    if state.components.len() <= k {
-                        state.components.resize(k + 1, u8::MAX);
-                    }
-                    state.components[k] = component;
+                    state.record_component(tag, component);
                 }
             }
             let n = placed.len();
