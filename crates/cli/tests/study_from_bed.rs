@@ -72,10 +72,9 @@ fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
-#[test]
-fn a_study_from_one_bed_gives_each_case_the_bytes_of_its_own_run_from_that_bed() {
-    let root = tempfile::tempdir().expect("temporary directory");
-    let dir = root.path();
+/// Writes the tiny case into `dir` and saves its settled bed there: the case file and the
+/// bed folder.
+fn case_and_bed(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
     let case = dir.join("tiny.toml");
     std::fs::write(&case, TINY_CASE).expect("case file");
     let bed = dir.join("bed");
@@ -89,6 +88,14 @@ fn a_study_from_one_bed_gives_each_case_the_bytes_of_its_own_run_from_that_bed()
         "--quiet",
     ]);
     assert!(saved.status.success(), "{}", stderr(&saved));
+    (case, bed)
+}
+
+#[test]
+fn a_study_from_one_bed_gives_each_case_the_bytes_of_its_own_run_from_that_bed() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let dir = root.path();
+    let (case, bed) = case_and_bed(dir);
 
     let file = dir.join("outlets.toml");
     std::fs::write(&file, sweep(("geometry.outlet_width", "[0.015, 0.021]"), 1)).expect("sweep");
@@ -173,19 +180,7 @@ fn a_study_from_one_bed_gives_each_case_the_bytes_of_its_own_run_from_that_bed()
 fn a_sweep_that_does_not_fit_the_bed_is_refused_before_anything_is_written() {
     let root = tempfile::tempdir().expect("temporary directory");
     let dir = root.path();
-    let case = dir.join("tiny.toml");
-    std::fs::write(&case, TINY_CASE).expect("case file");
-    let bed = dir.join("bed");
-    let saved = hopperflow(&[
-        "run",
-        utf8(&case),
-        "--save-bed",
-        utf8(&bed),
-        "--out",
-        utf8(&dir.join("saving")),
-        "--quiet",
-    ]);
-    assert!(saved.status.success(), "{}", stderr(&saved));
+    let (_, bed) = case_and_bed(dir);
 
     let refused = |name: &str, text: String, fragments: &[&str]| {
         let file = dir.join(name);
@@ -238,9 +233,7 @@ fn the_array_tasks_of_a_study_from_a_bed_start_from_it_and_collect_the_local_tab
     // is the local study's.
     let root = tempfile::tempdir().expect("temporary directory");
     let dir = root.path();
-    let case = dir.join("tiny.toml");
-    std::fs::write(&case, TINY_CASE).expect("case file");
-    let bed = dir.join("bed");
+    let (_, bed) = case_and_bed(dir);
     let hf = |args: &[&str]| {
         let output = Command::new(env!("CARGO_BIN_EXE_hopperflow"))
             .args(args)
@@ -250,15 +243,6 @@ fn the_array_tasks_of_a_study_from_a_bed_start_from_it_and_collect_the_local_tab
         assert!(output.status.success(), "{args:?}: {}", stderr(&output));
         output
     };
-    hf(&[
-        "run",
-        utf8(&case),
-        "--save-bed",
-        utf8(&bed),
-        "--out",
-        utf8(&dir.join("saving")),
-        "--quiet",
-    ]);
     let file = dir.join("outlets.toml");
     std::fs::write(&file, sweep(("geometry.outlet_width", "[0.015, 0.021]"), 1)).expect("sweep");
     let (local, tasks) = (dir.join("local"), dir.join("tasks"));

@@ -56,6 +56,26 @@ fn csv_text(particles: &[PackedParticle], header: &[&str]) -> String {
     text
 }
 
+/// Writes particles at rest as a hopperflow VTU snapshot at `path`: centres [m], radii [m]
+/// and, for a mixture, each particle's component index.
+fn write_vtu(path: &Path, positions: &[[f64; 3]], radii: &[f64], components: Option<&[u8]>) {
+    let zeros = vec![[0.0; 3]; positions.len()];
+    let ids: Vec<u64> = (0..positions.len() as u64).collect();
+    write_particles_vtu(
+        path,
+        &ParticleFields {
+            ids: &ids,
+            positions,
+            radii,
+            velocities: &zeros,
+            angular_velocities: &zeros,
+            components,
+        },
+        0.0,
+    )
+    .expect("the VTU writer");
+}
+
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("writable scratch file");
@@ -80,21 +100,7 @@ fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
     let vtu = root.path().join("lattice.vtu");
     let positions: Vec<[f64; 3]> = particles.iter().map(|p| p.position.to_array()).collect();
     let radii: Vec<f64> = particles.iter().map(|p| p.radius).collect();
-    let zeros = vec![[0.0; 3]; particles.len()];
-    let ids: Vec<u64> = (0..particles.len() as u64).collect();
-    write_particles_vtu(
-        &vtu,
-        &ParticleFields {
-            ids: &ids,
-            positions: &positions,
-            radii: &radii,
-            velocities: &zeros,
-            angular_velocities: &zeros,
-            components: None,
-        },
-        0.0,
-    )
-    .expect("the VTU writer");
+    write_vtu(&vtu, &positions, &radii, None);
 
     // Every number comes back with the bits it was written with.
     let from_csv = read_packing(&csv, &case).expect("the CSV packing is valid");
@@ -820,21 +826,7 @@ fn a_mixture_packing_that_misnames_or_missizes_a_component_is_refused() {
     let vtu = root.path().join("mixture.vtu");
     let positions: Vec<[f64; 3]> = rows.iter().map(|r| [r.0, r.1, r.2]).collect();
     let radii: Vec<f64> = rows.iter().map(|r| r.3).collect();
-    let zeros = vec![[0.0; 3]; rows.len()];
-    let ids: Vec<u64> = (0..rows.len() as u64).collect();
-    write_particles_vtu(
-        &vtu,
-        &ParticleFields {
-            ids: &ids,
-            positions: &positions,
-            radii: &radii,
-            velocities: &zeros,
-            angular_velocities: &zeros,
-            components: None,
-        },
-        0.0,
-    )
-    .expect("VTU written");
+    write_vtu(&vtu, &positions, &radii, None);
     let message = read_packing(&vtu, &case)
         .map(|_| ())
         .expect_err("refused")
@@ -851,19 +843,7 @@ fn a_mixture_packing_that_misnames_or_missizes_a_component_is_refused() {
     // With the array, each index must be a component's: 0 or 1 here.
     let mut indices: Vec<u8> = rows.iter().map(|r| u8::from(r.4 == "fine")).collect();
     indices[3] = 2;
-    write_particles_vtu(
-        &vtu,
-        &ParticleFields {
-            ids: &ids,
-            positions: &positions,
-            radii: &radii,
-            velocities: &zeros,
-            angular_velocities: &zeros,
-            components: Some(&indices),
-        },
-        0.0,
-    )
-    .expect("VTU written");
+    write_vtu(&vtu, &positions, &radii, Some(&indices));
     let message = read_packing(&vtu, &case)
         .map(|_| ())
         .expect_err("refused")

@@ -224,17 +224,7 @@ impl Packing {
         particles: &[PackedParticle],
         case: &Case,
     ) -> Result<Self, PackingError> {
-        let raw: Vec<RawParticle> = particles
-            .iter()
-            .enumerate()
-            .map(|(k, p)| RawParticle {
-                place: PackingPlace::Point(k),
-                position: p.position.to_array(),
-                radius: p.radius,
-                label: None,
-                component: None,
-            })
-            .collect();
+        let raw = raw_particles(particles, |_| None);
         let mut hasher = Sha256::new();
         for p in particles {
             for v in p.position.to_array().iter().chain([&p.radius]) {
@@ -251,27 +241,34 @@ impl Packing {
         // Each particle labelled as it was read: by its component's name (a mixture) or the
         // one material name (a CSV of one component).
         let names = &case.particles.components;
-        let raw = self
-            .particles
-            .iter()
-            .enumerate()
-            .map(|(k, p)| RawParticle {
-                place: PackingPlace::Point(k),
-                position: p.position.to_array(),
-                radius: p.radius,
-                label: match self.components.get(k) {
-                    Some(&c) => Some(
-                        names
-                            .get(usize::from(c))
-                            .map_or_else(|| format!("component {c}"), |c| c.name.clone()),
-                    ),
-                    None => self.material.clone(),
-                },
-                component: None,
-            })
-            .collect();
+        let raw = raw_particles(&self.particles, |k| match self.components.get(k) {
+            Some(&c) => Some(
+                names
+                    .get(usize::from(c))
+                    .map_or_else(|| format!("component {c}"), |c| c.name.clone()),
+            ),
+            None => self.material.clone(),
+        });
         checked(&self.source, raw, case, self.sha256.clone()).map(|_| ())
     }
+}
+
+/// `particles` as a file would give them, each at its index, labelled by `label(index)`.
+fn raw_particles(
+    particles: &[PackedParticle],
+    label: impl Fn(usize) -> Option<String>,
+) -> Vec<RawParticle> {
+    particles
+        .iter()
+        .enumerate()
+        .map(|(k, p)| RawParticle {
+            place: PackingPlace::Point(k),
+            position: p.position.to_array(),
+            radius: p.radius,
+            label: label(k),
+            component: None,
+        })
+        .collect()
 }
 
 fn hex(bytes: &[u8]) -> String {
