@@ -16,7 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use study::config::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
-use study::run::{read_bed, Start};
+use study::run::Start;
 use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyError, StudyEvent, StudyOptions};
 
 #[derive(Args)]
@@ -69,6 +69,7 @@ pub fn exit_code_of(e: &StudyError) -> i32 {
         | StudyError::CaseFolder { .. }
         | StudyError::DuplicateCase(_)
         | StudyError::UnknownCase { .. }
+        | StudyError::Bed(_)
         | StudyError::BedDoesNotFit { .. }
         | StudyError::ReplicasFromOneBed { .. } => 2,
         _ => 1,
@@ -198,22 +199,13 @@ pub fn run(args: StudyArgs) -> i32 {
     // A study from one bed: every case checked against it before anything is written.
     let (plan, start) = match &args.from_bed {
         None => (plan, Start::Fill),
-        Some(dir) => {
-            let bed = match read_bed(dir) {
-                Ok(bed) => bed,
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return 2;
-                }
-            };
-            match study::sweep::plan_from_bed(plan, &bed) {
-                Ok(plan) => (plan, Start::Bed(Box::new(bed))),
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return 2;
-                }
+        Some(dir) => match study::sweep::plan_from_bed_dir(plan, dir) {
+            Ok(planned) => planned,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return exit_code_of(&e);
             }
-        }
+        },
     };
     let out = args
         .out

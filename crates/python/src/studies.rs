@@ -10,7 +10,7 @@ use std::time::Duration;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use study::config::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
-use study::run::{read_bed, Start};
+use study::run::Start;
 use study::sweep::{CaseStatus, SimulationRunner, StudyEvent, StudyOptions};
 
 use crate::errors::{case_error, RunError};
@@ -90,12 +90,8 @@ pub fn run_study<'py>(
     // A study from one bed (`hopperflow study --from-bed`): every case checked against it.
     let (plan, start) = match from_bed {
         None => (plan, Start::Fill),
-        Some(dir) => {
-            let bed = read_bed(&dir).map_err(|e| PyValueError::new_err(e.to_string()))?;
-            let plan = study::sweep::plan_from_bed(plan, &bed)
-                .map_err(|e| PyValueError::new_err(e.to_string()))?;
-            (plan, Start::Bed(Box::new(bed)))
-        }
+        Some(dir) => study::sweep::plan_from_bed_dir(plan, &dir)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?,
     };
     study::sweep::check_study_dir(&plan, &out).map_err(|e| PyValueError::new_err(e.to_string()))?;
     std::fs::create_dir_all(&out)?;

@@ -66,6 +66,9 @@ pub enum StudyError {
     /// Two cases of the plan share an identifier, so they would share a directory.
     #[error("the sweep has two cases named '{0}'")]
     DuplicateCase(String),
+    /// The bed a study was to start from cannot be read.
+    #[error(transparent)]
+    Bed(Box<crate::run::BedError>),
     /// A case of a study from a saved bed changes what made the bed.
     #[error("case {id}: {source}")]
     BedDoesNotFit {

@@ -8,9 +8,19 @@
 //! repeat one run. The cases are therefore not independent samples of the packing; what
 //! differs between them is the outlet alone (docs/user-guide.md §5).
 
+use std::path::Path;
+
 use super::StudyError;
 use crate::config::SweepPlan;
-use crate::run::{check_bed, Bed, StartKind, StartRecord};
+use crate::run::{check_bed, read_bed, Bed, Start, StartKind, StartRecord};
+
+/// Reads the bed in `dir` and makes `plan` start from it ([`plan_from_bed`]): the plan and
+/// the start its cases run from.
+pub fn plan_from_bed_dir(plan: SweepPlan, dir: &Path) -> Result<(SweepPlan, Start), StudyError> {
+    let bed = read_bed(dir).map_err(|e| StudyError::Bed(Box::new(e)))?;
+    let plan = plan_from_bed(plan, &bed)?;
+    Ok((plan, Start::Bed(Box::new(bed))))
+}
 
 /// `plan` with every case set to start from `bed`: each case takes the bed's seed and is
 /// checked against the bed, and the plan records the bed as its start (which the manifest and

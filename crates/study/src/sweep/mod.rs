@@ -14,7 +14,7 @@ mod simulation;
 mod task;
 
 pub use error::StudyError;
-pub use from_bed::plan_from_bed;
+pub use from_bed::{plan_from_bed, plan_from_bed_dir};
 pub use manifest::{CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
 pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
 pub use runner::{
