@@ -7,37 +7,16 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
+mod tiny;
+
 /// Exit code the command line promises for bad input.
 const EXIT_BAD_INPUT: i32 = 2;
 
-/// The tiny hopper of the library's run tests (250 spheres of 3 mm in a 50 mm slab, an
-/// 18 mm outlet), with a discharge cut to 20 ms: these tests exercise the start, not the
+/// The tiny hopper, its discharge cut to 20 ms: these tests exercise the start, not the
 /// flow.
-const TINY_CASE: &str = r#"
-version = 1
-seed = 11
-
-[geometry]
-width = 0.05
-height = 0.1
-outlet_width = 0.018
-
-[particles]
-count = 250
-diameter = 0.003
-
-[protocol]
-settle_kinetic_energy = 1.0e-8
-max_settle_time = 0.15
-fill_bottom = 0.07
-clog_timeout = 0.1
-time_limit = 0.02
-
-[output]
-checkpoint_interval = 0.0
-vtu_interval = 0.0
-plots = false
-"#;
+fn tiny_case() -> String {
+    tiny::tiny_case(0.02)
+}
 
 fn hopperflow(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_hopperflow"))
@@ -82,7 +61,7 @@ fn a_saved_bed_starts_a_wider_outlet_and_refuses_a_changed_particle_key() {
     let root = tempfile::tempdir().expect("temporary directory");
     let dir = |name: &str| root.path().join(name);
     let case = dir("tiny.toml");
-    std::fs::write(&case, TINY_CASE).unwrap();
+    std::fs::write(&case, tiny_case()).unwrap();
     let bed = dir("bed");
     let first = hopperflow(&[
         "run",
@@ -216,7 +195,7 @@ fn a_bad_packing_is_refused_with_exit_2_naming_file_line_and_value() {
     let root = tempfile::tempdir().expect("temporary directory");
     let dir = |name: &str| root.path().join(name);
     let case = dir("tiny.toml");
-    std::fs::write(&case, TINY_CASE).unwrap();
+    std::fs::write(&case, tiny_case()).unwrap();
     let out = dir("out");
     let cases: [(&str, &str, &[&str]); 4] = [
         (

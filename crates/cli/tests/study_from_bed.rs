@@ -6,36 +6,16 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
+mod tiny;
+
 /// Exit code the command line promises for bad input.
 const EXIT_BAD_INPUT: i32 = 2;
 
-/// The tiny hopper (250 spheres of 3 mm in a 50 mm slab, flat-bottomed, an 18 mm outlet),
-/// its discharge cut to 50 ms: enough to measure a few crossings through each outlet.
-const TINY_CASE: &str = r#"
-version = 1
-seed = 11
-
-[geometry]
-width = 0.05
-height = 0.1
-outlet_width = 0.018
-
-[particles]
-count = 250
-diameter = 0.003
-
-[protocol]
-settle_kinetic_energy = 1.0e-8
-max_settle_time = 0.15
-fill_bottom = 0.07
-clog_timeout = 0.1
-time_limit = 0.05
-
-[output]
-checkpoint_interval = 0.0
-vtu_interval = 0.0
-plots = false
-"#;
+/// The tiny hopper, its discharge cut to 50 ms: enough to measure a few crossings through
+/// each outlet.
+fn tiny_case() -> String {
+    tiny::tiny_case(0.05)
+}
 
 /// A sweep of the tiny case over `axis` (`key`, `values`), `replicas` per point.
 fn sweep(axis: (&str, &str), replicas: u32) -> String {
@@ -76,7 +56,7 @@ fn stderr(output: &Output) -> String {
 /// bed folder.
 fn case_and_bed(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
     let case = dir.join("tiny.toml");
-    std::fs::write(&case, TINY_CASE).expect("case file");
+    std::fs::write(&case, tiny_case()).expect("case file");
     let bed = dir.join("bed");
     let saved = hopperflow(&[
         "run",
