@@ -158,6 +158,16 @@ const OWN_BAD_CASES: &[BadCase] = &[
         fragments: &[":3:", "protocol.clog_time", "unknown key"],
     },
     BadCase {
+        name: "gravity_upward.toml",
+        contents: b"version = 1\nseed = 1\ngravity = -9.81\n",
+        fragments: &[":3:", "gravity = -9.81 m/s\u{b2}", "(0, 1000] m/s\u{b2}"],
+    },
+    BadCase {
+        name: "gravity_of_a_neutron_star.toml",
+        contents: b"version = 1\ngravity = 1.0e12\n",
+        fragments: &[":2:", "gravity", "(0, 1000] m/s\u{b2}"],
+    },
+    BadCase {
         name: "time_step_as_string.toml",
         contents: b"version = 1\n[time]\ntime_step = \"small\"\n",
         fragments: &[":3:", "time.time_step", "expected a number"],

@@ -97,6 +97,40 @@ fn resolved_case_round_trips_through_its_toml_text() {
 }
 
 #[test]
+fn gravity_is_written_back_only_when_it_is_not_the_default() {
+    // The default g leaves the resolved text as it was before the key existed, so that the
+    // configuration hashes of existing runs and beds stay valid.
+    let base = Case::paper_base().to_toml_string();
+    assert!(!base.contains("gravity"), "{base}");
+    let text = "version = 1\ngravity = 9.81\n";
+    let explicit = parse_case(text, "g.toml", &[]).unwrap();
+    assert_eq!(explicit.to_toml_string(), base);
+    // Another g is read, written and read back to the same bits, from the file or --set.
+    let text = "version = 1\ngravity = 9.8\n";
+    let benchmark = parse_case(text, "g.toml", &[]).unwrap();
+    assert_eq!(benchmark.gravity, 9.8);
+    let back = parse_case(&benchmark.to_toml_string(), "resolved.toml", &[]).unwrap();
+    assert_eq!(back, benchmark);
+    let set = parse_case("version = 1\n", "g.toml", &["gravity=3.71".to_string()]).unwrap();
+    assert_eq!(set.gravity, 3.71);
+    // g = 0 has no discharge and an upward g empties the container through its top; both are
+    // refused with the key, the value and the range.
+    for bad in ["0.0", "-9.81", "1001.0", "\"earth\""] {
+        let errors = parse_case(&format!("version = 1\ngravity = {bad}\n"), "g.toml", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            errors.contains("g.toml:2:") && errors.contains("gravity"),
+            "{errors}"
+        );
+        assert!(
+            errors.contains("(0, 1000] m/s²") || errors.contains("expected a number"),
+            "{errors}"
+        );
+    }
+}
+
+#[test]
 fn outlet_offset_is_converted_to_the_gap_from_the_left_wall() {
     let text = "version = 1\n[geometry]\noutlet_width = 0.03\noutlet_offset = 0.02\n";
     let case = parse_case(text, "e.toml", &[]).unwrap();

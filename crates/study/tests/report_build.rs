@@ -306,7 +306,7 @@ fn pooled_beverloo_k_fits_every_angle_together_and_differs_from_the_flat_bottom_
         particle_density: points[0].particle_density,
         bulk_fraction: pooled.bulk_fraction,
         area_fraction: pooled.area_fraction,
-        gravity: study::report::GRAVITY,
+        gravity: points[0].gravity,
     };
     let d: Vec<f64> = points.iter().map(|p| p.outlet_width).collect();
     let w: Vec<f64> = points.iter().map(|p| p.discharge_rate.value).collect();

@@ -170,6 +170,19 @@ pub struct OutputSpec {
     pub plots: bool,
 }
 
+/// g [m/s²] of a case that does not give `gravity`: the engine's and the paper's 9.81.
+/// A case file holds the key only when it differs, so that the cases written before the key
+/// existed keep their bytes and their configuration hashes.
+pub const DEFAULT_GRAVITY: f64 = 9.81;
+
+/// Largest g [m/s²] a case may give: about 100 times the Earth's, the range of geotechnical
+/// centrifuges; beyond it the default time-step guidance no longer holds.
+pub const MAX_GRAVITY: f64 = 1000.0;
+
+fn default_gravity() -> f64 {
+    DEFAULT_GRAVITY
+}
+
 /// One validated hopper case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Case {
@@ -187,6 +200,9 @@ pub struct Case {
     pub contact: ContactSpec,
     /// Integration time step Δt [s] (physics spec §6.1: 2.5e-6 s = 0.097 t_R).
     pub time_step: f64,
+    /// Gravitational acceleration g [m/s²], along −z (the top-level key `gravity`).
+    #[serde(default = "default_gravity")]
+    pub gravity: f64,
     pub protocol: Protocol,
     pub measure: MeasureSpec,
     pub output: OutputSpec,
@@ -226,6 +242,7 @@ impl Case {
                 normal_clamp: false,
             },
             time_step: 2.5e-6,
+            gravity: DEFAULT_GRAVITY,
             measure: MeasureSpec {
                 rate_bin_width: 0.02,
                 x_bin_width: 0.5 * d,

@@ -40,8 +40,8 @@ pub use builtin::{
 };
 pub use case::{
     Case, ContactSpec, Interaction, MeasureSpec, OutputSpec, Protocol, RollingLaw, TangentialLaw,
-    WallMaterial, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION, MAX_RAYLEIGH_FRACTION,
-    MONOLAYER_AREA_FRACTION, THICK_SLAB_DIAMETERS,
+    WallMaterial, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION, DEFAULT_GRAVITY,
+    MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION, THICK_SLAB_DIAMETERS,
 };
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::HopperGeometry;

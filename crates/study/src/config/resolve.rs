@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use super::case::{
     Case, ContactSpec, Interaction, RollingLaw, TangentialLaw, WallMaterial, WallSpec,
-    CASE_FORMAT_VERSION,
+    CASE_FORMAT_VERSION, DEFAULT_GRAVITY, MAX_GRAVITY,
 };
 use super::document::{NodeValue, Table};
 use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
@@ -66,6 +66,7 @@ pub(crate) fn outlet_too_small(value: f64, d_max: Option<(f64, &str)>) -> Option
 const TOP_KEYS: &[&str] = &[
     "version",
     "seed",
+    "gravity",
     "geometry",
     "materials",
     "pairs",
@@ -99,6 +100,21 @@ pub(crate) fn resolve_case(
     let seed = root.integer_or("seed", base.seed as i64, &mut errors);
     if seed.value < 0 {
         errors.push(seed.error(ErrorKind::Invalid, "must be an integer ≥ 0"));
+    }
+
+    let gravity = root.float_or("gravity", "m/s²", DEFAULT_GRAVITY, &mut errors);
+    let gravity_ok =
+        gravity.value.is_finite() && gravity.value > 0.0 && gravity.value <= MAX_GRAVITY;
+    if !gravity_ok {
+        // The fill falls, the bed settles and the outlet discharges under gravity: g = 0 has
+        // no discharge to measure, and an upward g empties the container through its top.
+        errors.push(gravity.error(
+            ErrorKind::Invalid,
+            format!(
+                "must be in (0, {}] m/s² (g, pointing along −z)",
+                number(MAX_GRAVITY)
+            ),
+        ));
     }
 
     let named = read_materials(&mut root, &mut errors);
@@ -183,7 +199,7 @@ pub(crate) fn resolve_case(
         geometry, particles, wall, contact, time_step, protocol, measure, output,
     ) {
         (Some(g), Some((p, _)), Some(w), Some(c), Some((dt, _)), Some(pr), Some(m), Some(o))
-            if seed.value >= 0 && named.as_ref().is_none_or(|n| n.valid) =>
+            if seed.value >= 0 && gravity_ok && named.as_ref().is_none_or(|n| n.valid) =>
         {
             Some(Case {
                 seed: seed.value as u64,
@@ -193,6 +209,7 @@ pub(crate) fn resolve_case(
                 wall: w,
                 contact: c,
                 time_step: dt,
+                gravity: gravity.value,
                 protocol: pr,
                 measure: m,
                 output: o,

@@ -17,6 +17,7 @@ pub const CASE_TEMPLATE: &str = r#"# hopperflow case file.
 
 version = 1    # case-file format version
 seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
 
 [geometry]
 # kind = "slab"          # "slab" (this hopper, the default), "cylinder" (a silo), "box" (a
@@ -131,6 +132,7 @@ pub const CYLINDER_TEMPLATE: &str = r#"# hopperflow case file: a cylindrical sil
 
 version = 1    # case-file format version
 seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
 
 [geometry]
 kind = "cylinder"
@@ -216,6 +218,7 @@ pub const BOX_TEMPLATE: &str = r#"# hopperflow case file: a rectangular silo.
 
 version = 1    # case-file format version
 seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
 
 [geometry]
 kind = "box"
@@ -302,6 +305,7 @@ pub const MESH_TEMPLATE: &str = r#"# hopperflow case file: a container of your o
 
 version = 1    # case-file format version
 seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
 
 [geometry]
 kind = "mesh"

@@ -4,7 +4,9 @@ use std::fmt::Write;
 
 use dem::MaterialTable;
 
-use super::case::{Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION};
+use super::case::{
+    Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION, DEFAULT_GRAVITY,
+};
 use super::error::rounded;
 use super::mesh_container::MeshOutlet;
 use super::particles::{FractionBasis, Material, SizeDistribution};
@@ -253,6 +255,15 @@ impl Case {
         let _ = writeln!(out, "# Resolved hopperflow case (SI units).");
         let _ = writeln!(out, "version = {CASE_FORMAT_VERSION}");
         let _ = writeln!(out, "seed = {}", self.seed);
+        // Written only when it differs from the default, so that a case of the default g
+        // keeps the text, and so the configuration hash, it had before the key existed.
+        if self.gravity != DEFAULT_GRAVITY {
+            let _ = writeln!(
+                out,
+                "gravity = {}  # g [m/s²], along −z",
+                float(self.gravity)
+            );
+        }
 
         geometry_lines(&mut out, &self.geometry);
 

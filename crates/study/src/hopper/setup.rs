@@ -69,6 +69,7 @@ pub fn case_simulation_by_component(
 ) -> Result<(Simulation, ContainerWalls, Vec<MaterialId>), DemError> {
     let mut config = SimulationConfig::new(case.time_step);
     config.laws = contact_laws(case);
+    config.gravity = DVec3::new(0.0, 0.0, -case.gravity);
     config.threads = threads;
     config.skin = SKIN_DIAMETERS * case.particles.max_diameter();
     config.max_rayleigh_fraction = config::MAX_RAYLEIGH_FRACTION;

@@ -4,7 +4,7 @@
 use analysis::beverloo::{fit_beverloo_2d, BeverlooFit, BeverlooNormalisation};
 
 use super::data::GridPoint;
-use super::{Fitted, GRAVITY};
+use super::{common_gravity, Fitted};
 
 /// Confidence level of the reported intervals of k and C.
 pub const BEVERLOO_CONFIDENCE: f64 = 0.95;
@@ -60,14 +60,14 @@ fn fit_group(series: &str, label: String, points: &[&GridPoint]) -> BeverlooGrou
             "{} outlet width(s); the fit needs at least 3",
             widths.len()
         )),
-        Some(first) => {
+        Some(first) => common_gravity(points.iter().copied()).and_then(|gravity| {
             let normalisation = BeverlooNormalisation {
                 slab_thickness: first.thickness,
                 particle_diameter: first.particle_diameter,
                 particle_density: first.particle_density,
                 bulk_fraction,
                 area_fraction,
-                gravity: GRAVITY,
+                gravity,
             };
             let d: Vec<f64> = points.iter().map(|p| p.outlet_width).collect();
             let w: Vec<f64> = points.iter().map(|p| p.discharge_rate.value).collect();
@@ -81,7 +81,7 @@ fn fit_group(series: &str, label: String, points: &[&GridPoint]) -> BeverlooGrou
                 .then_some(&e[..]);
             fit_beverloo_2d(&d, &w, errors, &normalisation, BEVERLOO_CONFIDENCE)
                 .map_err(|e| e.to_string())
-        }
+        }),
     };
     BeverlooGroup {
         series: series.to_string(),

@@ -103,9 +103,14 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
             start.sha256
         )));
     }
+    let gravity = match super::common_gravity(&data.points) {
+        Ok(g) => format!(" g = {g} m/s²."),
+        Err(_) if data.points.is_empty() => String::new(),
+        Err(why) => format!(" No fit mixes cases of different g: {why}."),
+    };
     doc.push(Block::Paragraph(format!(
-        "{} case(s) in results.csv: {} complete, {} clogged, {} failed. Clogged and failed cases are left out of every fit; replicas are averaged before fitting (mean ± standard error over replicas, floored at the runs' own errors carried to the mean where they have one). Uncertainties are one standard error unless an interval is given. g = {} m/s².",
-        data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed), super::GRAVITY
+        "{} case(s) in results.csv: {} complete, {} clogged, {} failed. Clogged and failed cases are left out of every fit; replicas are averaged before fitting (mean ± standard error over replicas, floored at the runs' own errors carried to the mean where they have one). Uncertainties are one standard error unless an interval is given.{gravity}",
+        data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed)
     )));
 
     if analysis.has_slabs {

@@ -12,7 +12,7 @@ use analysis::selfsimilar::{
 use analysis::Estimate;
 
 use super::data::GridPoint;
-use super::{Fitted, GRAVITY};
+use super::{common_gravity, Fitted};
 
 /// Angle β_d [°] between the stagnant-zone boundary and the horizontal used for the
 /// Rose–Tanaka curve. The paper does not state its value; 45° is the low end of the
@@ -130,8 +130,8 @@ fn fit_angle(series: String, hopper_angle_deg: f64, points: Vec<GridPoint>) -> A
     // D = 18 mm 96 % of the 90° γ weight, and an angle with one replica at some width
     // (error unknown) fell back to equal weights, so angles were fitted differently.
     let vc: Vec<f64> = points.iter().map(|p| p.centre_velocity.value).collect();
-    let centre_velocity =
-        fit_centre_velocity(&radii, &vc, None, GRAVITY).map_err(|e| e.to_string());
+    let centre_velocity = common_gravity(&points)
+        .and_then(|g| fit_centre_velocity(&radii, &vc, None, g).map_err(|e| e.to_string()));
     let phi: Vec<f64> = points
         .iter()
         .map(|p| p.centre_area_fraction.value)
@@ -151,7 +151,7 @@ fn fit_angle(series: String, hopper_angle_deg: f64, points: Vec<GridPoint>) -> A
                 phi_infinity: s.phi_infinity,
                 particle_diameter: p.particle_diameter,
                 particle_density: p.particle_density,
-                gravity: GRAVITY,
+                gravity: p.gravity,
             };
             self_similar_discharge_rate(&parameters, p.radius()).map_err(|e| e.to_string())
         })
@@ -178,7 +178,7 @@ fn fit_angle(series: String, hopper_angle_deg: f64, points: Vec<GridPoint>) -> A
 /// is propagated from v_c's, σ_γ = 2γ σ_vc/v_c.
 pub fn width_gamma(point: &GridPoint) -> Estimate {
     let vc = point.centre_velocity;
-    let gamma = vc.value * vc.value / (2.0 * GRAVITY * point.radius());
+    let gamma = vc.value * vc.value / (2.0 * point.gravity * point.radius());
     Estimate::new(gamma, 2.0 * gamma * vc.standard_error / vc.value)
 }
 
@@ -223,6 +223,9 @@ pub fn angle_ratios(points: &[GridPoint]) -> Vec<AngleRatio> {
 mod tests {
     use super::*;
 
+    /// g [m/s²] of the points below unless a test sets another.
+    const GRAVITY: f64 = crate::config::DEFAULT_GRAVITY;
+
     /// A flat-bottomed centred point of width `d` [m] with centre velocity `vc` ± `error`
     /// [m/s] and no profiles.
     fn point(d: f64, vc: f64, error: f64) -> GridPoint {
@@ -251,8 +254,41 @@ mod tests {
             crossing_area_fraction_profile: None,
             flow: None,
             kind: "slab".into(),
+            gravity: GRAVITY,
             radial_fit: None,
         }
+    }
+
+    #[test]
+    fn gamma_is_fitted_under_the_points_own_gravity() {
+        // v_c = √(2γgR) with γ = 1.6 under Mars's g = 3.71 m/s²: the fit must give back
+        // γ = 1.6 (to the fit's round-off), not the 0.605 that Earth's g would make of it.
+        let mars = 3.71;
+        let points: Vec<GridPoint> = [0.018, 0.030, 0.045, 0.060]
+            .iter()
+            .map(|&d| GridPoint {
+                gravity: mars,
+                ..point(d, (2.0 * 1.6 * mars * 0.5 * d).sqrt(), 0.01)
+            })
+            .collect();
+        let gamma = fit_angle("angle".into(), 90.0, points.clone())
+            .centre_velocity
+            .unwrap()
+            .gamma
+            .value;
+        assert!((gamma - 1.6).abs() < 1e-9, "γ = {gamma}");
+        assert!((width_gamma(&points[1]).value - 1.6).abs() < 1e-12);
+        // One point under Earth's g among them: no single g to fit with, and the reason
+        // names both.
+        let mut mixed = points;
+        mixed[0].gravity = GRAVITY;
+        let refused = fit_angle("angle".into(), 90.0, mixed)
+            .centre_velocity
+            .unwrap_err();
+        assert!(
+            refused.contains("3.71") && refused.contains("9.81"),
+            "{refused}"
+        );
     }
 
     #[test]

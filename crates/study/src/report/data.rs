@@ -7,6 +7,7 @@ use std::path::Path;
 use analysis::profile::BinnedProfile;
 use analysis::Estimate;
 
+use crate::config::DEFAULT_GRAVITY;
 use crate::summary::ProfileRow;
 use crate::sweep::{
     read_results_table, CaseStatus, ResultRow, StudyError, StudyManifest, StudyPaths,
@@ -77,6 +78,8 @@ pub struct GridPoint {
     pub flow: Option<(Vec<f64>, Vec<f64>)>,
     /// The geometry kind of the case (`geometry.kind`: "slab", "cylinder", "box", "mesh").
     pub kind: String,
+    /// g [m/s²] of the case (`gravity`; its default when the case file omits it).
+    pub gravity: f64,
     /// The first replica's radial profile fits (circular orifices only).
     pub radial_fit: Option<crate::summary::RadialFit>,
 }
@@ -207,26 +210,34 @@ fn average_profiles(
 /// `geometry.kind`, which a slab leaves out; read as TOML, not resolved, so that a mesh case
 /// whose STL files have moved is still told); a case folder without one is told by its row:
 /// only a slab has a slab width.
-fn case_kind(dir: &Path, row: &ResultRow) -> String {
-    std::fs::read_to_string(dir.join("case.toml"))
+/// The geometry kind (`geometry.kind`) and g [m/s²] of the case whose resolved
+/// `case.toml` is in `dir`. Without a readable file, a row with a hopper width is a slab and
+/// one without a cylinder, under the default g.
+fn case_facts(dir: &Path, row: &ResultRow) -> (String, f64) {
+    let table = std::fs::read_to_string(dir.join("case.toml"))
         .ok()
-        .and_then(|text| text.parse::<toml::Table>().ok())
-        .map(|table| {
-            table
-                .get("geometry")
-                .and_then(|g| g.get("kind"))
-                .and_then(|k| k.as_str())
-                .unwrap_or("slab")
-                .to_string()
-        })
-        .unwrap_or_else(|| {
-            if row.width.is_finite() {
-                "slab"
-            } else {
-                "cylinder"
-            }
-            .to_string()
-        })
+        .and_then(|text| text.parse::<toml::Table>().ok());
+    let Some(table) = table else {
+        let kind = if row.width.is_finite() {
+            "slab"
+        } else {
+            "cylinder"
+        };
+        return (kind.to_string(), DEFAULT_GRAVITY);
+    };
+    let kind = table
+        .get("geometry")
+        .and_then(|g| g.get("kind"))
+        .and_then(|k| k.as_str())
+        .unwrap_or("slab")
+        .to_string();
+    // A resolved case writes `gravity` only when it differs from the default.
+    let gravity = match table.get("gravity") {
+        Some(toml::Value::Float(g)) => *g,
+        Some(toml::Value::Integer(g)) => *g as f64,
+        _ => DEFAULT_GRAVITY,
+    };
+    (kind, gravity)
 }
 
 /// A case's `summary.json`, when it reads.
@@ -298,6 +309,7 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             )
         })
         .flatten();
+        let (kind, gravity) = case_facts(&paths.case_dir(&first.id), first);
         points.push(GridPoint {
             key,
             series: first.series.clone(),
@@ -324,7 +336,8 @@ pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
             area_fraction_profile,
             crossing_area_fraction_profile,
             flow: read_flow(&paths.case_dir(&first.id).join("flow.csv")),
-            kind: case_kind(&paths.case_dir(&first.id), first),
+            kind,
+            gravity,
             radial_fit: read_summary(&paths.case_dir(&first.id)).and_then(|s| s.radial_fit),
         });
     }

@@ -11,7 +11,7 @@ use analysis::selfsimilar::PackingSaturationFit;
 use analysis::Estimate;
 
 use super::data::GridPoint;
-use super::{errors_if_known, Fitted, GRAVITY};
+use super::{common_gravity, errors_if_known, Fitted};
 
 /// Eq. 16–17 fits of one set of profiles.
 #[derive(Debug, Clone)]
@@ -73,13 +73,15 @@ fn fit_profiles(points: &[&GridPoint]) -> ProfileFits {
             .filter_map(|p| p.velocity_profile.clone())
             .collect();
         let radii: Vec<f64> = with_velocity.iter().map(|p| p.radius()).collect();
-        fit_eccentric_velocity_profiles(
-            &profiles,
-            &radii,
-            GRAVITY,
-            &AsymmetricProfileOptions::default(),
-        )
-        .map_err(|e| e.to_string())
+        common_gravity(with_velocity.iter().copied()).and_then(|g| {
+            fit_eccentric_velocity_profiles(
+                &profiles,
+                &radii,
+                g,
+                &AsymmetricProfileOptions::default(),
+            )
+            .map_err(|e| e.to_string())
+        })
     };
     let packing_profiles: Vec<_> = points
         .iter()
@@ -186,7 +188,7 @@ pub fn analyse_eccentric(all: &[GridPoint]) -> EccentricAnalysis {
                     maximum_fraction,
                     particle_diameter: p.particle_diameter,
                     particle_density: p.particle_density,
-                    gravity: GRAVITY,
+                    gravity: p.gravity,
                 };
                 eccentric_discharge_rate(&parameters, p.radius()).map_err(|e| e.to_string())
             });

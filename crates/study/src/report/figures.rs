@@ -6,7 +6,7 @@ use analysis::profile::BinnedProfile;
 use analysis::selfsimilar::{packing_saturation, power_profile};
 
 use super::comparison::{ANGLE_SERIES, ECCENTRIC_SERIES};
-use super::{StudyAnalysis, GRAVITY};
+use super::{common_gravity, StudyAnalysis};
 use crate::output::{Axis, Figure, Series};
 
 /// A figure with its file stem and caption.
@@ -193,13 +193,14 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .map(|p| (p.radius().sqrt(), p.centre_velocity.value))
             .unzip();
         fig4 = fig4.with_series(Series::points(label.clone(), x.clone(), y));
-        if let Ok(c) = &f.centre_velocity {
+        // A fitted v_c implies one g over the group's points.
+        if let (Ok(c), Ok(gravity)) = (&f.centre_velocity, common_gravity(&f.points)) {
             let xs: Vec<f64> = (0..=20)
                 .map(|i| 0.05 * i as f64 * x.iter().cloned().fold(0.0, f64::max))
                 .collect();
             let ys = xs
                 .iter()
-                .map(|s| (2.0 * c.gamma.value * GRAVITY).sqrt() * s)
+                .map(|s| (2.0 * c.gamma.value * gravity).sqrt() * s)
                 .collect();
             fig4 = fig4.with_series(Series::line("", xs, ys));
             if f.series == ANGLE_SERIES {
@@ -356,7 +357,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
         for p in &members {
             let label = format!("D = {} mm", p.point.outlet_width * 1e3);
             if let Some(profile) = &p.point.velocity_profile {
-                let (x, y) = points_of(profile, (2.0 * GRAVITY * p.point.radius()).sqrt());
+                let (x, y) = points_of(profile, (2.0 * p.point.gravity * p.point.radius()).sqrt());
                 v = v.with_series(Series::points(label.clone(), x, y));
             }
             if let Some(profile) = &p.point.area_fraction_profile {

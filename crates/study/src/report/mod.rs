@@ -35,8 +35,26 @@ pub use document::{Block, Document};
 /// that failed); the report prints the reason instead of failing.
 pub type Fitted<T> = Result<T, String>;
 
-/// Gravitational acceleration g [m/s²] used by every fit (the engine's default).
-pub const GRAVITY: f64 = 9.81;
+/// The g [m/s²] that a fit over `points` uses: the one all of them ran under. Points of
+/// several g are refused rather than fitted with one of them, since every law fitted here
+/// (Beverloo, v_c = √(2γgR), the self-similar rate) carries √g.
+pub fn common_gravity<'a>(points: impl IntoIterator<Item = &'a GridPoint>) -> Fitted<f64> {
+    let mut values: Vec<f64> = points.into_iter().map(|p| p.gravity).collect();
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    match values.as_slice() {
+        [] => Err("no points".into()),
+        [g] => Ok(*g),
+        several => Err(format!(
+            "the cases ran under different g ({} m/s²); fit each g in a study of its own",
+            several
+                .iter()
+                .map(|g| g.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
+}
 
 /// All fits of a study.
 #[derive(Debug, Clone)]

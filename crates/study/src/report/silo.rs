@@ -8,7 +8,7 @@ use serde_json::json;
 
 use super::comparison::ComparisonItem;
 use super::data::GridPoint;
-use super::{errors_if_known, Fitted, GRAVITY};
+use super::{common_gravity, errors_if_known, Fitted};
 
 /// Confidence level of the intervals of C and k.
 pub const BEVERLOO_CONFIDENCE: f64 = 0.95;
@@ -102,7 +102,8 @@ pub fn analyse_silos(points: &[GridPoint]) -> SiloAnalysis {
                 .iter()
                 .map(|p| (p.outlet_width, p.discharge_rate))
                 .collect();
-            let fit = fit_group(&points, d, bulk_density);
+            let gravity = common_gravity(members.iter().map(|p| **p));
+            let fit = fit_group(&points, d, bulk_density, gravity);
             Beverloo3dGroup {
                 series,
                 hopper_angle_deg: angle,
@@ -128,7 +129,15 @@ pub fn analyse_silos(points: &[GridPoint]) -> SiloAnalysis {
     SiloAnalysis { beverloo, profiles }
 }
 
-fn fit_group(points: &[(f64, Estimate)], d: f64, bulk_density: f64) -> Fitted<Beverloo3dFit> {
+/// The 3D Beverloo fit of one series and angle: orifice diameters [m] with their rates,
+/// the particle diameter d [m], the bulk density ρ_b [kg/m³] and the group's g [m/s²].
+fn fit_group(
+    points: &[(f64, Estimate)],
+    d: f64,
+    bulk_density: f64,
+    gravity: Fitted<f64>,
+) -> Fitted<Beverloo3dFit> {
+    let gravity = gravity?;
     if points.len() < 3 {
         return Err(format!(
             "{} orifice diameter(s); the fit needs 3 or more",
@@ -149,7 +158,7 @@ fn fit_group(points: &[(f64, Estimate)], d: f64, bulk_density: f64) -> Fitted<Be
         &Beverloo3dConstants {
             particle_diameter: d,
             bulk_density,
-            gravity: GRAVITY,
+            gravity,
         },
         BEVERLOO_CONFIDENCE,
     )

@@ -409,6 +409,7 @@ mod tests {
         }
         for key in [
             "seed",
+            "gravity",
             "geometry.width",
             "geometry.hopper_angle_deg",
             "geometry.mesh_segments",

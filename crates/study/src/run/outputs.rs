@@ -630,7 +630,7 @@ pub fn finish(
                 silo.cone_height(),
                 (b.bed_height, d),
                 b.volume_fraction * density,
-                crate::report::GRAVITY,
+                case.gravity,
             ),
             _ => None,
         },
