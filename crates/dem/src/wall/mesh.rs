@@ -41,6 +41,22 @@ struct Facet {
     bounds: (DVec3, DVec3),
 }
 
+impl Facet {
+    /// True when `b` [m] is certainly farther than `reach` [m] from the triangle because it is
+    /// that far from the triangle's plane, which no point of the triangle is nearer than.
+    ///
+    /// A cheap test before the closest point: the index offers every triangle whose bounding
+    /// box comes within reach, and a long triangle slanting across the axes (a cone's side in
+    /// one strip from the orifice to the cylinder, as CAD exports often give) has a box reaching
+    /// far from its surface. The margin of 10⁻⁹ of the reach lets rounding in the plane
+    /// distance refuse only what the closest point would refuse too, so the triangles found,
+    /// and every contact, are the same as without the test.
+    #[inline]
+    fn plane_beyond(&self, b: DVec3, reach: f64) -> bool {
+        (b - self.corners[0]).dot(self.normal).abs() > reach * (1.0 + 1e-9)
+    }
+}
+
 /// A copy of one triangle's geometry, kept beside a sphere that is near it: the contact test
 /// of every step then reads a few hundred bytes in a row instead of triangles scattered
 /// through a large mesh, which cost a cache miss each.
@@ -288,7 +304,11 @@ impl Mesh {
         let reach2 = reach * reach;
         let mut found = false;
         self.grid.near(b, reach, |t| {
-            let (p, _) = closest_point(b, self.facets[t as usize].corners);
+            let f = &self.facets[t as usize];
+            if f.plane_beyond(b, reach) {
+                return false;
+            }
+            let (p, _) = closest_point(b, f.corners);
             found = (b - p).length_squared() < reach2;
             found
         });
@@ -308,6 +328,9 @@ impl Mesh {
         let reach2 = reach * reach;
         self.grid.near(b, reach, |t| {
             let f = &self.facets[t as usize];
+            if f.plane_beyond(b, reach) {
+                return false;
+            }
             let (p, _) = closest_point(b, f.corners);
             if (b - p).length_squared() < reach2 {
                 out.push(NearTriangle {

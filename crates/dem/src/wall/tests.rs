@@ -246,6 +246,73 @@ fn the_index_finds_what_a_search_of_every_triangle_finds() {
 }
 
 #[test]
+fn long_slanted_triangles_are_found_as_by_a_search_of_every_triangle() {
+    // A 45° cone from an orifice of radius 0.3 to a rim of radius 1, one strip of two
+    // triangles per segment (as CAD exports give): the triangles' bounding boxes reach deep
+    // into the cone, and the index's plane test must refuse exactly the triangles that the
+    // closest point would, also for points within rounding of a plane at the reach.
+    let k = 24;
+    let ring = |r: f64, z: f64| -> Vec<DVec3> {
+        (0..k)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / k as f64;
+                DVec3::new(r * a.cos(), r * a.sin(), z)
+            })
+            .collect()
+    };
+    let (low, high) = (ring(0.3, 0.0), ring(1.0, 0.7));
+    let cone: Vec<[DVec3; 3]> = (0..k)
+        .flat_map(|i| {
+            let j = (i + 1) % k;
+            [[low[i], low[j], high[j]], [low[i], high[j], high[i]]]
+        })
+        .collect();
+    let m = mesh_of(&cone);
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let brute = |x: DVec3, reach: f64| -> Vec<u32> {
+        (0..m.len())
+            .filter(|&t| {
+                let (p, _) = super::triangle::closest_point(x, m.triangle(t));
+                (x - p).length_squared() < reach * reach
+            })
+            .map(|t| t as u32)
+            .collect()
+    };
+    let mut out = Vec::new();
+    let mut points: Vec<(DVec3, f64)> = (0..2000)
+        .map(|_| {
+            let x = DVec3::new(2.2 * next() - 1.1, 2.2 * next() - 1.1, 0.9 * next() - 0.1);
+            (x, 0.02 + 0.1 * next())
+        })
+        .collect();
+    // Points off a face's centre by the reach itself, a hair inside and a hair outside it.
+    for t in 0..m.len() {
+        let c = m.triangle(t);
+        let centre = (c[0] + c[1] + c[2]) / 3.0;
+        let normal = (c[1] - c[0]).cross(c[2] - c[0]).normalize();
+        for factor in [1.0 - 1e-12, 1.0, 1.0 + 1e-12, -1.0] {
+            points.push((centre + normal * 0.05 * factor, 0.05));
+        }
+    }
+    let mut found = 0;
+    for (x, reach) in points {
+        m.triangles_near(x, reach, &mut out);
+        let indexed: Vec<u32> = out.iter().map(|n| n.triangle).collect();
+        assert_eq!(indexed, brute(x, reach), "at {x} within {reach}");
+        assert_eq!(m.comes_within(x, reach), !indexed.is_empty(), "at {x}");
+        found += indexed.len();
+    }
+    // The random points must meet the wall often enough for the comparison to mean something.
+    assert!(found > 500, "only {found} triangles found near the points");
+}
+
+#[test]
 fn a_turned_and_moved_mesh_answers_in_the_world() {
     // Turned a quarter turn about x (z goes to +y) and moved up by 2: the floor z = 0
     // becomes the wall y = 0 over z ∈ [1, 2]; a point 0.1 in front of it touches along +y.
