@@ -62,10 +62,17 @@ impl Case {
     fn table(&self) -> toml::Table {
         // The study crate writes text that reads back to the same case (tested there);
         // an empty table would only hide a broken invariant behind a KeyError.
-        self.case
+        let mut table = self
+            .case
             .to_toml_string()
             .parse::<toml::Table>()
-            .unwrap_or_default()
+            .unwrap_or_default();
+        // The text leaves out a default g (so that existing cases keep their hashes); the
+        // table gives it, so that `case["gravity"]` answers for every case.
+        table
+            .entry("gravity")
+            .or_insert(toml::Value::Float(self.case.gravity));
+        table
     }
 }
 

@@ -39,6 +39,20 @@ def test_numpy_scalars_are_accepted_as_their_python_values():
     assert case["contact.normal_clamp"] is True
 
 
+def test_gravity_reads_for_every_case_and_sets_like_any_key():
+    # The resolved text leaves out the default g; the case still answers it.
+    case = hf.Case.paper()
+    assert case["gravity"] == 9.81
+    assert "gravity" not in case.to_toml()
+    case["gravity"] = 9.8
+    assert case["gravity"] == 9.8
+    assert "gravity = 9.8" in case.to_toml()
+    assert hf.Case.from_dict(case.to_dict()) == case
+    with pytest.raises(hf.CaseError) as info:
+        case["gravity"] = -9.81
+    assert info.value.key == "gravity" and "(0, 1000]" in str(info.value)
+
+
 def test_from_dict_takes_nested_and_dotted_keys():
     case = hf.Case.from_dict({"geometry": {"outlet_width": 0.04}, "particles.count": 500})
     assert case["geometry.outlet_width"] == 0.04
