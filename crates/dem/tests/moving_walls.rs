@@ -7,8 +7,8 @@ mod common;
 
 use common::RADIUS;
 use dem::{
-    DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallId,
-    WallMaterial, WallMotion, WallShape,
+    ContactLaws, DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig,
+    TangentialLaw, Wall, WallId, WallMaterial, WallMotion, WallShape,
 };
 
 fn one_sphere(wall: Wall, position: DVec3) -> (Simulation, WallId) {
@@ -113,8 +113,20 @@ fn a_spinning_turntable_drags_a_sphere_along_omega_cross_r() {
 
 /// A small silo: a cylinder over a cone over a mesh floor, filled with a loose pile.
 fn silo(threads: usize) -> (Simulation, [WallId; 3]) {
+    silo_of(threads, 12, 2, ContactLaws::default())
+}
+
+/// The small silo with `layers` layers of spheres on a square lattice of side 2 `half` + 1,
+/// less the lattice points farther than 9.5 radii from the axis, under the contact `laws`.
+fn silo_of(
+    threads: usize,
+    layers: usize,
+    half: i32,
+    laws: ContactLaws,
+) -> (Simulation, [WallId; 3]) {
     let mut config = SimulationConfig::new(2.5e-6);
     config.threads = threads;
+    config.laws = laws;
     let mut sim = Simulation::new(config).unwrap();
     let i = Interaction::fan2023();
     let m = sim.add_material(Material::fan2023(), i).unwrap();
@@ -156,9 +168,12 @@ fn silo(threads: usize) -> (Simulation, [WallId; 3]) {
         sim.add_wall(mesh).unwrap(),
     ];
     let mut k = 0;
-    for layer in 0..12 {
-        for p in -2i32..=2 {
-            for q in -2i32..=2 {
+    for layer in 0..layers {
+        for p in -half..=half {
+            for q in -half..=half {
+                if ((p * p + q * q) as f64).sqrt() * 2.6 > 9.5 {
+                    continue;
+                }
                 let x = DVec3::new(p as f64, q as f64, 0.0) * 2.6 * RADIUS
                     + DVec3::new(0.1 * (k % 7) as f64, 0.07 * (k % 5) as f64, 0.0) * RADIUS
                     + DVec3::new(0.0, 0.0, (6.0 + 2.6 * layer as f64) * RADIUS);
@@ -169,6 +184,56 @@ fn silo(threads: usize) -> (Simulation, [WallId; 3]) {
         }
     }
     (sim, ids)
+}
+
+#[test]
+fn a_silo_cut_into_several_body_ranges_gives_the_one_thread_bits() {
+    // 1485 spheres: enough for two threads to cut the bodies into four ranges and four
+    // threads into five, so that the surface contacts are resolved range by range (inside the
+    // pair pass's tasks under the default laws, in a pass of their own under the others) and
+    // the element loads replayed from several ranges. Every bit and every per-element load
+    // must still be the one thread's.
+    let other = ContactLaws {
+        tangential: TangentialLaw::MindlinDeresiewicz,
+        ..ContactLaws::default()
+    };
+    for laws in [ContactLaws::default(), other] {
+        same_bits_on_several_threads(laws);
+    }
+}
+
+fn same_bits_on_several_threads(laws: ContactLaws) {
+    let (mut one, ids) = silo_of(1, 33, 3, laws);
+    assert_eq!(one.particles().len(), 1485);
+    for id in &ids[..2] {
+        one.set_wall_bands(*id, 5).unwrap();
+    }
+    one.run(40_000).unwrap();
+    assert!(
+        one.contacts().particle_wall > 100,
+        "the pile must lean on the walls: {}",
+        one.contacts().particle_wall
+    );
+    for threads in [2, 4] {
+        let (mut many, _) = silo_of(threads, 33, 3, laws);
+        for id in &ids[..2] {
+            many.set_wall_bands(*id, 5).unwrap();
+        }
+        many.run(40_000).unwrap();
+        assert_eq!(
+            common::bits_by_tag(&one),
+            common::bits_by_tag(&many),
+            "{threads} threads, {laws:?}"
+        );
+        for id in ids {
+            assert_eq!(one.wall_load(id).unwrap(), many.wall_load(id).unwrap());
+            assert_eq!(
+                one.surface_loads(id).unwrap(),
+                many.surface_loads(id).unwrap(),
+                "{threads} threads, wall {id:?}, {laws:?}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -215,14 +215,16 @@ pub(crate) fn evaluate(
 ) -> Evaluation {
     // Zeroed by `start_loads`; sized here for callers that sum over several evaluations.
     buffers.loads.resize(input.walls.len(), LoadSum::default());
-    let mut eval = match pool {
-        Some(pool) => parallel::evaluate(input, pairs, wall_pairs, buffers, pool),
-        None => planar_contacts(input, pairs, wall_pairs, buffers),
+    let (mut eval, surfaces_done) = match pool {
+        Some(pool) => parallel::evaluate(input, pairs, wall_pairs, buffers, pool, elements),
+        None => (planar_contacts(input, pairs, wall_pairs, buffers), false),
     };
-    let everyone = 0..input.particles.len();
-    add_surface_contacts(
-        &mut eval, input, wall_pairs, buffers, elements, everyone, pool,
-    );
+    if !surfaces_done {
+        let everyone = 0..input.particles.len();
+        add_surface_contacts(
+            &mut eval, input, wall_pairs, buffers, elements, everyone, pool,
+        );
+    }
     eval
 }
 

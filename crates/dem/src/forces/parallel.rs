@@ -10,7 +10,9 @@
 //!    pair see one force; only the owner writes the new history;
 //! 3. its own pairs, those whose i lies in it: the kernel, the new histories, i's share, and
 //!    j's share when j lies in the range too (otherwise j's range resolves the pair again);
-//! 4. its wall contacts (filter, kernel and history).
+//! 4. its wall contacts (filter, kernel and history);
+//! 5. under the default laws, its surface contacts (curved, meshed and spinning walls,
+//!    `surfaces_parallel`), last as on one thread, in the same task: one join less per step.
 //!
 //! No two tasks write the same body or history, and nothing passes from one task to another
 //! during the pass: no contact force is stored for a later pass, which on large systems cost
@@ -23,7 +25,9 @@
 //!   all come before its own run as i, the incoming ones (i before the range) first. The
 //!   one-thread [`Accumulator`] adds them one by one in that order; a range adds its
 //!   incoming pairs first, then its own, in list order, and so does the same;
-//! - then its walls, in increasing wall order (the list is wall-major).
+//! - then its walls, in increasing wall order (the list is wall-major);
+//! - then its surface contacts, wall by wall, whose element loads are replayed afterwards in
+//!   the one-thread order.
 //!
 //! So the sums, and the whole trajectory, do not depend on the thread count or on where the
 //! ranges are cut.
@@ -81,6 +85,9 @@ struct RangeTask<'a> {
     pairs: (&'a mut [DVec3], &'a mut [DVec3], &'a mut [u8]),
     /// Its wall candidates: for each wall run, the part with its bodies, in list order.
     walls: Vec<WallPiece<'a>>,
+    /// Its stretch of each curved, meshed or spinning wall's candidates, when the pass
+    /// resolves those walls too (`surfaces`), in wall order.
+    surfaces: Vec<surfaces_parallel::WallStretch<'a>>,
 }
 
 /// What one range's task found.
@@ -90,16 +97,23 @@ struct RangeResult {
     wall_contacts: usize,
     worst_pair: WorstOverlap,
     worst_wall: WorstOverlap,
+    /// Its surface contacts, when the pass resolved them.
+    surfaces: Option<surfaces_parallel::RangeResult>,
 }
 
-/// [`super::evaluate`] on `pool`.
+/// [`super::evaluate`] on `pool`, with the curved, meshed and spinning walls' contacts
+/// (`surfaces`) resolved in the same tasks, after each range's other contacts, where the
+/// laws let the planar walls be resolved in the tasks too: then each body still receives its
+/// surface contacts last, and one fork-join less per step. Returns whether it resolved them;
+/// otherwise the caller runs the surface pass after it.
 pub(super) fn evaluate(
     input: &KernelInput,
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
     buffers: &mut ForceBuffers,
     pool: &rayon::ThreadPool,
-) -> Evaluation {
+    elements: &mut [loads::SurfaceLoads],
+) -> (Evaluation, bool) {
     let n = input.particles.len();
     let ids = (&pairs.i[..], &pairs.j[..]);
     let ranges = (pool.current_num_threads() * RANGES_PER_THREAD)
@@ -120,24 +134,61 @@ pub(super) fn evaluate(
     );
 
     let batched_walls = *input.laws == ContactLaws::default();
+    let with_surfaces = batched_walls && crate::wall::any_resolved_one_by_one(input.walls);
     wall_probes(input.walls, &mut buffers.wall_probes);
-    let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
-    let tasks = range_tasks(
+    let WallPairList {
+        particle: wall_particles,
+        wall: wall_walls,
+        history: wall_history,
+        surfaces: slots,
+    } = wall_pairs;
+    let wall_ids = (&wall_particles[..], &wall_walls[..]);
+    let mut surface_stretches = if with_surfaces {
+        // A wall that began to spin since the last build has no remembered contacts yet.
+        slots.resize_with(wall_ids.0.len(), Default::default);
+        buffers
+            .surface_ranges
+            .resize_with(ranges, surfaces::SurfaceScratch::default);
+        surfaces_parallel::wall_stretches(input, wall_ids, slots, &bounds)
+    } else {
+        Vec::new()
+    };
+    let mut tasks = range_tasks(
         (&bounds, &pair_starts),
         (&mut buffers.force, &mut buffers.torque),
         (tangential, rolling, live),
         batched_walls.then_some({
-            let (tangential, _, live) = wall_pairs.history.parts_mut();
+            let (tangential, _, live) = wall_history.parts_mut();
             (wall_ids, (tangential, live))
         }),
     );
+    for (task, stretches) in tasks.iter_mut().zip(surface_stretches.drain(..)) {
+        task.surfaces = stretches;
+    }
+    let bands: Vec<usize> = (0..input.walls.len())
+        .map(|w| elements.get(w).map_or(1, |e| e.elements.len().max(1)))
+        .collect();
     let probes = &buffers.wall_probes[..];
-    let results: Vec<RangeResult> = pool.install(|| {
+    let scratches: Vec<(&mut RangeScratch, Option<&mut surfaces::SurfaceScratch>)> =
+        if with_surfaces {
+            buffers
+                .ranges
+                .iter_mut()
+                .zip(buffers.surface_ranges.iter_mut().map(Some))
+                .collect()
+        } else {
+            buffers.ranges.iter_mut().map(|r| (r, None)).collect()
+        };
+    let surface_inputs = (wall_ids.0, &bands[..]);
+    let mut results: Vec<RangeResult> = pool.install(|| {
         tasks
             .into_par_iter()
-            .zip(buffers.ranges.par_iter_mut())
+            .zip(scratches)
             .with_max_len(1)
-            .map(|(task, scratch)| range_pass(input, ids, probes, task, scratch))
+            .map(|(task, (scratch, surface_scratch))| {
+                let surface = (surface_inputs.0, surface_inputs.1, surface_scratch);
+                range_pass(input, ids, probes, task, scratch, surface)
+            })
             .collect()
     });
 
@@ -147,11 +198,28 @@ pub(super) fn evaluate(
     }
     let mut count = ContactCount::default();
     let (mut worst_pair, mut worst_wall) = (WorstOverlap::default(), WorstOverlap::default());
-    for r in results {
+    for r in &results {
         count.particle_particle += r.pair_contacts;
         count.particle_wall += r.wall_contacts;
         worst_pair = worst_pair.merge(r.worst_pair);
         worst_wall = worst_wall.merge(r.worst_wall);
+    }
+    if with_surfaces {
+        let surface_results: Vec<surfaces_parallel::RangeResult> = results
+            .iter_mut()
+            .filter_map(|r| r.surfaces.take())
+            .collect();
+        let mut sinks = surfaces::SurfaceSinks {
+            force: &mut buffers.force,
+            torque: &mut buffers.torque,
+            loads: &mut buffers.loads,
+            quanta: &input.quanta,
+            elements,
+        };
+        let (worst, contacts) =
+            surfaces_parallel::merge_ranges(&surface_results, &mut sinks, input.dt);
+        count.particle_wall += contacts;
+        worst_wall = worst_wall.merge(worst);
     }
     if !batched_walls {
         // Other laws: the walls in one pass after all pairs, in the one-thread order.
@@ -160,7 +228,7 @@ pub(super) fn evaluate(
         (worst_wall, walls) = wall_loop(
             input,
             wall_ids,
-            wall_pairs.history.split_mut(),
+            wall_history.split_mut(),
             &mut buffers.loads,
             |i, cf| {
                 force[i] += cf.force;
@@ -169,11 +237,14 @@ pub(super) fn evaluate(
         );
         count.particle_wall += walls;
     }
-    Evaluation {
-        count,
-        worst_pair,
-        worst_wall,
-    }
+    (
+        Evaluation {
+            count,
+            worst_pair,
+            worst_wall,
+        },
+        with_surfaces,
+    )
 }
 
 /// Fills each range's incoming pairs (`scratch[r].incoming` for the range from `bounds[r]`,
@@ -270,6 +341,7 @@ fn range_tasks<'a>(
             pair_base: p[0],
             pairs: (pt, pr, pl),
             walls: Vec::new(),
+            surfaces: Vec::new(),
         });
     }
     let Some(((pi, pw), (mut history, mut live))) = walls else {
@@ -332,14 +404,17 @@ impl PairSink for OwnSink<'_, '_> {
     }
 }
 
-/// One body range: its incoming and own pairs, its wall contacts, onto the weights and zero
-/// torques its force arrays start with.
+/// One body range: its incoming and own pairs, its wall contacts, then its surface contacts
+/// when it has a stretch of them (`surface`: the wall list's particles, each wall's element
+/// count and the scratch),
+/// onto the weights and zero torques its force arrays start with.
 fn range_pass(
     input: &KernelInput,
     ids: (&[u32], &[u32]),
     probes: &[WallProbe],
     task: RangeTask,
     scratch: &mut RangeScratch,
+    surface: (&[u32], &[usize], Option<&mut surfaces::SurfaceScratch>),
 ) -> RangeResult {
     let RangeTask {
         lo,
@@ -348,6 +423,7 @@ fn range_pass(
         pair_base,
         pairs,
         walls,
+        surfaces: stretches,
     } = task;
     let hi = lo + force.len();
     scratch.loads.clear();
@@ -382,22 +458,38 @@ fn range_pass(
     );
     result.pair_contacts = own.contacts;
 
-    if walls.is_empty() {
-        return result;
+    if !walls.is_empty() {
+        prepare_wall_batch(input, &mut kernel.batch);
+        let mut sink = |i: usize, cf: &ContactForce| {
+            force[i - lo] += cf.force;
+            torque[i - lo] += cf.torque_i;
+        };
+        (result.worst_wall, result.wall_contacts) = wall_pieces(
+            input,
+            probes,
+            walls,
+            (&mut scratch.hits, &mut scratch.touch, &mut kernel.batch),
+            &mut scratch.loads,
+            &mut sink,
+        );
     }
-    prepare_wall_batch(input, &mut kernel.batch);
-    let mut sink = |i: usize, cf: &ContactForce| {
-        force[i - lo] += cf.force;
-        torque[i - lo] += cf.torque_i;
-    };
-    (result.worst_wall, result.wall_contacts) = wall_pieces(
-        input,
-        probes,
-        walls,
-        (&mut scratch.hits, &mut scratch.touch, &mut kernel.batch),
-        &mut scratch.loads,
-        &mut sink,
-    );
+    // Last, as in the one-thread order: the surface contacts of the range's bodies.
+    if let (wall_particles, bands, Some(surface_scratch)) = surface {
+        let task = surfaces_parallel::RangeTask {
+            bodies: lo..hi,
+            force,
+            torque,
+            stretches,
+        };
+        result.surfaces = Some(surfaces_parallel::range_pass(
+            input,
+            wall_particles,
+            bands,
+            &input.quanta,
+            task,
+            surface_scratch,
+        ));
+    }
     result
 }
 

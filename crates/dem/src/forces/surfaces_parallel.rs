@@ -12,6 +12,11 @@
 //!   records its bookings, and they are added afterwards, wall by wall and range by range:
 //!   the order of the one-thread pass;
 //! - the worst overlap keeps the largest, the lowest list index on a tie.
+//!
+//! Under the default laws the pair pass (`parallel`) runs each range's surface contacts at
+//! the end of its own task ([`wall_stretches`], [`range_pass`], [`merge_ranges`]), saving a
+//! fork and join per step; under other laws the planar walls are resolved after all pairs,
+//! and this pass follows them on its own ([`surface_pass_parallel`]).
 
 use rayon::prelude::*;
 
@@ -33,18 +38,21 @@ struct Booking {
     force: DVec3,
 }
 
+/// A range's stretch of one wall's candidates: (wall, first list index, the stretch's
+/// remembered contacts).
+pub(super) type WallStretch<'a> = (usize, usize, &'a mut [SurfaceSlot]);
+
 /// A range's share of the pass: its bodies' forces and torques, and its stretch of each
 /// wall's candidates with their remembered contacts.
-struct RangeTask<'a> {
-    bodies: std::ops::Range<usize>,
-    force: &'a mut [DVec3],
-    torque: &'a mut [DVec3],
-    /// (wall, first list index, the stretch's remembered contacts).
-    stretches: Vec<(usize, usize, &'a mut [SurfaceSlot])>,
+pub(super) struct RangeTask<'a> {
+    pub(super) bodies: std::ops::Range<usize>,
+    pub(super) force: &'a mut [DVec3],
+    pub(super) torque: &'a mut [DVec3],
+    pub(super) stretches: Vec<WallStretch<'a>>,
 }
 
 /// What a range's task returns.
-struct RangeResult {
+pub(super) struct RangeResult {
     worst: WorstOverlap,
     count: usize,
     loads: Vec<(usize, LoadSum)>,
@@ -64,12 +72,15 @@ pub(crate) fn surface_pass_parallel(
     let ranges = (pool.current_num_threads() * RANGES_PER_THREAD).clamp(1, n.max(1));
     let bounds: Vec<usize> = (0..=ranges).map(|r| r * n / ranges).collect();
     scratches.resize_with(ranges, SurfaceScratch::default);
+    let bands = element_counts(input, sinks);
+    let quanta = sinks.quanta;
 
     // Cut the bodies' forces and torques into the ranges.
     let mut tasks: Vec<RangeTask> = Vec::with_capacity(ranges);
     {
         let (mut force, mut torque) = (&mut sinks.force[..], &mut sinks.torque[..]);
-        for r in 0..ranges {
+        let stretches = wall_stretches(input, (pi, pw), slots, &bounds);
+        for (r, stretches) in stretches.into_iter().enumerate() {
             let len = bounds[r + 1] - bounds[r];
             let (f, rest_f) = std::mem::take(&mut force).split_at_mut(len);
             let (t, rest_t) = std::mem::take(&mut torque).split_at_mut(len);
@@ -79,11 +90,33 @@ pub(crate) fn surface_pass_parallel(
                 bodies: bounds[r]..bounds[r + 1],
                 force: f,
                 torque: t,
-                stretches: Vec::new(),
+                stretches,
             });
         }
     }
-    // Cut each resolved wall's run of candidates into the ranges' stretches.
+
+    let results: Vec<RangeResult> = pool.install(|| {
+        tasks
+            .into_par_iter()
+            .zip(scratches.par_iter_mut())
+            .with_max_len(1)
+            .map(|(task, scratch)| range_pass(input, pi, &bands, quanta, task, scratch))
+            .collect()
+    });
+    merge_ranges(&results, sinks, input.dt)
+}
+
+/// Cuts each resolved wall's run of candidates in the wall-major list (`pi`, `pw`), with
+/// their remembered contacts `slots`, at the body bounds `bounds` (ascending, from 0 to the
+/// body count): the stretches of each range, in wall order. A wall's particles are in
+/// increasing order, so a range's candidates of one wall are one stretch.
+pub(super) fn wall_stretches<'a>(
+    input: &KernelInput,
+    (pi, pw): (&[u32], &[u32]),
+    slots: &'a mut [SurfaceSlot],
+    bounds: &[usize],
+) -> Vec<Vec<WallStretch<'a>>> {
+    let mut out: Vec<Vec<WallStretch<'a>>> = (1..bounds.len()).map(|_| Vec::new()).collect();
     let mut rest = slots;
     let mut taken = 0;
     for (w, run) in walls::wall_runs(pw) {
@@ -97,40 +130,42 @@ pub(crate) fn surface_pass_parallel(
             continue;
         }
         let ids = &pi[run.clone()];
-        for task in tasks.iter_mut() {
-            let end = run.start + ids.partition_point(|&i| (i as usize) < task.bodies.end);
+        for (stretches, &hi) in out.iter_mut().zip(&bounds[1..]) {
+            let end = run.start + ids.partition_point(|&i| (i as usize) < hi);
             let (stretch, after) = std::mem::take(&mut rest).split_at_mut(end - taken);
-            task.stretches.push((w as usize, taken, stretch));
+            stretches.push((w as usize, taken, stretch));
             rest = after;
             taken = end;
         }
     }
+    out
+}
 
-    let bands: Vec<usize> = (0..input.walls.len())
+/// Elements (triangles or bands) of each wall's load record, at least 1.
+pub(super) fn element_counts(input: &KernelInput, sinks: &SurfaceSinks) -> Vec<usize> {
+    (0..input.walls.len())
         .map(|w| sinks.elements.get(w).map_or(1, |e| e.elements.len().max(1)))
-        .collect();
-    let quanta = sinks.quanta;
-    let results: Vec<RangeResult> = pool.install(|| {
-        tasks
-            .into_par_iter()
-            .zip(scratches.par_iter_mut())
-            .with_max_len(1)
-            .map(|(task, scratch)| range_pass(input, pi, &bands, quanta, task, scratch))
-            .collect()
-    });
+        .collect()
+}
 
-    // Sums in a fixed order: loads exactly (integers), element bookings replayed wall by
-    // wall, range by range, each range's in list order: the one-thread pass's order.
+/// Sums the ranges' results in a fixed order: loads exactly (integers), element bookings
+/// replayed wall by wall, range by range, each range's in list order: the one-thread pass's
+/// order. Returns the worst overlap and the number of contacts.
+pub(super) fn merge_ranges(
+    results: &[RangeResult],
+    sinks: &mut SurfaceSinks,
+    dt: f64,
+) -> (WorstOverlap, usize) {
     let mut worst = WorstOverlap::default();
     let mut count = 0;
-    for result in &results {
+    for result in results {
         worst = worst.merge(result.worst);
         count += result.count;
         for (w, sum) in &result.loads {
             merge_loads(&mut sinks.loads[*w..=*w], std::slice::from_ref(sum));
         }
     }
-    replay(&results, sinks.elements, input.dt);
+    replay(results, sinks.elements, dt);
     (worst, count)
 }
 
@@ -163,7 +198,7 @@ fn replay(results: &[RangeResult], elements: &mut [SurfaceLoads], dt: f64) {
     }
 }
 
-fn range_pass(
+pub(super) fn range_pass(
     input: &KernelInput,
     pi: &[u32],
     bands: &[usize],
