@@ -165,9 +165,7 @@ pub(super) fn evaluate(
     for (task, stretches) in tasks.iter_mut().zip(surface_stretches.drain(..)) {
         task.surfaces = stretches;
     }
-    let bands: Vec<usize> = (0..input.walls.len())
-        .map(|w| elements.get(w).map_or(1, |e| e.elements.len().max(1)))
-        .collect();
+    let bands = surfaces_parallel::element_counts(input, elements);
     let probes = &buffers.wall_probes[..];
     let scratches: Vec<(&mut RangeScratch, Option<&mut surfaces::SurfaceScratch>)> =
         if with_surfaces {

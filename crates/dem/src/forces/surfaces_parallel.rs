@@ -72,7 +72,7 @@ pub(crate) fn surface_pass_parallel(
     let ranges = (pool.current_num_threads() * RANGES_PER_THREAD).clamp(1, n.max(1));
     let bounds: Vec<usize> = (0..=ranges).map(|r| r * n / ranges).collect();
     scratches.resize_with(ranges, SurfaceScratch::default);
-    let bands = element_counts(input, sinks);
+    let bands = element_counts(input, sinks.elements);
     let quanta = sinks.quanta;
 
     // Cut the bodies' forces and torques into the ranges.
@@ -141,10 +141,10 @@ pub(super) fn wall_stretches<'a>(
     out
 }
 
-/// Elements (triangles or bands) of each wall's load record, at least 1.
-pub(super) fn element_counts(input: &KernelInput, sinks: &SurfaceSinks) -> Vec<usize> {
+/// Elements (triangles or bands) of each wall's load record in `elements`, at least 1.
+pub(super) fn element_counts(input: &KernelInput, elements: &[SurfaceLoads]) -> Vec<usize> {
     (0..input.walls.len())
-        .map(|w| sinks.elements.get(w).map_or(1, |e| e.elements.len().max(1)))
+        .map(|w| elements.get(w).map_or(1, |e| e.elements.len().max(1)))
         .collect()
 }
 
