@@ -1,20 +1,15 @@
 //! The `hopperflow` binary refuses malformed case files and overrides with exit code 2,
 //! a message naming the file, the key and its line, and no output directory.
 
+mod run_cli;
+use run_cli::hopperflow;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use proptest::prelude::*;
 
 /// Exit code the command line promises for bad input.
 const EXIT_BAD_INPUT: i32 = 2;
-
-fn hopperflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
 
 fn stderr_of(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()

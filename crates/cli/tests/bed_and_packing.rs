@@ -4,8 +4,10 @@
 //! bad packing file are each refused with exit 2, a message naming what is wrong, and no
 //! output folder.
 
+mod run_cli;
+use run_cli::{hopperflow, utf8};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 mod tiny;
 
@@ -16,17 +18,6 @@ const EXIT_BAD_INPUT: i32 = 2;
 /// flow.
 fn tiny_case() -> String {
     tiny::tiny_case(0.02)
-}
-
-fn hopperflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
-
-fn utf8(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 test path")
 }
 
 /// Asserts exit code 2, no panic, every fragment in stderr, and that `out` was not created.

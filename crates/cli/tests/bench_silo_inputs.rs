@@ -4,8 +4,10 @@
 //! error, not a hang; bad inputs for the silo's options are refused with exit 2, a message
 //! naming the option and the file, and nothing timed or cached.
 
+mod run_cli;
+use run_cli::{hopperflow, utf8};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// Exit code the command line promises for bad input.
 const EXIT_BAD_INPUT: i32 = 2;
@@ -47,17 +49,6 @@ plots = false
 
 /// Spheres in the test packing.
 const PACKED: usize = 300;
-
-fn hopperflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
-
-fn utf8(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 test path")
-}
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);

@@ -4,9 +4,11 @@
 //! without a study given to `report`, and 3 for a study in which a case failed. Each refusal
 //! must name the folder and leave it as it was.
 
+mod run_cli;
+use run_cli::{hopperflow, utf8};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::time::SystemTime;
 
 /// Exit statuses the command line documents (main.rs, run_cmd.rs, study_cmd.rs,
@@ -15,13 +17,6 @@ const EXIT_OK: i32 = 0;
 const EXIT_FAILED: i32 = 1;
 const EXIT_BAD_INPUT: i32 = 2;
 const EXIT_CASE_FAILED: i32 = 3;
-
-fn hopperflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
 
 fn stderr_of(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
@@ -40,10 +35,6 @@ fn assert_status(output: &Output, expected: i32, what: &str) {
         Some(expected),
         "{what}: wrong exit status; stderr:\n{stderr}"
     );
-}
-
-fn utf8(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 test path")
 }
 
 /// Every file under `dir` with its bytes and modification time, to show that a refused

@@ -2,14 +2,8 @@
 //! report builds from the saved results (issue: "`hopperflow study fan2023 --quick` runs in
 //! CI, and its report builds").
 
-use std::process::Command;
-
-fn hopperflow(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
+mod run_cli;
+use run_cli::hopperflow;
 
 /// Reads a CSV file into (headers, rows).
 fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {

@@ -9,6 +9,8 @@
 //! the daemons. The checks that need no cluster are in `slurm_input.rs`.
 #![cfg(unix)]
 
+mod run_cli;
+use run_cli::{hopperflow, utf8};
 use std::path::Path;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
@@ -17,13 +19,6 @@ use std::time::{Duration, Instant};
 /// stuck cluster reaches this.
 const PATIENCE: Duration = Duration::from_secs(300);
 
-fn hopperflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
-
 fn text(output: &Output) -> String {
     format!(
         "status {:?}\nstdout:\n{}\nstderr:\n{}",
@@ -31,10 +26,6 @@ fn text(output: &Output) -> String {
         String::from_utf8_lossy(&output.stdout),
         String::from_utf8_lossy(&output.stderr)
     )
-}
-
-fn utf8(p: &Path) -> &str {
-    p.to_str().expect("utf-8 temporary path")
 }
 
 fn cluster_is_configured() {

@@ -1,12 +1,10 @@
 //! `study --slurm` refuses bad options before it writes anything, with or without a
 //! cluster: a malformed time limit, bad memory, and `--submit` where sbatch is missing.
 
+mod run_cli;
+use run_cli::utf8;
 use std::path::Path;
 use std::process::Command;
-
-fn utf8(p: &Path) -> &str {
-    p.to_str().expect("utf-8 temporary path")
-}
 
 #[test]
 fn malformed_options_are_refused_before_anything_is_written() {

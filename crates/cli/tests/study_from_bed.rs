@@ -3,6 +3,8 @@
 //! case; a sweep that changes what made the bed, or asks for replicas, is refused with exit 2
 //! and no study folder; a study folder from a bed is not continued from fills.
 
+mod run_cli;
+use run_cli::{hopperflow, utf8};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -35,17 +37,6 @@ digits = 3
 "#,
         axis.0, axis.1
     )
-}
-
-fn hopperflow(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hopperflow"))
-        .args(args)
-        .output()
-        .expect("the hopperflow binary starts")
-}
-
-fn utf8(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 test path")
 }
 
 fn stderr(output: &Output) -> String {
