@@ -1,14 +1,16 @@
 //! Walls that move (docs/physics.md §5.4) and curved and meshed walls on several threads:
 //! a displaced wall carries a sphere with it, a turning wall turns by ω t, a spinning
 //! surface drags a sphere along ω × r, and a pile in a silo of a cylinder, a cone and a mesh
-//! floor gives the same bits, wall loads included, on one and two threads.
+//! floor gives the same bits, wall loads included, on one and two threads. The silo golden
+//! (`golden_silo.rs`) pins a larger silo's bits on one, two and four threads, its bodies cut
+//! into several ranges, under both tangential laws.
 
 mod common;
 
 use common::RADIUS;
 use dem::{
-    ContactLaws, DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig,
-    TangentialLaw, Wall, WallId, WallMaterial, WallMotion, WallShape,
+    DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallId,
+    WallMaterial, WallMotion, WallShape,
 };
 
 fn one_sphere(wall: Wall, position: DVec3) -> (Simulation, WallId) {
@@ -111,22 +113,12 @@ fn a_spinning_turntable_drags_a_sphere_along_omega_cross_r() {
     assert!(sim.contacts().particle_wall == 1);
 }
 
-/// A small silo: a cylinder over a cone over a mesh floor, filled with a loose pile.
+/// A small silo: a cylinder over a cone over a mesh floor, with 12 layers of spheres on a
+/// square lattice of side 5, less the lattice points farther than 9.5 radii from the axis.
 fn silo(threads: usize) -> (Simulation, [WallId; 3]) {
-    silo_of(threads, 12, 2, ContactLaws::default())
-}
-
-/// The small silo with `layers` layers of spheres on a square lattice of side 2 `half` + 1,
-/// less the lattice points farther than 9.5 radii from the axis, under the contact `laws`.
-fn silo_of(
-    threads: usize,
-    layers: usize,
-    half: i32,
-    laws: ContactLaws,
-) -> (Simulation, [WallId; 3]) {
+    let (layers, half) = (12, 2);
     let mut config = SimulationConfig::new(2.5e-6);
     config.threads = threads;
-    config.laws = laws;
     let mut sim = Simulation::new(config).unwrap();
     let i = Interaction::fan2023();
     let m = sim.add_material(Material::fan2023(), i).unwrap();
@@ -184,56 +176,6 @@ fn silo_of(
         }
     }
     (sim, ids)
-}
-
-#[test]
-fn a_silo_cut_into_several_body_ranges_gives_the_one_thread_bits() {
-    // 1485 spheres: enough for two threads to cut the bodies into four ranges and four
-    // threads into five, so that the surface contacts are resolved range by range (inside the
-    // pair pass's tasks under the default laws, in a pass of their own under the others) and
-    // the element loads replayed from several ranges. Every bit and every per-element load
-    // must still be the one thread's.
-    let other = ContactLaws {
-        tangential: TangentialLaw::MindlinDeresiewicz,
-        ..ContactLaws::default()
-    };
-    for laws in [ContactLaws::default(), other] {
-        same_bits_on_several_threads(laws);
-    }
-}
-
-fn same_bits_on_several_threads(laws: ContactLaws) {
-    let (mut one, ids) = silo_of(1, 33, 3, laws);
-    assert_eq!(one.particles().len(), 1485);
-    for id in &ids[..2] {
-        one.set_wall_bands(*id, 5).unwrap();
-    }
-    one.run(40_000).unwrap();
-    assert!(
-        one.contacts().particle_wall > 100,
-        "the pile must lean on the walls: {}",
-        one.contacts().particle_wall
-    );
-    for threads in [2, 4] {
-        let (mut many, _) = silo_of(threads, 33, 3, laws);
-        for id in &ids[..2] {
-            many.set_wall_bands(*id, 5).unwrap();
-        }
-        many.run(40_000).unwrap();
-        assert_eq!(
-            common::bits_by_tag(&one),
-            common::bits_by_tag(&many),
-            "{threads} threads, {laws:?}"
-        );
-        for id in ids {
-            assert_eq!(one.wall_load(id).unwrap(), many.wall_load(id).unwrap());
-            assert_eq!(
-                one.surface_loads(id).unwrap(),
-                many.surface_loads(id).unwrap(),
-                "{threads} threads, wall {id:?}, {laws:?}"
-            );
-        }
-    }
 }
 
 #[test]
