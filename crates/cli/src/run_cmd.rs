@@ -331,6 +331,21 @@ pub fn run(args: RunArgs) -> i32 {
                 s.bulk_volume_fraction,
                 s.bed_height * 1e3
             );
+            if let Some(j) = &s.janssen {
+                println!(
+                    "Janssen   K {:.2} ± {:.2}, μ_w {:.3} ± {:.3}, p_sat {:.0} ± {:.0} Pa \
+                     ({} zones of the settled bed)",
+                    j.stress_ratio[0],
+                    j.stress_ratio[1],
+                    j.wall_friction[0],
+                    j.wall_friction[1],
+                    j.saturation_pressure[0],
+                    j.saturation_pressure[1],
+                    j.zones
+                );
+            } else if let Some(why) = &s.janssen_not_fitted {
+                println!("Janssen   no fit: {why}");
+            }
             println!(
                 "stopped   {:?} after {:.2} s of discharge{}",
                 s.stop_reason,

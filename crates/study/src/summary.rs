@@ -140,6 +140,11 @@ pub struct CaseSummary {
     /// a slab, or when too few zones lie in the bed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub janssen: Option<JanssenSummary>,
+    /// Why a silo's settled bed gives no Janssen fit (too few zones of the cylinder in the
+    /// bed, or the fit failed); absent where the fit exists or the container has no
+    /// cylinder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub janssen_not_fitted: Option<String>,
     /// What the run started from instead of its own fill: a saved bed or a packing file,
     /// by SHA-256 (`run::StartRecord`); absent for a run that filled its container.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -574,6 +574,26 @@ pub fn finish(
     // A silo has no slab width, thickness or gap: NaN, written as null.
     let slab = case.slab();
     let of_slab = |f: fn(&crate::config::HopperGeometry) -> f64| slab.map_or(f64::NAN, f);
+    // Janssen's law on a silo's settled bed (docs/physics.md §7.7), or why there is none.
+    let (janssen, janssen_not_fitted) = match (&state.pressure, case.geometry.cylinder()) {
+        (Some(p), Some(silo)) => {
+            let fit = match bulk {
+                Some(b) => p.janssen(
+                    silo.radius,
+                    silo.cone_height(),
+                    (b.bed_height, d),
+                    b.volume_fraction * density,
+                    case.gravity,
+                ),
+                None => Err("the settled bed's height and bulk density were not measured".into()),
+            };
+            match fit {
+                Ok(fit) => (Some(fit), None),
+                Err(why) => (None, Some(why)),
+            }
+        }
+        _ => (None, None),
+    };
     Ok(CaseSummary {
         version: env!("CARGO_PKG_VERSION").to_string(),
         seed: case.seed,
@@ -624,16 +644,8 @@ pub fn finish(
             (r.crossing_area_fraction, r.crossing_area_fraction_error)
         }),
         radial_fit,
-        janssen: match (&state.pressure, case.geometry.cylinder(), bulk) {
-            (Some(p), Some(silo), Some(b)) => p.janssen(
-                silo.radius,
-                silo.cone_height(),
-                (b.bed_height, d),
-                b.volume_fraction * density,
-                case.gravity,
-            ),
-            _ => None,
-        },
+        janssen,
+        janssen_not_fitted,
         start: None,
     })
 }

@@ -241,7 +241,7 @@ impl WallPressureRecorder {
     /// Janssen's law fitted to the settled bed's pressures on the wall named `cylinder` of
     /// radius `radius` [m], over the zones that lie wholly between `bottom` [m] (the top of
     /// the cone) and two diameters `diameter` [m] below the bed's surface `bed_height` [m];
-    /// `None` when fewer than three zones qualify or the fit fails.
+    /// or why there is no fit: fewer than three zones qualify, or the fit fails.
     pub(crate) fn janssen(
         &self,
         radius: f64,
@@ -249,19 +249,39 @@ impl WallPressureRecorder {
         (bed_height, diameter): (f64, f64),
         bulk_density: f64,
         gravity: f64,
-    ) -> Option<crate::summary::JanssenSummary> {
-        let cylinder = WALL_NAMES.iter().position(|n| *n == "cylinder")? as u8;
+    ) -> Result<crate::summary::JanssenSummary, String> {
+        let cylinder = WALL_NAMES
+            .iter()
+            .position(|n| *n == "cylinder")
+            .ok_or("no wall is named cylinder")? as u8;
+        let top = bed_height - 2.0 * diameter;
         let (depths, pressures): (Vec<f64>, Vec<f64>) = self
             .settled
             .iter()
             .filter(|r| r.wall == cylinder)
-            .filter(|r| r.zone.0 >= bottom && r.zone.1 <= bed_height - 2.0 * diameter)
+            .filter(|r| r.zone.0 >= bottom && r.zone.1 <= top)
             .map(|r| (bed_height - 0.5 * (r.zone.0 + r.zone.1), r.pressure))
             .unzip();
-        let silo = JanssenSilo::cylinder(radius, bulk_density, gravity).ok()?;
-        let fit = fit_janssen(&depths, &pressures, None, &silo).ok()?;
+        if depths.len() < 3 {
+            return Err(format!(
+                "{} zone(s) of the cylinder lie between the cone's top (z = {:.4} m) and two                  diameters below the settled bed's surface (z = {:.4} m); the fit needs at                  least 3: a deeper bed gives them",
+                depths.len(),
+                bottom,
+                top
+            ));
+        }
+        let silo = JanssenSilo::cylinder(radius, bulk_density, gravity)
+            .map_err(|e| format!("the silo's parameters are refused: {e}"))?;
+        let fit = fit_janssen(&depths, &pressures, None, &silo).map_err(|e| {
+            format!(
+                "the fit of {} zones from depth {:.4} m to {:.4} m failed: {e}",
+                depths.len(),
+                depths.iter().cloned().fold(f64::INFINITY, f64::min),
+                depths.iter().cloned().fold(0.0, f64::max)
+            )
+        })?;
         let pair = |e: analysis::Estimate| [e.value, e.standard_error];
-        Some(crate::summary::JanssenSummary {
+        Ok(crate::summary::JanssenSummary {
             saturation_pressure: pair(fit.saturation_pressure),
             k_mu: pair(fit.k_mu),
             wall_friction: pair(fit.wall_friction),

@@ -288,6 +288,7 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         crossing_area_fraction_exponent: None,
         radial_fit: None,
         janssen: None,
+        janssen_not_fitted: None,
         start: None,
     }
 }
