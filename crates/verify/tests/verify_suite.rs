@@ -25,13 +25,24 @@ fn every_verification_row_passes_at_fast_resolution() {
 
 #[test]
 fn the_rows_with_tolerances_from_the_step_count_pass_at_full_resolution() {
-    // H1 scales its tolerances with the resolution (as 1/N² and 1/N of the steps per
-    // contact); `hopperflow verify` runs the full one, which the suite above does not.
-    // It takes milliseconds at full resolution.
-    let rows = verify::h1::run(Resolution::Full)
-        .unwrap_or_else(|e| vec![Row::failed("H1", &e.to_string())]);
-    // 14 rows, as `every_case_reports_exactly_its_rows` counts them.
-    assert_eq!(rows.len(), 14);
+    // H1 (discretisation, as 1/N² and 1/N of the steps per contact) and W1–W3 (round-off,
+    // from the steps run and the coordinates' size) scale their tolerances with the
+    // resolution; `hopperflow verify` runs the full one, which the suite above does not.
+    // These four cases take well under a second at full resolution.
+    let mut rows = Vec::new();
+    for case in [
+        verify::h1::run,
+        verify::w1::run,
+        verify::w2::run,
+        verify::w3::run,
+    ] {
+        match case(Resolution::Full) {
+            Ok(r) => rows.extend(r),
+            Err(e) => rows.push(Row::failed("full", &e.to_string())),
+        }
+    }
+    // 14 + 10 + 6 + 4 rows, as `every_case_reports_exactly_its_rows` counts them.
+    assert_eq!(rows.len(), 34);
     let failed = failures(&rows);
     assert!(failed.is_empty(), "failing rows:\n{failed}");
 }
