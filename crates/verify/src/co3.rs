@@ -79,6 +79,8 @@ fn normal_impact(
         Target::Plane(_) => DVec3::new(0.0, 0.0, -speed),
         // Each twin moves at half the relative speed.
         Target::Twin => DVec3::new(0.5 * speed, 0.0, 0.0),
+        // The first sphere approaches the other at the relative speed.
+        Target::Sphere(other) => DVec3::new(other.velocity.x + speed, 0.0, 0.0),
     };
     Impact {
         material,

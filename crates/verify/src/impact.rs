@@ -1,5 +1,6 @@
-//! The single-impact harness shared by the CO and P cases: one sphere against a plane, or two
-//! identical spheres head-on, stepped through one contact while the contact is recorded.
+//! The single-impact harness shared by the CO, P and H cases: one sphere against a plane, two
+//! identical spheres head-on, or two spheres of any radii and materials head-on, stepped
+//! through one contact while the contact is recorded.
 //!
 //! Gravity is off. The contact starts and ends where the overlap crosses zero; both instants
 //! are interpolated linearly between the two steps that bracket the crossing (the overlap is
@@ -12,8 +13,8 @@ use dem::contact::normal::hertz;
 use dem::material::{effective_youngs_modulus, harmonic};
 use dem::timescale::hertz_contact_time;
 use dem::{
-    ContactLaws, DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall,
-    WallMaterial,
+    ContactLaws, DVec3, Interaction, Material, MaterialId, ParticleInit, ParticleTag, Simulation,
+    SimulationConfig, Wall, WallMaterial,
 };
 
 use crate::VerifyError;
@@ -25,6 +26,20 @@ pub enum Target {
     Plane(WallMaterial),
     /// An identical sphere coming the other way with the opposite velocity and spin.
     Twin,
+    /// A sphere of its own radius and material on the +x side, in line with the first.
+    Sphere(Partner),
+}
+
+/// The second sphere of a head-on impact of unequal or dissimilar spheres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Partner {
+    /// Its material; the pair's interaction is the impact's `interaction`.
+    pub material: Material,
+    /// Its radius [m].
+    pub radius: f64,
+    /// Its velocity before impact [m/s]; the approach is along +x, so `velocity.x` is below
+    /// the first sphere's.
+    pub velocity: DVec3,
 }
 
 /// One impact to run.
@@ -64,6 +79,8 @@ pub struct ImpactRecord {
     pub velocity: DVec3,
     /// Sphere angular velocity after separation [rad/s].
     pub angular_velocity: DVec3,
+    /// Velocity of the second sphere after separation [m/s]; zero for a plane.
+    pub partner_velocity: DVec3,
     /// Normal approach speed before impact [m/s] (relative, for `Twin`).
     pub approach_speed: f64,
     /// Normal separation speed after impact [m/s] (relative, for `Twin`).
@@ -90,30 +107,52 @@ impl Impact {
                 effective_youngs_modulus(&self.material, Some(&w))
             }
             Target::Twin => effective_youngs_modulus(&self.material, Some(&self.material)),
+            Target::Sphere(other) => {
+                effective_youngs_modulus(&self.material, Some(&other.material))
+            }
         }
     }
 
     /// Sphere mass [kg].
     pub fn mass(&self) -> f64 {
-        self.material.density * 4.0 / 3.0 * std::f64::consts::PI * self.radius.powi(3)
+        sphere_mass(&self.material, self.radius)
+    }
+
+    /// The twin of the first sphere and its spin: the same sphere with the opposite motion.
+    fn twin(&self) -> (Partner, DVec3) {
+        let other = Partner {
+            material: self.material,
+            radius: self.radius,
+            velocity: -self.velocity,
+        };
+        (other, -self.angular_velocity)
+    }
+
+    /// The second sphere, if the target is one, and its spin before impact.
+    fn partner(&self) -> Option<(Partner, DVec3)> {
+        match self.target {
+            Target::Plane(_) => None,
+            Target::Twin => Some(self.twin()),
+            Target::Sphere(other) => Some((other, DVec3::ZERO)),
+        }
     }
 
     /// Effective radius R* and mass m* [m, kg].
     fn effective_radius_and_mass(&self) -> (f64, f64) {
-        match self.target {
-            Target::Plane(_) => (self.radius, self.mass()),
-            Target::Twin => (
-                harmonic(self.radius, self.radius),
-                harmonic(self.mass(), self.mass()),
+        match self.partner() {
+            None => (self.radius, self.mass()),
+            Some((other, _)) => (
+                harmonic(self.radius, other.radius),
+                harmonic(self.mass(), sphere_mass(&other.material, other.radius)),
             ),
         }
     }
 
     /// Normal approach speed [m/s].
     fn approach_speed(&self) -> f64 {
-        match self.target {
-            Target::Plane(_) => -self.velocity.z,
-            Target::Twin => 2.0 * self.velocity.x,
+        match self.partner() {
+            None => -self.velocity.z,
+            Some((other, _)) => self.velocity.x - other.velocity.x,
         }
     }
 
@@ -137,6 +176,14 @@ impl Impact {
         let mat = sim.add_material(self.material, self.interaction)?;
         // Start two steps of travel short of touching, so the approach is free flight.
         let gap = 2.0 * approach * dt;
+        let first = ParticleInit {
+            position: DVec3::ZERO,
+            velocity: self.velocity,
+            angular_velocity: self.angular_velocity,
+            radius: self.radius,
+            material: mat,
+            flags: 0,
+        };
         let (tag, twin) = match self.target {
             Target::Plane(wall_material) => {
                 sim.add_wall(Wall::plane(
@@ -147,55 +194,52 @@ impl Impact {
                 )?)?;
                 let init = ParticleInit {
                     position: DVec3::new(0.0, 0.0, self.radius + gap),
-                    velocity: self.velocity,
-                    angular_velocity: self.angular_velocity,
-                    radius: self.radius,
-                    material: mat,
-                    flags: 0,
+                    ..first
                 };
                 (sim.add_particle(init)?, None)
             }
+            // A twin shares the first sphere's material.
             Target::Twin => {
-                let x = self.radius + 0.5 * gap;
-                let a = ParticleInit {
-                    position: DVec3::new(-x, 0.0, 0.0),
-                    velocity: self.velocity,
-                    angular_velocity: self.angular_velocity,
-                    radius: self.radius,
-                    material: mat,
-                    flags: 0,
-                };
-                let b = ParticleInit {
-                    position: DVec3::new(x, 0.0, 0.0),
-                    velocity: -self.velocity,
-                    angular_velocity: -self.angular_velocity,
-                    ..a
-                };
-                let ta = sim.add_particle(a)?;
-                (ta, Some(sim.add_particle(b)?))
+                let (other, spin) = self.twin();
+                head_on(&mut sim, first, gap, (other, spin, mat))?
+            }
+            // Another sphere gets its own material, meeting the first with the impact's
+            // interaction.
+            Target::Sphere(other) => {
+                let id = sim.add_material(other.material, self.interaction)?;
+                sim.set_interaction(mat, id, self.interaction)?;
+                head_on(&mut sim, first, gap, (other, DVec3::ZERO, id))?
             }
         };
         let (r_eff, _) = self.effective_radius_and_mass();
         let e_star = self.effective_modulus();
-        // Overlap, unit normal (towards the sphere), normal relative speed, sphere index.
-        let probe = |sim: &Simulation| -> (f64, DVec3, f64, usize) {
+        // Overlap, unit normal (towards the sphere), normal relative speed, sphere index,
+        // second sphere's velocity.
+        let probe = |sim: &Simulation| -> (f64, DVec3, f64, usize, DVec3) {
             let p = sim.particles();
             let i = p.index_of(tag).unwrap_or(0);
             match twin {
                 None => {
                     let z = p.positions()[i].z;
-                    (self.radius - z, DVec3::Z, p.velocities()[i].z, i)
+                    (
+                        self.radius - z,
+                        DVec3::Z,
+                        p.velocities()[i].z,
+                        i,
+                        DVec3::ZERO,
+                    )
                 }
-                Some(t) => {
+                Some((t, other_radius)) => {
                     let j = p.index_of(t).unwrap_or(0);
                     let d = p.positions()[i] - p.positions()[j];
                     let dist = d.length();
                     let n = d / dist;
                     (
-                        2.0 * self.radius - dist,
+                        self.radius + other_radius - dist,
                         n,
                         (p.velocities()[i] - p.velocities()[j]).dot(n),
                         i,
+                        p.velocities()[j],
                     )
                 }
             }
@@ -210,6 +254,7 @@ impl Impact {
             hertz_deviation: 0.0,
             velocity: DVec3::ZERO,
             angular_velocity: DVec3::ZERO,
+            partner_velocity: DVec3::ZERO,
             approach_speed: approach,
             separation_speed: 0.0,
             time_step: dt,
@@ -218,7 +263,7 @@ impl Impact {
         for _ in 0..budget {
             let t_before = sim.time();
             sim.step()?;
-            let (overlap, n, v_n, i) = probe(&sim);
+            let (overlap, n, v_n, i, partner_velocity) = probe(&sim);
             // Crossing instant by linear interpolation between the bracketing steps.
             let crossing = t_before + dt * previous / (previous - overlap);
             if overlap > 0.0 {
@@ -240,6 +285,7 @@ impl Impact {
                 let p = sim.particles();
                 record.velocity = p.velocities()[i];
                 record.angular_velocity = p.angular_velocities()[i];
+                record.partner_velocity = partner_velocity;
                 record.separation_speed = v_n;
                 return Ok(record);
             }
@@ -250,6 +296,36 @@ impl Impact {
             steps: budget,
         })
     }
+}
+
+/// Places `first` and the second sphere (its description, spin and material id) on the x
+/// axis, their surfaces `gap` [m] apart about the origin; returns the first's tag and the
+/// second's tag and radius [m].
+fn head_on(
+    sim: &mut Simulation,
+    first: ParticleInit,
+    gap: f64,
+    (other, spin, material): (Partner, DVec3, MaterialId),
+) -> Result<(ParticleTag, Option<(ParticleTag, f64)>), VerifyError> {
+    let a = ParticleInit {
+        position: DVec3::new(-(first.radius + 0.5 * gap), 0.0, 0.0),
+        ..first
+    };
+    let b = ParticleInit {
+        position: DVec3::new(other.radius + 0.5 * gap, 0.0, 0.0),
+        velocity: other.velocity,
+        angular_velocity: spin,
+        radius: other.radius,
+        material,
+        flags: 0,
+    };
+    let ta = sim.add_particle(a)?;
+    Ok((ta, Some((sim.add_particle(b)?, other.radius))))
+}
+
+/// Mass of a sphere of `material` and `radius` [m]: ρ (4/3) π R³ [kg].
+pub fn sphere_mass(material: &Material, radius: f64) -> f64 {
+    material.density * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
 }
 
 /// Post-impact state of an oblique impact on a rigid plane, in the sign convention of

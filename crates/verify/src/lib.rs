@@ -1,7 +1,7 @@
 //! Verification suite of the DEM engine: the single-impact benchmarks of Chung & Ooi (2011),
-//! Thornton's normalised oblique impacts, the analytic sliding/rolling cases and the walls of
-//! any shape (W1–W6) of docs/physics.md §9, each reported as rows of expected and measured
-//! values.
+//! Thornton's normalised oblique impacts, Hertz impacts of unequal and of dissimilar spheres
+//! (H1), the analytic sliding/rolling cases and the walls of any shape (W1–W6) of
+//! docs/physics.md §9, each reported as rows of expected and measured values.
 //!
 //! Every case lives in its own file whose module documentation gives the set-up, the
 //! expected values and their source, and the tolerance with its reason.
@@ -17,6 +17,7 @@ pub mod co4;
 pub mod co5;
 pub mod cot;
 mod error;
+pub mod h1;
 pub mod impact;
 mod meshes;
 pub mod p1;
@@ -43,7 +44,7 @@ type Case = (
 );
 
 /// Every case of docs/physics.md §9 that this crate implements, in the order of the spec.
-const CASES: [Case; 17] = [
+const CASES: [Case; 18] = [
     ("CO1", co1::run),
     ("CO2", co2::run),
     ("CO3", co3::run),
@@ -51,6 +52,7 @@ const CASES: [Case; 17] = [
     ("CO5", co5::run),
     ("CO-T", cot::run),
     ("P1", p1::run),
+    ("H1", h1::run),
     ("A1", a1::run),
     ("A2", a2::run),
     ("A3", a3::run),

@@ -1,10 +1,14 @@
-//! The triangle meshes and the one-sphere set-up the wall cases share (W1–W7).
+//! The triangle meshes and the one-sphere set-up the wall cases share (W1–W6), and the
+//! round-off bound of the rebounds W2 and W3 compare.
 
+use dem::contact::normal::max_overlap;
+use dem::material::effective_youngs_modulus;
 use dem::{
     DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall, WallId,
     WallMaterial,
 };
 
+use crate::impact::sphere_mass;
 use crate::VerifyError;
 
 /// Table-1 particle radius [m].
@@ -130,6 +134,27 @@ pub fn no_rolling() -> Interaction {
         rolling_friction: 0.0,
         ..Interaction::fan2023()
     }
+}
+
+/// (1/m)∫|∂F_n/∂δ| dt over a Table-1 rebound under [`no_rolling`] (e = 0.2), in units of
+/// v/δ_max with δ_max the elastic peak overlap [-]: 6.01 by integrating the Hertz law with its
+/// dashpot (docs/physics.md §2.1) through the contact, rounded up (4.16 for e = 1).
+const REBOUND_SENSITIVITY: f64 = 6.1;
+
+/// Round-off bound on |v − v_plane| / v of two [`rebound`]s of the Table-1 sphere at `speed`
+/// [m/s] on rigid walls, one computed at coordinates up to `reach` [m] from the origin and the
+/// other on the plane z = 0 from `plane_start` [m].
+///
+/// The overlap R − |x − p| is a difference of coordinates of size L (the distance from the
+/// origin): four roundings (the closest point, the difference, its length, R minus it) of at
+/// most ε L/2 each (ε the machine epsilon) make its error η ≤ 2 ε L. Each step's normal force
+/// then errs by at most |∂F_n/∂δ| η, and summed over the contact the rebound velocity by
+/// η (1/m)∫|∂F_n/∂δ| dt = [`REBOUND_SENSITIVITY`] η v/δ_max. Each run errs so, with its own L.
+pub fn rebound_round_off(reach: f64, plane_start: DVec3, speed: f64) -> f64 {
+    let material = Material::fan2023();
+    let e_star = effective_youngs_modulus(&material, None);
+    let peak = max_overlap(e_star, RADIUS, sphere_mass(&material, RADIUS), speed);
+    REBOUND_SENSITIVITY * 2.0 * f64::EPSILON * (reach + plane_start.length()) / peak
 }
 
 /// Sends the only sphere from `start` at `velocity` onto `walls` without gravity, under

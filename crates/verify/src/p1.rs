@@ -25,6 +25,7 @@ fn impact(target: Target, restitution: f64, res: Resolution) -> Impact {
     let velocity = match target {
         Target::Twin => DVec3::new(0.5, 0.0, 0.0),
         Target::Plane(_) => DVec3::new(0.0, 0.0, -1.0),
+        Target::Sphere(other) => DVec3::new(other.velocity.x + 1.0, 0.0, 0.0),
     };
     Impact {
         material: Material::fan2023(),

@@ -24,6 +24,30 @@ fn every_verification_row_passes_at_fast_resolution() {
 }
 
 #[test]
+fn the_rows_with_tolerances_from_the_step_count_pass_at_full_resolution() {
+    // H1 (discretisation, as 1/N² and 1/N of the steps per contact) and W1–W3 (round-off,
+    // from the steps run and the coordinates' size) scale their tolerances with the
+    // resolution; `hopperflow verify` runs the full one, which the suite above does not.
+    // These four cases take well under a second at full resolution.
+    let mut rows = Vec::new();
+    for case in [
+        verify::h1::run,
+        verify::w1::run,
+        verify::w2::run,
+        verify::w3::run,
+    ] {
+        match case(Resolution::Full) {
+            Ok(r) => rows.extend(r),
+            Err(e) => rows.push(Row::failed("full", &e.to_string())),
+        }
+    }
+    // 14 + 10 + 6 + 4 rows, as `every_case_reports_exactly_its_rows` counts them.
+    assert_eq!(rows.len(), 34);
+    let failed = failures(&rows);
+    assert!(failed.is_empty(), "failing rows:\n{failed}");
+}
+
+#[test]
 fn every_case_reports_exactly_its_rows() {
     // A case that silently dropped rows (an early return, a skipped loop) would still pass the
     // test above. Each count follows from the case's structure, which its module documents.
@@ -42,6 +66,8 @@ fn every_case_reports_exactly_its_rows() {
         ("CO-T", 58),
         // pp e = 1 (3), pp e = 0.2 (2), rigid wall (2), same-material wall (2), production Δt (1).
         ("P1", 10),
+        // 2 pairs × (δ_max, F_max, t_c, e and momentum at e = 1; e and momentum damped).
+        ("H1", 14),
         // stop time, distance, creep after the stop, creep at 20°, acceleration at 35°.
         ("A1", 5),
         // One launch (Fast): t1, s1, v1, s2, t2.
