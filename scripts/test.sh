@@ -6,8 +6,10 @@
 # HOPPERFLOW_SKIP_PYTHON=1 leaves the Python part out (it builds a virtual environment
 # and installs packages from the package index).
 #
-# The Slurm part installs Debian's slurm-wlm and munge where they are missing, so it needs
-# root (as CI has); HOPPERFLOW_SKIP_SLURM=1 leaves it out on a machine without them.
+# The Slurm part installs Debian's slurm-wlm and munge where they are missing (and purges
+# them again at the end), so it needs root (as CI has); HOPPERFLOW_SKIP_SLURM=1 leaves it
+# out on a machine without them. Stopping the cluster checks that munge's and Slurm's files
+# and users are as they were before it started; if they are not, the command fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -28,6 +30,17 @@ if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
     exit 0
 fi
 cluster=$(mktemp -d -t hopperflow-slurm.XXXXXX)
-trap 'scripts/slurm-cluster.sh stop "$cluster"' EXIT
+# Whatever happened: the daemons' logs if something failed, then the cluster stopped (a
+# failed stop fails the command) and its folder removed.
+finish() {
+    local status=$?
+    if [ "$status" != 0 ]; then
+        tail -n 40 "$cluster"/log/*.log >&2 2>/dev/null || true
+    fi
+    scripts/slurm-cluster.sh stop "$cluster" || status=1
+    rm -rf "$cluster"
+    exit "$status"
+}
+trap finish EXIT
 scripts/slurm-cluster.sh start "$cluster"
 SLURM_CONF="$cluster/slurm.conf" cargo test --workspace --test slurm --locked -- --ignored

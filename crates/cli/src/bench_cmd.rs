@@ -88,9 +88,10 @@ pub struct BenchArgs {
     #[arg(long, value_name = "FILE")]
     case_file: Option<PathBuf>,
     /// Silo only: start from a packing file instead of the fill, as `hopperflow run --packing`
-    /// does (CSV with the columns x,y,z,radius,material, or VTU): the particles are placed at
-    /// rest, settle on the closed gate under the case's settling criterion, the gate opens and
-    /// the same window is timed. particles.count is the packing's, so not with --particles.
+    /// does (CSV with the columns x,y,z,radius and, for a mixture, material, or VTU): the
+    /// particles are placed at rest, settle on the closed gate under the case's settling
+    /// criterion, the gate opens and the same window is timed. particles.count is the
+    /// packing's, so not with --particles.
     #[arg(long, value_name = "FILE")]
     packing: Option<PathBuf>,
     /// Silo only: override a key of the silo's case (the built-in one or --case-file's), e.g.

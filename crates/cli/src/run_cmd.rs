@@ -59,9 +59,10 @@ pub struct RunArgs {
     #[arg(long, value_name = "DIR", conflicts_with = "packing")]
     from_bed: Option<PathBuf>,
     /// Start from a packing file instead of the fill: CSV with the columns
-    /// x,y,z,radius,material (SI units; for a mixture, material names each particle's
-    /// component) or a VTU with points and a `radius` array, as hopperflow writes them. The
-    /// particles are placed at rest, settle with the gate closed, and the run goes on.
+    /// x,y,z,radius,material (SI units; material may be left out for a case of one component,
+    /// and for a mixture names each particle's component) or a VTU with points and a `radius`
+    /// array, as hopperflow writes them. The particles are placed at rest, settle with the
+    /// gate closed, and the run goes on.
     #[arg(long, value_name = "FILE")]
     packing: Option<PathBuf>,
 }

@@ -2,9 +2,9 @@
 //! `run_case_from` with `Start::Packing`; docs/user-guide.md §5).
 //!
 //! A CSV and a VTU of the same particles read back to the same numbers bit for bit and start
-//! the same run; every malformed or misfitting file is refused with a message that names
-//! the file, the line (CSV) or the point or array value (VTU), the value and what is
-//! allowed.
+//! the same run, as does a CSV of a one-component case without its `material` column; every
+//! malformed or misfitting file is refused with a message that names the file, the line
+//! (CSV) or the point or array value (VTU), the value and what is allowed.
 
 use std::path::{Path, PathBuf};
 
@@ -106,6 +106,15 @@ fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
     let from_csv = read_packing(&csv, &case).expect("the CSV packing is valid");
     assert_eq!(from_csv.particles(), &particles[..]);
     assert_eq!(from_csv.material(), Some("glass"));
+    // A case of one component needs no material column: it names nothing the case lacks.
+    let unlabelled = write(
+        root.path(),
+        "unlabelled.csv",
+        &csv_text(&particles, &["x", "y", "z", "radius"]),
+    );
+    let from_unlabelled = read_packing(&unlabelled, &case).expect("no material column");
+    assert_eq!(from_unlabelled.particles(), &particles[..]);
+    assert_eq!(from_unlabelled.material(), None);
     let from_reordered = read_packing(&reordered, &case).expect("columns in any order");
     assert_eq!(from_reordered.particles(), &particles[..]);
     // A spreadsheet's byte-order mark and upper-case names change nothing.
@@ -134,7 +143,11 @@ fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
         ..RunOptions::default()
     };
     let mut summaries = Vec::new();
-    for (packing, out) in [(from_csv, "csv-run"), (from_vtu, "vtu-run")] {
+    for (packing, out) in [
+        (from_csv, "csv-run"),
+        (from_vtu, "vtu-run"),
+        (from_unlabelled, "unlabelled-run"),
+    ] {
         let sha = packing.sha256().to_string();
         let started = std::time::Instant::now();
         let outcome = run_case_from(
@@ -161,11 +174,32 @@ fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
         "remaining.csv",
         "wall_forces.csv",
     ] {
-        assert!(
-            read(&root.path().join("csv-run"), name) == read(&root.path().join("vtu-run"), name),
-            "{name} differs between the CSV and the VTU start"
-        );
+        let reference = read(&root.path().join("csv-run"), name);
+        for other in ["vtu-run", "unlabelled-run"] {
+            assert!(
+                reference == read(&root.path().join(other), name),
+                "{name} differs between the CSV start and the {other}"
+            );
+        }
     }
+    // The summaries differ only in the start's file identity (the files' bytes differ).
+    let without_start = |s: &study::summary::CaseSummary| {
+        let mut value = serde_json::to_value(s).expect("a summary serialises");
+        value["start"] = serde_json::Value::Null;
+        value
+    };
+    assert_eq!(without_start(&summaries[0]), without_start(&summaries[2]));
+    // start.json records the one material name when the file gives it, and none otherwise.
+    let start_of = |out: &str| -> serde_json::Value {
+        serde_json::from_slice(&read(&root.path().join(out), "start.json")).expect("JSON")
+    };
+    assert_eq!(start_of("csv-run")["material"], "glass");
+    assert_eq!(
+        start_of("unlabelled-run").get("material"),
+        None,
+        "{}",
+        start_of("unlabelled-run")
+    );
     let s = &summaries[0];
     assert!(s.settled, "the lattice settles below the threshold");
     // The settling is checked from 0.05 s on (as after a fill), and the lattice falls
@@ -239,6 +273,42 @@ fn each_bad_packing_csv_is_refused_naming_file_line_value_and_range() {
             &format!("{} line 1:", path("lacks.csv")),
             "lacks the column(s) radius",
             "found: x, y, z, material",
+        ],
+    );
+    // Without a material column (a case of one component) the good rows pass as well, and
+    // the header it has is the one the rows are held to.
+    let bare = GOOD_ROWS.map(|row| row.trim_end_matches(",glass").to_string());
+    let unlabelled = write(
+        dir,
+        "unlabelled.csv",
+        &format!("x,y,z,radius\n{}\n", bare.join("\n")),
+    );
+    read_packing(&unlabelled, &tiny_case(&three)).expect("the good rows, no material");
+    let m = refusal(
+        dir,
+        "ragged.csv",
+        &format!(
+            "x,y,z,radius\n{}\n{}\n",
+            bare[0..2].join("\n"),
+            GOOD_ROWS[2]
+        ),
+        &three,
+    );
+    assert_names(
+        &m,
+        &[&format!(
+            "{} line 4: has 5 fields, the header has 4 (x, y, z, radius)",
+            path("ragged.csv")
+        )],
+    );
+    let m = refusal(dir, "bare.csv", "x,y,z\n0,0,0\n", &three);
+    assert_names(
+        &m,
+        &[
+            "line 1:",
+            "lacks the column(s) radius",
+            "material for a mixture",
+            "found: x, y, z",
         ],
     );
     let m = refusal(dir, "extra.csv", "x,y,z,radius,material,vx\n", &three);
@@ -821,6 +891,24 @@ fn a_mixture_packing_that_misnames_or_missizes_a_component_is_refused() {
             "radius = 0.002 m",
             "component `fine`'s radii [0.001, 0.001]",
         ],
+    );
+    // A CSV without the material column names no component: refused at its header.
+    let unlabelled = rows
+        .iter()
+        .map(|(x, y, z, r, _)| format!("{x:?},{y:?},{z:?},{r:?}\n"))
+        .collect::<String>();
+    let message = refuse("unlabelled.csv", &format!("x,y,z,radius\n{unlabelled}"));
+    assert_names(
+        &message,
+        &[
+            "unlabelled.csv line 1: the header has no column `material`",
+            "a mixture of 2 components (particles.components: `big`, `fine`)",
+        ],
+    );
+    assert_eq!(
+        message.lines().count(),
+        1,
+        "one problem, at the header:\n{message}"
     );
     // A VTU names no component.
     let vtu = root.path().join("mixture.vtu");

@@ -25,6 +25,7 @@ pub use mesh_walls::{build_mesh_walls, gate_outline, mesh_outline, mesh_wall_pol
 pub use packing::{
     packing_count, read_packing, PackedParticle, Packing, PackingError, PackingPlace,
     PackingProblem, PACKING_COLUMNS, PACKING_OVERLAP_FRACTION, RADIUS_TOLERANCE,
+    REQUIRED_PACKING_COLUMNS,
 };
 pub use setup::{
     case_simulation, case_simulation_by_component, contact_laws, hopper_simulation, lattice_bed,

@@ -4,13 +4,15 @@
 //! The particles are placed at rest where the file puts them; the run then settles with the
 //! gate closed and goes on as after a fill. Two formats:
 //!
-//! - **CSV** with a header naming the columns `x`, `y`, `z`, `radius` and `material`, in any
-//!   order, one particle per line, SI units (m). Lines starting with `#` are comments. For a
-//!   case of one component, whose material case files do not name, `material` may hold any
-//!   name, the same on every line; a second name is refused. For a mixture
-//!   (`particles.components`) it names each particle's component, by the component's `name`
-//!   or by its material's name when that names one component only; the particle then gets
-//!   that component's material, and its radius is checked against that component's sizes.
+//! - **CSV** with a header naming the columns `x`, `y`, `z`, `radius` and, where needed,
+//!   `material`, in any order, one particle per line, SI units (m). Lines starting with `#`
+//!   are comments. A case of one component needs no `material` column: its particles all
+//!   get the case's one material, so the column tells nothing. If it is there, it may hold
+//!   any name, the same on every line; a second name is refused. For a mixture
+//!   (`particles.components`) the column is required: it names each particle's component, by
+//!   the component's `name` or by its material's name when that names one component only;
+//!   the particle then gets that component's material, and its radius is checked against
+//!   that component's sizes. A mixture's CSV without the column is refused at its header.
 //! - **VTU** as hopperflow writes its snapshots (`output::vtu`): the points and a point-data
 //!   array `radius`, inline ASCII. Binary, appended or compressed data are refused with a
 //!   message that says how to save the file as ASCII. For a mixture it needs the point-data
@@ -36,8 +38,14 @@ use super::fill::inside_hopper;
 use super::packing_vtu::parse_vtu;
 use crate::config::{BoxSilo, Case, CylinderSilo, Geometry, HopperGeometry};
 
-/// The columns of a packing CSV, in the order hopperflow writes them.
+/// The columns of a packing CSV, in the order hopperflow writes them. The first
+/// [`REQUIRED_PACKING_COLUMNS`] are required; `material` only for a mixture.
 pub const PACKING_COLUMNS: [&str; 5] = ["x", "y", "z", "radius", "material"];
+
+/// How many of [`PACKING_COLUMNS`], from the first, every packing CSV must have: x, y, z and
+/// radius. The fifth, `material`, names each particle's component and is required only when
+/// the case has several.
+pub const REQUIRED_PACKING_COLUMNS: usize = 4;
 
 /// Largest overlap accepted between two particles, or between a particle and a wall, as a
 /// fraction of the smaller radius [-]. A settled bed under its own weight overlaps far less
@@ -170,7 +178,8 @@ pub(super) struct RawParticle {
     pub(super) position: [f64; 3],
     /// Radius [m].
     pub(super) radius: f64,
-    /// What its `material` column says (CSV); `None` from a file without one (VTU).
+    /// What its `material` column says (CSV); `None` from a file without one (a VTU, or a
+    /// CSV of one component without the column).
     pub(super) label: Option<String>,
     /// Its component as a VTU's `component` array gives it (an index into
     /// `particles.components`, as read: checked against the case later); `None` without one.
@@ -206,7 +215,7 @@ impl Packing {
     }
 
     /// The material name the CSV gave every particle of a case of one component (`None` for a
-    /// VTU file and for a mixture).
+    /// CSV without a `material` column, a VTU file and a mixture).
     pub fn material(&self) -> Option<&str> {
         self.material.as_deref()
     }
@@ -232,7 +241,7 @@ impl Packing {
             }
         }
         let sha256 = hex(&hasher.finalize());
-        checked(name, raw, case, sha256)
+        checked(name, raw, None, case, sha256)
     }
 
     /// Checks the packing against `case` again (what [`read_packing`] checked): a run
@@ -249,7 +258,7 @@ impl Packing {
             ),
             None => self.material.clone(),
         });
-        checked(&self.source, raw, case, self.sha256.clone()).map(|_| ())
+        checked(&self.source, raw, None, case, self.sha256.clone()).map(|_| ())
     }
 }
 
@@ -278,7 +287,13 @@ fn hex(bytes: &[u8]) -> String {
 /// Reads and checks the packing file `path` for `case`: CSV or VTU by its extension.
 pub fn read_packing(path: &Path, case: &Case) -> Result<Packing, PackingError> {
     let parsed = parse_file(path)?;
-    checked(path, parsed.raw, case, parsed.sha256)
+    checked(
+        path,
+        parsed.raw,
+        parsed.unlabelled_header,
+        case,
+        parsed.sha256,
+    )
 }
 
 /// The number of particles in the packing file `path`, read as [`read_packing`] reads it but
@@ -291,6 +306,9 @@ pub fn packing_count(path: &Path) -> Result<usize, PackingError> {
 /// A packing file's particles as written, before the checks against a case.
 struct ParsedFile {
     raw: Vec<RawParticle>,
+    /// The header's line of a CSV without a `material` column, where a mixture's refusal
+    /// points; `None` for a CSV with the column and for a VTU.
+    unlabelled_header: Option<u64>,
     /// Hex SHA-256 of the file's bytes.
     sha256: String,
 }
@@ -313,7 +331,7 @@ fn parse_file(path: &Path) -> Result<ParsedFile, PackingError> {
     let parsed = match extension.as_deref() {
         Some("csv") => parse_csv(&bytes, &mut problems),
         Some("vtu") => match std::str::from_utf8(&bytes) {
-            Ok(text) => parse_vtu(text, &mut problems),
+            Ok(text) => parse_vtu(text, &mut problems).map(|raw| (raw, None)),
             Err(e) => {
                 problems.push(
                     PackingPlace::File,
@@ -331,8 +349,8 @@ fn parse_file(path: &Path) -> Result<ParsedFile, PackingError> {
                 PackingPlace::File,
                 format!(
                     "has an unknown packing format (extension {}): hopperflow reads .csv \
-                     (columns x, y, z, radius, material) and .vtu (points and a `radius` \
-                     point-data array)",
+                     (columns x, y, z, radius and, for a mixture, material) and .vtu (points \
+                     and a `radius` point-data array)",
                     other.map_or("none".to_string(), |e| format!("`.{e}`"))
                 ),
             );
@@ -340,14 +358,18 @@ fn parse_file(path: &Path) -> Result<ParsedFile, PackingError> {
         }
     };
     match parsed {
-        Some(raw) if problems.is_empty() => Ok(ParsedFile { raw, sha256 }),
+        Some((raw, unlabelled_header)) if problems.is_empty() => Ok(ParsedFile {
+            raw,
+            unlabelled_header,
+            sha256,
+        }),
         _ => Err(problems.into_error(path)),
     }
 }
 
-/// The particles of CSV `bytes`, each with its `material` label, or `None` with the problems
-/// pushed.
-fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> {
+/// The particles of CSV `bytes`, each with its `material` label if the file has the column,
+/// and the header's line if it has not; or `None` with the problems pushed.
+fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<(Vec<RawParticle>, Option<u64>)> {
     // A byte-order mark (spreadsheets write one) is not part of the first column's name.
     let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
     let mut reader = csv::ReaderBuilder::new()
@@ -365,8 +387,9 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
         None => {
             problems.push(
                 PackingPlace::File,
-                "is empty: a packing CSV starts with the header `x,y,z,radius,material` and \
-                 holds one particle per line",
+                "is empty: a packing CSV starts with the header `x,y,z,radius,material` (the \
+                 material column may be left out for a case of one component) and holds one \
+                 particle per line",
             );
             return None;
         }
@@ -391,13 +414,13 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
                 PackingPlace::Line(header_line),
                 format!(
                     "unknown column `{name}` in the header: a packing names the columns x, y, \
-                     z, radius, material (SI units; particles start at rest, so no \
-                     velocities are read)"
+                     z, radius and, for a mixture, material (SI units; particles start at \
+                     rest, so no velocities are read)"
                 ),
             ),
         }
     }
-    let missing: Vec<&str> = PACKING_COLUMNS
+    let missing: Vec<&str> = PACKING_COLUMNS[..REQUIRED_PACKING_COLUMNS]
         .iter()
         .zip(&column)
         .filter(|(_, c)| c.is_none())
@@ -407,8 +430,8 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
         problems.push(
             PackingPlace::Line(header_line),
             format!(
-                "the header lacks the column(s) {}: it must name x, y, z, radius and material \
-                 (found: {})",
+                "the header lacks the column(s) {}: it must name x, y, z and radius, and \
+                 material for a mixture (found: {})",
                 missing.join(", "),
                 header.iter().collect::<Vec<_>>().join(", ")
             ),
@@ -417,8 +440,11 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
     if !problems.is_empty() {
         return None;
     }
+    // The material column, if the file has one; the others are all there.
+    let material_column = column[4];
     let column = column.map(|c| c.unwrap_or_default());
     let width = header.len();
+    let header_names = header.iter().collect::<Vec<_>>().join(", ");
     let mut raw = Vec::new();
     for record in records {
         let record = match record {
@@ -434,7 +460,7 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
             problems.push(
                 place,
                 format!(
-                    "has {} fields, the header has {width} (x, y, z, radius, material)",
+                    "has {} fields, the header has {width} ({header_names})",
                     record.len()
                 ),
             );
@@ -464,12 +490,12 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
                 }
             }
         }
-        let name = &record[column[4]];
-        if name.is_empty() {
+        let label = material_column.map(|k| record[k].to_string());
+        if label.as_deref() == Some("") {
             problems.push(
                 place.clone(),
                 "material is empty; give each particle its material (for a mixture, the name of \
-                 its component)",
+                 its component), or leave the column out for a case of one component",
             );
             good = false;
         }
@@ -478,7 +504,7 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
                 place,
                 position: [values[0], values[1], values[2]],
                 radius: values[3],
-                label: Some(name.to_string()),
+                label,
                 component: None,
             });
         }
@@ -489,18 +515,21 @@ fn parse_csv(bytes: &[u8], problems: &mut Problems) -> Option<Vec<RawParticle>> 
             "has a header but no particles: one line per particle is needed",
         );
     }
-    Some(raw)
+    let unlabelled_header = material_column.is_none().then_some(header_line);
+    Some((raw, unlabelled_header))
 }
 
 /// The packing of `raw` after every check against `case`, or every problem found.
+/// `unlabelled_header` is the header's line of a CSV without a `material` column.
 fn checked(
     file: &Path,
     raw: Vec<RawParticle>,
+    unlabelled_header: Option<u64>,
     case: &Case,
     sha256: String,
 ) -> Result<Packing, PackingError> {
     let mut problems = Problems::default();
-    let (material, components) = labels(&raw, case, &mut problems);
+    let (material, components) = labels(&raw, unlabelled_header, case, &mut problems);
     // A mixture's radii are checked against each particle's component, once all are known.
     if problems.is_empty() || components.is_empty() {
         check_values(&raw, &components, case, &mut problems);
@@ -540,9 +569,16 @@ fn checked(
 }
 
 /// What the particles' `material` labels say: for a case of one component, the one name
-/// they all give (a second name is a problem); for a mixture, each particle's component
-/// ([`component_named`]; a label that names none, or a file without labels, is a problem).
-fn labels(raw: &[RawParticle], case: &Case, problems: &mut Problems) -> (Option<String>, Vec<u8>) {
+/// they all give (a second name is a problem; no labels at all are none); for a mixture,
+/// each particle's component ([`component_named`]; a label that names none, or a file
+/// without labels, is a problem, at the header of a CSV without a `material` column, whose
+/// line `unlabelled_header` gives).
+fn labels(
+    raw: &[RawParticle],
+    unlabelled_header: Option<u64>,
+    case: &Case,
+    problems: &mut Problems,
+) -> (Option<String>, Vec<u8>) {
     let components = &case.particles.components;
     if components.len() <= 1 {
         let mut first: Option<(&str, &PackingPlace)> = None;
@@ -570,6 +606,19 @@ fn labels(raw: &[RawParticle], case: &Case, problems: &mut Problems) -> (Option<
         .map(|c| format!("`{}`", c.name))
         .collect::<Vec<_>>()
         .join(", ");
+    if let Some(line) = unlabelled_header {
+        problems.push(
+            PackingPlace::Line(line),
+            format!(
+                "the header has no column `material`, and the case is a mixture of {} \
+                 components (particles.components: {names}): a mixture's packing CSV names \
+                 each particle's component in a `material` column, by the component's name or \
+                 by its material's when no other component is made of it",
+                components.len()
+            ),
+        );
+        return (None, Vec::new());
+    }
     if raw
         .iter()
         .any(|p| p.label.is_none() && p.component.is_none())
