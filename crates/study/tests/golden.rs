@@ -1,5 +1,6 @@
 //! A whole hopper run, pinned: the tiny hopper's fill, settle and discharge must reproduce
-//! the recorded summary values and output files bit for bit. With the engine's own golden
+//! the recorded summary values and output tables bit for bit (W(t), the profiles, the
+//! velocity field, every outlet crossing and the walls' loads). With the engine's own golden
 //! (`crates/dem/tests/golden.rs`) this makes "the same bits" after a change a test.
 //!
 //! When an issue changes the physics or the measurements on purpose, this test fails.
@@ -52,6 +53,14 @@ const GOLDEN_FILES: &[(&str, &str)] = &[
     (
         "field.csv",
         "bb8d47f5cd9e9358b59d6fe78109d8aa5d3bafa675ae45fdb8a9509d1c8c6014",
+    ),
+    (
+        "crossings.csv",
+        "758e1496cf311563979cc840308758d8d72c7018537f78dedb74bec92b9447d3",
+    ),
+    (
+        "wall_forces.csv",
+        "3740abae6a4f5059d25a5ef840dd21547c483f47fa100b66d7fbbc1ced150b74",
     ),
 ];
 

@@ -115,6 +115,25 @@ fn conical_silo_discharge_conserves_its_particles() {
         number(bottom[5]) > 0.0,
         "the bed rests on the cone: {bottom:?}"
     );
+    // The radial profiles are fitted, and the rate of the fitted profiles agrees with W: at
+    // D/d = 5 the self-similar forms give W within 5 % on deep beds (docs/reproduction.md,
+    // "3D Beverloo"); 10 % leaves room for this bed of 400 spheres, whose steady window
+    // holds fewer crossings.
+    let radial = summary.radial_fit.expect("the radial profiles are fitted");
+    let w = summary.discharge_rate;
+    assert!(
+        (radial.profile_rate[0] - w).abs() <= 0.1 * w,
+        "the fitted profiles give {} kg/s, W is {w} kg/s",
+        radial.profile_rate[0]
+    );
+    // The bed does not reach the cylinder, so no zone of it lies in the bed: no Janssen fit,
+    // and the summary says why.
+    assert!(summary.janssen.is_none());
+    let why = summary.janssen_not_fitted.expect("the reason for no fit");
+    assert!(
+        why.starts_with("0 zone(s) of the cylinder") && why.contains("needs at least 3"),
+        "{why}"
+    );
     // φ_B of a poured bed of spheres lies between loose random packing and the 0.64 of
     // random close packing, lowered a little by the wall layer of this narrow silo.
     assert!(

@@ -264,7 +264,9 @@ impl WallPressureRecorder {
             .unzip();
         if depths.len() < 3 {
             return Err(format!(
-                "{} zone(s) of the cylinder lie between the cone's top (z = {:.4} m) and two                  diameters below the settled bed's surface (z = {:.4} m); the fit needs at                  least 3: a deeper bed gives them",
+                "{} zone(s) of the cylinder lie between the cone's top (z = {:.4} m) and two \
+                 diameters below the settled bed's surface (z = {:.4} m); the fit needs at \
+                 least 3: a deeper bed gives them",
                 depths.len(),
                 bottom,
                 top
