@@ -16,6 +16,7 @@ use study::config::parse_case;
 use study::hopper::{read_packing, PackedParticle, Packing};
 use study::output::{write_particles_vtu, ParticleFields};
 use study::run::{run_case_from, RunOptions, RunOutcome, Start, StartKind, SUMMARY_FILE};
+use study::summary::StopReason;
 use tiny_hopper::{read, tiny_case};
 
 /// 250 spheres of the tiny hopper on a square lattice 1 % wider than a diameter, from
@@ -706,7 +707,7 @@ time_step = 2.0e-6
 settle_kinetic_energy = 1.0e-8
 max_settle_time = 0.15
 clog_timeout = 0.1
-time_limit = 0.4
+time_limit = 1.0
 
 [output]
 plots = true
@@ -794,7 +795,9 @@ fn a_mixture_starts_from_a_csv_naming_each_particles_component() {
     };
     let outcome = run_case_from(&case, &out, &options, &Start::Packing(Box::new(packing)))
         .unwrap_or_else(|e| panic!("{e}"));
-    assert!(matches!(outcome, RunOutcome::Finished(_)));
+    let RunOutcome::Finished(summary) = outcome else {
+        panic!("the run finished")
+    };
     let crossings = String::from_utf8(read(&out, "crossings.csv")).expect("UTF-8");
     let mut lines = crossings.lines();
     let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
@@ -805,27 +808,46 @@ fn a_mixture_starts_from_a_csv_naming_each_particles_component() {
             .unwrap_or_else(|| panic!("crossings.csv lacks {name}: {header:?}"))
     };
     let (density, component) = (at("material_density_kg_per_m3"), at("component"));
-    let mut seen = (0, 0);
+    let mass = at("mass_kg");
+    let (mut seen, mut left) = ((0, 0), (0.0, 0.0));
     for line in lines {
         let cells: Vec<&str> = line.split(',').collect();
         let rho: f64 = cells[density].parse().expect("a density");
+        let m: f64 = cells[mass].parse().expect("a mass");
         match cells[component] {
             "big" => {
                 assert_eq!(rho, 2500.0, "{line}");
                 seen.0 += 1;
+                left.0 += m;
             }
             "fine" => {
                 assert_eq!(rho, 2000.0, "{line}");
                 seen.1 += 1;
+                left.1 += m;
             }
             other => panic!("crossing of component `{other}`: {line}"),
         }
     }
-    // The fine layers lie on top, so both components leave; none more often than placed.
-    assert!(seen.0 > 0 && seen.1 > 0, "crossings by component: {seen:?}");
+    // Each component's particles are conserved from the packing to the outlet: the silo
+    // empties, and every particle placed leaves once, under its own component.
+    assert_eq!(summary.stop_reason, StopReason::Empty);
+    assert_eq!(
+        seen,
+        (bigs, fines),
+        "crossings by component of {bigs}, {fines}"
+    );
+    // So is each component's mass: its crossings' masses add up to the count placed times
+    // the component's particle mass (M1 2500, M2 2000 kg/m³), to the rounding of the sums
+    // (a few hundred additions of like numbers: 1e-12 relative).
+    let sphere = |d: f64, rho: f64| rho * std::f64::consts::PI / 6.0 * d * d * d;
+    let placed = (
+        bigs as f64 * sphere(0.004, 2500.0),
+        fines as f64 * sphere(0.002, 2000.0),
+    );
     assert!(
-        seen.0 <= bigs && seen.1 <= fines,
-        "{seen:?} of {bigs}, {fines}"
+        (left.0 - placed.0).abs() <= 1e-12 * placed.0
+            && (left.1 - placed.1).abs() <= 1e-12 * placed.1,
+        "left {left:?} kg, placed {placed:?} kg"
     );
     let start: serde_json::Value =
         serde_json::from_slice(&read(&out, "start.json")).expect("start.json is JSON");
