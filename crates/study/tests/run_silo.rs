@@ -134,6 +134,39 @@ fn conical_silo_discharge_conserves_its_particles() {
         why.starts_with("0 zone(s) of the cylinder") && why.contains("needs at least 3"),
         "{why}"
     );
+    // The settled bed's weight rests on the walls: in the last window before the opening,
+    // the cylinder's, the cone's and the gate's vertical loads add up to −m g. The bed's
+    // residual motion is all that may differ: with kinetic energy E its momentum is at most
+    // √(2 M E), so over a window T the loads can differ from the weight by 2√(2 M E)/T.
+    let loads = table(&dir.join("wall_forces.csv"));
+    let text = std::fs::read_to_string(dir.join("wall_forces.csv")).expect("wall_forces.csv");
+    let walls: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap())
+        .collect();
+    let last = loads
+        .iter()
+        .map(|r| r[0])
+        .filter(|t| *t < opened)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let in_last: Vec<usize> = (0..loads.len()).filter(|&k| loads[k][0] == last).collect();
+    let mut named: Vec<&str> = in_last.iter().map(|&k| walls[k]).collect();
+    named.sort_unstable();
+    assert_eq!(
+        named,
+        ["cylinder", "gate", "hopper"],
+        "the walls that bear the bed"
+    );
+    let fz: f64 = in_last.iter().map(|&k| loads[k][4]).sum();
+    let mass = 400.0 * 2500.0 * std::f64::consts::PI / 6.0 * 0.004f64.powi(3);
+    let weight = mass * 9.81;
+    let window = 2.0 * (opened - last);
+    let slack = 2.0 * (2.0 * mass * summary.settled_kinetic_energy).sqrt() / window;
+    assert!(
+        (fz + weight).abs() <= slack,
+        "the walls carry {fz} N of the bed's weight {weight} N (allowed {slack} N)"
+    );
     // φ_B of a poured bed of spheres lies between loose random packing and the 0.64 of
     // random close packing, lowered a little by the wall layer of this narrow silo.
     assert!(
