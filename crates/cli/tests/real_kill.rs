@@ -6,6 +6,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use study::run::{read_checkpoint_header, CHECKPOINT_FILE};
@@ -42,6 +43,27 @@ plots = true
 
 /// Upper bound on one phase of the tiny case in wall time; only a hung child reaches it.
 const PATIENCE: Duration = Duration::from_secs(120);
+
+/// The tiny case run to its end without interruption, once for every test that compares
+/// with it, in the test build's scratch folder (replaced on each test run).
+fn reference() -> &'static Path {
+    static REFERENCE: OnceLock<PathBuf> = OnceLock::new();
+    REFERENCE.get_or_init(|| {
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("real_kill");
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(&root).expect("the scratch folder");
+        let case = root.join("tiny.toml");
+        std::fs::write(&case, TINY_CASE).expect("write case");
+        let out = root.join("reference");
+        let done = run_to_end(&["run", path_str(&case), "--out", path_str(&out), "--quiet"]);
+        assert!(
+            done.status.success(),
+            "reference run: {}",
+            String::from_utf8_lossy(&done.stderr)
+        );
+        out
+    })
+}
 
 fn binary() -> Command {
     Command::new(env!("CARGO_BIN_EXE_hopperflow"))
@@ -141,15 +163,8 @@ fn run_killed_in_fill_and_discharge_resumes_to_the_uninterrupted_bytes() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let case = dir.path().join("tiny.toml");
     std::fs::write(&case, TINY_CASE).expect("write case");
-    let (reference, killed) = (dir.path().join("reference"), dir.path().join("killed"));
+    let (reference, killed) = (reference(), dir.path().join("killed"));
     let case = path_str(&case);
-
-    let done = run_to_end(&["run", case, "--out", path_str(&reference), "--quiet"]);
-    assert!(
-        done.status.success(),
-        "reference run: {}",
-        String::from_utf8_lossy(&done.stderr)
-    );
 
     let first = spawn(&["run", case, "--out", path_str(&killed), "--quiet"]);
     let left = kill_in_phase(first, &killed, "fill");
@@ -184,7 +199,7 @@ fn run_killed_in_fill_and_discharge_resumes_to_the_uninterrupted_bytes() {
         !killed.join(CHECKPOINT_FILE).exists(),
         "a finished run removes its checkpoint"
     );
-    assert_same_files(&reference, &killed, "killed twice and resumed");
+    assert_same_files(reference, &killed, "killed twice and resumed");
 }
 
 #[test]
@@ -192,10 +207,8 @@ fn sigterm_checkpoints_exits_75_and_the_resumed_run_matches() {
     let dir = tempfile::tempdir().expect("temporary directory");
     let case = dir.path().join("tiny.toml");
     std::fs::write(&case, TINY_CASE).expect("write case");
-    let (reference, stopped) = (dir.path().join("reference"), dir.path().join("stopped"));
+    let (reference, stopped) = (reference(), dir.path().join("stopped"));
     let case = path_str(&case);
-    let done = run_to_end(&["run", case, "--out", path_str(&reference), "--quiet"]);
-    assert!(done.status.success(), "reference run");
 
     // SIGTERM (a scheduler's time limit, scancel) once the run is in its settling phase or
     // later: the run writes a checkpoint after its current chunk and exits with 75.
@@ -242,7 +255,7 @@ fn sigterm_checkpoints_exits_75_and_the_resumed_run_matches() {
         "--quiet",
     ]);
     assert!(resumed.status.success(), "resume after SIGTERM");
-    assert_same_files(&reference, &stopped, "stopped by SIGTERM and resumed");
+    assert_same_files(reference, &stopped, "stopped by SIGTERM and resumed");
 }
 
 #[test]
