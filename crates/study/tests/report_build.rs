@@ -626,3 +626,105 @@ hopper_angle_deg = 90.0
 count = 2000
 diameter = 0.003
 "#;
+
+/// A slab series of the paper's base hopper and a silo series of the shipped 3D Beverloo
+/// silo, in one sweep or alone (same base seed and identifiers, so the same cases). The
+/// base is the default case (a slab): the silo series sets its kind and dimensions.
+fn mixed_sweep(slab: bool, silo: bool) -> String {
+    let mut text = String::from(
+        r#"
+version = 1
+name = "mixed"
+description = "slab hopper and cylindrical silo"
+
+[base]
+version = 1
+seed = 2023
+
+[base.particles]
+count = 3000
+diameter = 0.003
+"#,
+    );
+    if slab {
+        text += &series(
+            "angle",
+            "",
+            &[
+                axis("geometry.hopper_angle_deg", "[30.0, 90.0]", "a"),
+                length_axis("geometry.outlet_width", "[0.018, 0.030, 0.045]"),
+            ],
+        );
+    }
+    if silo {
+        text += &series(
+            "flat",
+            r#"set = { "geometry.kind" = "cylinder", "geometry.radius" = 0.045, "geometry.height" = 0.12, "geometry.hopper_angle_deg" = 90.0 }"#,
+            &[length_axis(
+                "geometry.outlet_diameter",
+                "[0.012, 0.015, 0.018, 0.021, 0.024, 0.030, 0.036]",
+            )],
+        );
+    }
+    text
+}
+
+#[test]
+fn a_study_of_slabs_and_silos_lists_the_items_of_both() {
+    let report_of = |slab: bool, silo: bool| {
+        let dir = tempfile::tempdir().unwrap();
+        run_fake(&mixed_sweep(slab, silo), dir.path(), &FakeRunner::new());
+        let files = build_report(dir.path()).unwrap();
+        let md = std::fs::read_to_string(&files.markdown).unwrap();
+        let html = std::fs::read_to_string(&files.html).unwrap();
+        let items = comparison(dir.path());
+        (dir, items, md, html)
+    };
+    let (_, slab_items, slab_md, _) = report_of(true, false);
+    let (_, silo_items, ..) = report_of(false, true);
+    let (dir, items, md, html) = report_of(true, true);
+    // Each kind is fitted on its own cases only: the mixed study's items are the slab
+    // study's (the paper's, in their order) followed by the silo study's, value for value.
+    assert_eq!(slab_items.len(), 12);
+    assert_eq!(silo_items.len(), 2 + 7);
+    let expected: Vec<Value> = slab_items.iter().chain(&silo_items).cloned().collect();
+    assert_eq!(items, expected);
+    // Both kinds are measured in the mixed study: the paper's 2D Beverloo k and γ(90°), the
+    // silo's 3D C and k.
+    for name in [
+        "Beverloo k (all α pooled",
+        "γ(90°)",
+        "3D Beverloo C (series 'flat', θ = 90°)",
+        "3D Beverloo k (series 'flat', θ = 90°)",
+    ] {
+        assert_eq!(item(&items, name)["pass"], Value::Bool(true), "{name}");
+    }
+    let k3 = item(&items, "3D Beverloo k (series 'flat', θ = 90°)")["measured"]
+        .as_f64()
+        .unwrap();
+    assert!((k3 - study_fake::SILO_BEVERLOO_K).abs() < SILO_K_TOLERANCE);
+    // The documents name both: the paper's sections and the silo's, and say which rows of
+    // the comparison are the silos' (a slab study has no such sentence).
+    let silo_rows = "The study also holds silos with circular orifices";
+    for needle in [
+        "Comparison with the paper",
+        "Table 2",
+        "Beverloo constants",
+        "3D Beverloo constants",
+        "Radial outlet profiles",
+        silo_rows,
+    ] {
+        assert!(md.contains(needle), "markdown lacks {needle}");
+        assert!(html.contains(needle), "html lacks {needle}");
+    }
+    assert!(md.contains("| 3D Beverloo k (series 'flat', θ = 90°) |"));
+    assert!(!slab_md.contains(silo_rows));
+
+    // A study whose case folders hold no case.toml (the kind then told by the hopper
+    // width that only a slab has) gives the same items.
+    for case in std::fs::read_dir(dir.path().join("cases")).unwrap() {
+        std::fs::remove_file(case.unwrap().path().join("case.toml")).unwrap();
+    }
+    build_report(dir.path()).unwrap();
+    assert_eq!(comparison(dir.path()), expected);
+}
