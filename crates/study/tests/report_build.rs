@@ -7,7 +7,7 @@ mod study_fake;
 use std::path::Path;
 
 use serde_json::Value;
-use study::config::{parse_sweep, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
+use study::config::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
 use study::report::{analyse_study, build_report, load_study};
 use study::sweep::{run_study, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
@@ -15,8 +15,11 @@ use study_fake::FakeRunner;
 fn quiet(_: &StudyEvent) {}
 
 fn run_fake(sweep: &str, dir: &Path, fake: &FakeRunner) {
-    let plan = parse_sweep(sweep, "sweep", None, &[]).unwrap();
-    run_study(&plan, dir, fake, &StudyOptions { jobs: 2 }, &quiet).unwrap();
+    run_fake_plan(&parse_sweep(sweep, "sweep", None, &[]).unwrap(), dir, fake);
+}
+
+fn run_fake_plan(plan: &SweepPlan, dir: &Path, fake: &FakeRunner) {
+    run_study(plan, dir, fake, &StudyOptions { jobs: 2 }, &quiet).unwrap();
 }
 
 fn comparison(dir: &Path) -> Vec<Value> {
@@ -385,4 +388,343 @@ fn b_trend_shows_both_phi_definitions_and_fails_when_one_falls_with_angle() {
         item(&items, "Table 2 trend: b rises")["pass"],
         Value::Bool(true)
     );
+}
+
+/// The shipped 3D Beverloo study: a flat-bottomed cylindrical silo, orifices D/d = 4–12.
+fn beverloo3d_sweep() -> SweepPlan {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases/beverloo3d.toml");
+    load_sweep(&path, &[]).unwrap()
+}
+
+/// The profile item of the grid point of case `id` (its key: the id without `-r<replica>`).
+fn profile_item<'a>(items: &'a [Value], id: &str) -> &'a Value {
+    let key = id.rsplit_once("-r").map_or(id, |(key, _)| key);
+    item(
+        items,
+        &format!("W from the fitted profiles / W measured ({key})"),
+    )
+}
+
+/// Tolerances on the 3D Beverloo constants given back from the fake's silo study. The fake's
+/// W carries ±0.5 % uniform noise (σ = 0.29 %, 0.12 % on W^(2/5)) over the seven orifices of
+/// D/d = 4–12; the weighted fit then states σ_k ≈ 0.005 and σ_C ≈ 0.0017. The tolerances are
+/// about 5σ, so that no plausible draw of the noise fails them, yet far below what a wrong law would give:
+/// the 2D exponent 3/2, or ρ_p in place of ρ_b, moves C by tens of percent, and the classic
+/// range of k is 0.3 wide.
+const SILO_K_TOLERANCE: f64 = 0.03;
+const SILO_C_TOLERANCE: f64 = 0.01;
+/// Tolerance on W from the fitted radial profiles over W: the fake's profiles carry its W
+/// before the ±0.5 % noise, and their bins ±0.2 % noise, so the ratio is 1 within about
+/// 0.5 % + the profile fit's error (a few 0.1 %); 1 % covers both, a fifth of the item's 5 %
+/// band.
+const PROFILE_RATE_RATIO_TOLERANCE: f64 = 0.01;
+
+/// Asserts that the comparison of a study of `plan` (one silo group, series 'flat' at
+/// θ = 90°) gives back `constants` (C, k) within their tolerances, and W from each case's
+/// profiles over its W as `ratio`; that each of these items passes or fails as `pass` says;
+/// returns C and k as given back.
+fn assert_silo_items(
+    items: &[Value],
+    plan: &SweepPlan,
+    constants: (f64, f64),
+    ratio: f64,
+    pass: bool,
+) -> (f64, f64) {
+    let c = item(items, "3D Beverloo C (series 'flat', θ = 90°)");
+    let k = item(items, "3D Beverloo k (series 'flat', θ = 90°)");
+    let c_value = c["measured"].as_f64().unwrap();
+    let k_value = k["measured"].as_f64().unwrap();
+    assert!(
+        (c_value - constants.0).abs() < SILO_C_TOLERANCE,
+        "C = {c_value}"
+    );
+    assert!(
+        (k_value - constants.1).abs() < SILO_K_TOLERANCE,
+        "k = {k_value}"
+    );
+    assert_eq!(c["pass"], Value::Bool(pass), "{c}");
+    assert_eq!(k["pass"], Value::Bool(pass), "{k}");
+    for case in &plan.cases {
+        let i = profile_item(items, &case.id);
+        let measured = i["measured"].as_f64().unwrap();
+        assert!(
+            (measured - ratio).abs() < PROFILE_RATE_RATIO_TOLERANCE,
+            "{}: {measured}",
+            case.id
+        );
+        assert_eq!(i["pass"], Value::Bool(pass), "{i}");
+    }
+    (c_value, k_value)
+}
+
+#[test]
+fn silo_study_gives_back_the_3d_beverloo_c_and_k_of_its_cases() {
+    let dir = tempfile::tempdir().unwrap();
+    let plan = beverloo3d_sweep();
+    run_fake_plan(&plan, dir.path(), &FakeRunner::new());
+    let files = build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    // No slab case, so none of the paper's items: C and k of the one group (series 'flat',
+    // θ = 90°), then one profile item per case.
+    assert_eq!(items.len(), 2 + plan.cases.len());
+    // The fake's C = 0.58 and k = 1.4 lie inside the classic ranges, by more than the
+    // tolerances, and its profiles carry its W: every item passes.
+    let (c_value, k_value) = assert_silo_items(
+        &items,
+        &plan,
+        (study_fake::SILO_BEVERLOO_C, study_fake::SILO_BEVERLOO_K),
+        1.0,
+        true,
+    );
+    let c = item(&items, "3D Beverloo C (series 'flat', θ = 90°)");
+    let k = item(&items, "3D Beverloo k (series 'flat', θ = 90°)");
+    assert_eq!(c["band"], Value::String("[0.55, 0.65]".into()));
+    assert_eq!(k["band"], Value::String("[1.3, 1.6]".into()));
+
+    // The documents say why the paper's items are absent and show the silo sections, with
+    // the fit's values as the comparison gives them.
+    let md = std::fs::read_to_string(&files.markdown).unwrap();
+    let html = std::fs::read_to_string(&files.html).unwrap();
+    for needle in [
+        "this study holds no slab case",
+        "3D Beverloo constants",
+        "Radial outlet profiles",
+    ] {
+        assert!(md.contains(needle), "markdown lacks {needle}");
+        assert!(html.contains(needle), "html lacks {needle}");
+    }
+    assert!(!md.contains("Comparison with the paper") && !md.contains("Table 2"));
+    assert!(md.contains(&format!("{c_value:.3} [")), "the C row");
+    assert!(md.contains(&format!("{k_value:.2} [")), "the k row");
+    // No figure applies to silos (the paper's figures are of slabs).
+    assert!(files.figures.is_empty());
+}
+
+#[test]
+fn silo_items_give_back_other_constants_and_fail_outside_the_classic_ranges() {
+    // C = 0.50 and k = 2.0 lie outside the classic ranges (0.55–0.65, 1.3–1.6); the profiles
+    // carry 8 % more than the measured W, beyond the 5 % band.
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner {
+        silo_beverloo: Some((0.50, 2.0)),
+        silo_profile_rate: Some(1.08),
+        ..FakeRunner::new()
+    };
+    let plan = beverloo3d_sweep();
+    run_fake_plan(&plan, dir.path(), &fake);
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    // Given back within the same tolerances as the fake's default constants (the noise is
+    // the same relative noise on W), and every item fails.
+    assert_silo_items(&items, &plan, (0.50, 2.0), 1.08, false);
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    assert!(
+        md.contains("outside the classic range"),
+        "the miss is named"
+    );
+}
+
+#[test]
+fn silo_groups_that_cannot_be_fitted_say_why() {
+    // Series 'few': two orifices, one short of the fit. Series 'two_g': three orifices under
+    // each of two g, which no single law fits. Series 'no_bulk': three orifices, none with a
+    // settled bulk fraction to give ρ_b. Each group is listed, not measured, with its
+    // reason; the profile items of its cases are still measured.
+    let three = "[0.018, 0.024, 0.030]";
+    let sweep = [
+        SILO_BASE.to_string(),
+        series(
+            "few",
+            "",
+            &[length_axis("geometry.outlet_diameter", "[0.018, 0.024]")],
+        ),
+        series(
+            "two_g",
+            "",
+            &[
+                axis("gravity", "[9.81, 4.0]", "g"),
+                length_axis("geometry.outlet_diameter", three),
+            ],
+        ),
+        series(
+            "no_bulk",
+            "",
+            &[length_axis("geometry.outlet_diameter", three)],
+        ),
+    ]
+    .concat();
+    let dir = tempfile::tempdir().unwrap();
+    let fake = FakeRunner {
+        no_bulk: ["no_bulk-D018-r0", "no_bulk-D024-r0", "no_bulk-D030-r0"]
+            .map(String::from)
+            .to_vec(),
+        ..FakeRunner::new()
+    };
+    run_fake(&sweep, dir.path(), &fake);
+    build_report(dir.path()).unwrap();
+    let items = comparison(dir.path());
+    // C and k of the three groups, then the profile items of the 11 cases.
+    assert_eq!(items.len(), 3 * 2 + 11);
+    let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    for (series, why) in [
+        ("few", "2 orifice diameter(s); the fit needs 3 or more"),
+        ("two_g", "the cases ran under different g (4, 9.81 m/s²)"),
+        ("no_bulk", "no settled bulk fraction was measured"),
+    ] {
+        for constant in ["C", "k"] {
+            let i = item(
+                &items,
+                &format!("3D Beverloo {constant} (series '{series}', θ = 90°)"),
+            );
+            assert_eq!(i["measured"], Value::String("not measured".into()), "{i}");
+            assert_eq!(i["pass"], Value::Null, "{i}");
+        }
+        assert!(md.contains(why), "the report lacks '{why}'");
+    }
+    let profiles: Vec<&Value> = items
+        .iter()
+        .filter(|i| i["item"].as_str().unwrap().starts_with("W from the fitted"))
+        .collect();
+    assert_eq!(profiles.len(), 11);
+    assert!(profiles.iter().all(|i| i["pass"] == Value::Bool(true)));
+}
+
+/// A sweep's axis over `key` taking `values` (TOML array), identifiers labelled `label`.
+fn axis(key: &str, values: &str, label: &str) -> String {
+    format!("\n[[series.axes]]\nkey = \"{key}\"\nvalues = {values}\nlabel = \"{label}\"\n")
+}
+
+/// An axis over a length (outlet width or diameter) [m], labelled "D" in mm in identifiers.
+fn length_axis(key: &str, values: &str) -> String {
+    axis(key, values, "D") + "scale = 1000.0\ndigits = 3\n"
+}
+
+/// A `[[series]]` named `name` with the overrides `set` (a `set = { … }` line, or empty) and
+/// the axes `axes`.
+fn series(name: &str, set: &str, axes: &[String]) -> String {
+    format!("\n[[series]]\nname = \"{name}\"\n{set}\n{}", axes.concat())
+}
+
+/// The base of the silo sweeps: the shipped 3D Beverloo silo (flat bottom, R = 15 d).
+const SILO_BASE: &str = r#"
+version = 1
+name = "silo"
+description = "cylindrical silo"
+
+[base]
+version = 1
+seed = 7
+
+[base.geometry]
+kind = "cylinder"
+radius = 0.045
+height = 0.12
+outlet_diameter = 0.024
+hopper_angle_deg = 90.0
+
+[base.particles]
+count = 2000
+diameter = 0.003
+"#;
+
+/// A slab series of the paper's base hopper and a silo series of the shipped 3D Beverloo
+/// silo, in one sweep or alone (same base seed and identifiers, so the same cases). The
+/// base is the default case (a slab): the silo series sets its kind and dimensions.
+fn mixed_sweep(slab: bool, silo: bool) -> String {
+    let mut text = String::from(
+        r#"
+version = 1
+name = "mixed"
+description = "slab hopper and cylindrical silo"
+
+[base]
+version = 1
+seed = 2023
+
+[base.particles]
+count = 3000
+diameter = 0.003
+"#,
+    );
+    if slab {
+        text += &series(
+            "angle",
+            "",
+            &[
+                axis("geometry.hopper_angle_deg", "[30.0, 90.0]", "a"),
+                length_axis("geometry.outlet_width", "[0.018, 0.030, 0.045]"),
+            ],
+        );
+    }
+    if silo {
+        text += &series(
+            "flat",
+            r#"set = { "geometry.kind" = "cylinder", "geometry.radius" = 0.045, "geometry.height" = 0.12, "geometry.hopper_angle_deg" = 90.0 }"#,
+            &[length_axis(
+                "geometry.outlet_diameter",
+                "[0.012, 0.015, 0.018, 0.021, 0.024, 0.030, 0.036]",
+            )],
+        );
+    }
+    text
+}
+
+#[test]
+fn a_study_of_slabs_and_silos_lists_the_items_of_both() {
+    let report_of = |slab: bool, silo: bool| {
+        let dir = tempfile::tempdir().unwrap();
+        run_fake(&mixed_sweep(slab, silo), dir.path(), &FakeRunner::new());
+        let files = build_report(dir.path()).unwrap();
+        let md = std::fs::read_to_string(&files.markdown).unwrap();
+        let html = std::fs::read_to_string(&files.html).unwrap();
+        let items = comparison(dir.path());
+        (dir, items, md, html)
+    };
+    let (_, slab_items, slab_md, _) = report_of(true, false);
+    let (_, silo_items, ..) = report_of(false, true);
+    let (dir, items, md, html) = report_of(true, true);
+    // Each kind is fitted on its own cases only: the mixed study's items are the slab
+    // study's (the paper's, in their order) followed by the silo study's, value for value.
+    assert_eq!(slab_items.len(), 12);
+    assert_eq!(silo_items.len(), 2 + 7);
+    let expected: Vec<Value> = slab_items.iter().chain(&silo_items).cloned().collect();
+    assert_eq!(items, expected);
+    // Both kinds are measured in the mixed study: the paper's 2D Beverloo k and γ(90°), the
+    // silo's 3D C and k.
+    for name in [
+        "Beverloo k (all α pooled",
+        "γ(90°)",
+        "3D Beverloo C (series 'flat', θ = 90°)",
+        "3D Beverloo k (series 'flat', θ = 90°)",
+    ] {
+        assert_eq!(item(&items, name)["pass"], Value::Bool(true), "{name}");
+    }
+    let k3 = item(&items, "3D Beverloo k (series 'flat', θ = 90°)")["measured"]
+        .as_f64()
+        .unwrap();
+    assert!((k3 - study_fake::SILO_BEVERLOO_K).abs() < SILO_K_TOLERANCE);
+    // The documents name both: the paper's sections and the silo's, and say which rows of
+    // the comparison are the silos' (a slab study has no such sentence).
+    let silo_rows = "The study also holds silos with circular orifices";
+    for needle in [
+        "Comparison with the paper",
+        "Table 2",
+        "Beverloo constants",
+        "3D Beverloo constants",
+        "Radial outlet profiles",
+        silo_rows,
+    ] {
+        assert!(md.contains(needle), "markdown lacks {needle}");
+        assert!(html.contains(needle), "html lacks {needle}");
+    }
+    assert!(md.contains("| 3D Beverloo k (series 'flat', θ = 90°) |"));
+    assert!(!slab_md.contains(silo_rows));
+
+    // A study whose case folders hold no case.toml (the kind then told by the hopper
+    // width that only a slab has) gives the same items.
+    for case in std::fs::read_dir(dir.path().join("cases")).unwrap() {
+        std::fs::remove_file(case.unwrap().path().join("case.toml")).unwrap();
+    }
+    build_report(dir.path()).unwrap();
+    assert_eq!(comparison(dir.path()), expected);
 }

@@ -126,6 +126,11 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         super::OTHER_CODES_K_90.iter().map(|(_, k)| k.to_string()).collect::<Vec<_>>().join(" and "),
     )));
         doc.push(Block::Paragraph("Outlet fraction profile φ(x): its exponent b (φ/φ_c = (1 − x*²)^b, paper Eq. 11) depends on how φ is defined, so it is fitted under two definitions. Strip: the area of the bin covered by the particles' mid-plane discs in the strip |z − z_o| < h/2, averaged over frames (physics spec §7.3; the paper's image measure). Crossing: the number density of centres crossing the outlet line, Σ π r²/|v_z| over a bin's crossings divided by the window and the bin width (each grain counted once, at its centre). The paper's b can be compared only as a trend: it rises with α for α ≥ 30° (Table 2: 0.19, 0.30, 0.38, 0.39).".into()));
+        if !analysis.silo.beverloo.is_empty() {
+            // A study of slabs and silos: the table also holds the silo items, which the
+            // paper has no value for.
+            doc.push(Block::Paragraph("The study also holds silos with circular orifices: the items from '3D Beverloo' on are theirs. The paper (a slab hopper) has none of them, so C and k are set against the classic ranges for spheres and W from the radial profiles against the measured W (Janda et al. 2012, in 3D); their fits are in the sections '3D Beverloo constants' and 'Radial outlet profiles' below.".into()));
+        }
         doc.push(tables::comparison_table(&items));
 
         doc.push(Block::Heading(

@@ -29,6 +29,7 @@ pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
     KeyChange, MAGIC as CHECKPOINT_MAGIC,
 };
+pub use outputs::{fit_radial, write_radial_profiles};
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
 pub use start::{Start, StartKind, StartRecord, START_FILE};
 pub use time_spent::{ProtocolTime, TimeSpent};

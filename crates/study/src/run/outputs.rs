@@ -677,7 +677,9 @@ fn write_profiles_3d(
     Ok(())
 }
 
-fn write_radial_profiles(path: &Path, bins: &[RadialBin]) -> Result<(), RunError> {
+/// Writes a circular orifice's `profiles.csv`: per annulus `r_star`, `r` [m], `velocity`,
+/// `velocity_error` [m/s], `crossings`, `volume_fraction` and `volume_fraction_error` [-].
+pub fn write_radial_profiles(path: &Path, bins: &[RadialBin]) -> Result<(), RunError> {
     let rows = bins.iter().map(|b| {
         let v = [b.velocity, b.velocity_error, b.crossings as f64];
         (
@@ -739,8 +741,10 @@ fn mirrored(bins: &[RadialBin]) -> Vec<ProfileRow> {
 }
 
 /// The self-similar fits of the radial profiles (bins r* ≤ 0.9, as for the slot, weighted by
-/// the bins' errors) and the flow rate they give; `None` when either fit fails.
-fn fit_radial(bins: &[RadialBin], radius: f64, density: f64) -> Option<RadialFit> {
+/// the bins' errors) and the flow rate they give, over an orifice of radius `radius` [m] of
+/// particles of density `density` [kg/m³]: `summary.json`'s `radial_fit`; `None` when either
+/// fit fails.
+pub fn fit_radial(bins: &[RadialBin], radius: f64, density: f64) -> Option<RadialFit> {
     let fit = |value: fn(&RadialBin) -> (f64, f64)| {
         let good: Vec<&RadialBin> = bins.iter().filter(|b| value(b).0.is_finite()).collect();
         let centres = good.iter().map(|b| b.r_star).collect();

@@ -1,11 +1,18 @@
 //! A stand-in for the simulation: writes the files of a case run from known laws, so the
 //! study runner and the report can be tested against parameters chosen in advance.
 //!
-//! Known laws (paper values, so the report's comparison items should pass):
+//! Known laws of slab cases (paper values, so the report's comparison items should pass):
 //! W = Z C ρ_b √g (D − k d)^{3/2} × Brown(α) × (1.3 at s = 0, else 1) with C = 0.58,
 //! k = 1.55; v = v_c (1 − x*²)^a with v_c = √(2γgR); φ = φ_c (1 − x*²)^b with
 //! φ_c = φ∞ (1 − τ₁ e^{−2τ₂R}), R in mm (Eq. 12); eccentric outlets follow Eqs. 16–17
 //! with σ_s1 = 0.39 − 0.12 e^{−3.74 s*}.
+//!
+//! Known laws of cylinder cases (circular orifice of diameter D, inside the classic ranges
+//! for spheres): W = C ρ_b √g (D − k d)^{5/2} with C = 0.58, k = 1.4, ρ_b = φ_B ρ_p and
+//! seeded noise on W; radial profiles v(r) = v_c (1 − r*²)^a and φ(r) = φ_c (1 − r*²)^b
+//! whose rate π R² ρ_p φ_c v_c/(1 + a + b) is the law's W. A silo case writes what a real
+//! silo run writes for the report: `case.toml`, `flow.csv`, the radial `profiles.csv` and a
+//! summary with `radial_fit`, the last two through the run's own writer and fit.
 
 #![allow(dead_code)]
 
@@ -13,11 +20,14 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
+use analysis::beverloo3d::beverloo_3d_rate;
 use analysis::flowrate::brown_ratio;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use study::config::SweepCase;
+use study::config::{CylinderSilo, SweepCase};
+use study::measure::{RadialBin, RadialBins};
 use study::output::{write_csv_table, Cell};
+use study::run::{fit_radial, write_radial_profiles, CASE_FILE};
 use study::summary::{CaseSummary, StopReason};
 use study::sweep::CaseRunner;
 
@@ -37,6 +47,20 @@ pub const TAU2: f64 = 0.18;
 /// Eq. 16–17 constants of the fake.
 pub const EPSILON_S1: f64 = 1.3;
 pub const SIGMA_S2: f64 = 0.42;
+
+/// 3D Beverloo constants of the fake's cylinder cases.
+pub const SILO_BEVERLOO_C: f64 = 0.58;
+pub const SILO_BEVERLOO_K: f64 = 1.4;
+/// Exponents a, b and centre volume fraction φ_c of the fake's radial profiles (near the
+/// measured a ≈ 0.55, b ≈ 0.38 of docs/reproduction.md's 3D Beverloo study).
+pub const SILO_VELOCITY_EXPONENT: f64 = 0.55;
+pub const SILO_PACKING_EXPONENT: f64 = 0.38;
+pub const SILO_CENTRE_FRACTION: f64 = 0.45;
+/// Relative noise on a silo case's W (uniform in ±0.5 %, seeded by the case's seed): the fit
+/// sees scatter, as it does in a real study, but less than a real run's blocking error
+/// (1–5 % in docs/reproduction.md's 3D Beverloo study), so that C and k come back within
+/// tight tolerances.
+pub const SILO_RATE_NOISE: f64 = 0.005;
 
 /// Table 2 of the paper: (α, a, γ, b).
 pub const TABLE2: [(f64, f64, f64, f64); 5] = [
@@ -86,12 +110,24 @@ pub struct FakeRunner {
     pub crossing_exponent: Option<fn(f64) -> f64>,
     /// When set, the Beverloo k of each hopper angle α [°] (default [`BEVERLOO_K`] at all).
     pub beverloo_k: Option<fn(f64) -> f64>,
+    /// The 3D Beverloo (C, k) of cylinder cases (default [`SILO_BEVERLOO_C`],
+    /// [`SILO_BEVERLOO_K`]).
+    pub silo_beverloo: Option<(f64, f64)>,
+    /// Relative noise on a cylinder case's W (see [`SILO_RATE_NOISE`]).
+    pub silo_rate_noise: f64,
+    /// The rate of a cylinder case's radial profiles over its W (default 1: the profiles
+    /// carry the measured rate).
+    pub silo_profile_rate: Option<f64>,
+    /// Cases whose run measured no settled bulk fraction (φ_B NaN, as when the bed's
+    /// surface could not be found).
+    pub no_bulk: Vec<String>,
 }
 
 impl FakeRunner {
     pub fn new() -> Self {
         Self {
             noise: 0.002,
+            silo_rate_noise: SILO_RATE_NOISE,
             ..Self::default()
         }
     }
@@ -129,11 +165,166 @@ impl CaseRunner for FakeRunner {
         if self.fail.contains(&case.id) {
             return Err(format!("fake failure in {}", case.id));
         }
-        Ok(write_case(self, case, dir))
+        // The resolved case, as a real run writes it first: the report reads the geometry
+        // kind and g from it.
+        std::fs::write(dir.join(CASE_FILE), case.case.to_toml_string()).unwrap();
+        Ok(match case.case.geometry.cylinder() {
+            Some(silo) => write_silo_case(self, case, silo, dir),
+            None => write_slab_case(self, case, dir),
+        })
     }
 }
 
-fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
+/// The summary fields every fake run fills alike, after writing its `flow.csv` at steady rate
+/// `rate` [kg/s] (a rise over 0.05 s, halved after 0.8 s as the container empties): the
+/// case's inputs, W ± `rate_error` [kg/s], the discharged mass, and `stop` unless the case
+/// clogs. What belongs to one geometry (the slab's width, thickness and gap, the strip's
+/// centre values, the radial fit) is NaN or absent, as in a silo's summary.
+fn common_summary(
+    fake: &FakeRunner,
+    case: &SweepCase,
+    dir: &Path,
+    rate: f64,
+    rate_error: f64,
+    stop: StopReason,
+) -> CaseSummary {
+    let times: Vec<f64> = (0..50).map(|i| 0.02 * i as f64).collect();
+    let rates: Vec<f64> = times
+        .iter()
+        .map(|t| rate * (1.0 - (-t / 0.05).exp()) * if *t > 0.8 { 0.5 } else { 1.0 })
+        .collect();
+    let mut mass = 0.0;
+    let flow: Vec<Vec<Cell>> = times
+        .iter()
+        .zip(&rates)
+        .map(|(t, w)| {
+            mass += w * 0.02;
+            vec![Cell::Number(*t), Cell::Number(*w), Cell::Number(mass)]
+        })
+        .collect();
+    write_csv_table(
+        dir.join("flow.csv"),
+        &["time", "rate", "cumulative_mass"],
+        &flow,
+    )
+    .unwrap();
+    let clogged = fake.clog.contains(&case.id);
+    let geometry = &case.case.geometry;
+    CaseSummary {
+        version: "test".into(),
+        seed: case.case.seed,
+        config_hash: study::run::config_hash(&case.case.to_toml_string()),
+        outlet_width: geometry.outlet_size(),
+        hopper_angle_deg: geometry.hopper_angle_deg(),
+        outlet_gap: f64::NAN,
+        dimensionless_gap: f64::NAN,
+        width: f64::NAN,
+        thickness: f64::NAN,
+        particle_diameter: case.case.particles.mean_diameter(),
+        particle_density: case.case.particles.density(),
+        particles: case.case.particles.count,
+        discharge_rate: rate,
+        discharge_rate_error: rate_error,
+        steady_window: [0.1, 0.7],
+        plateau_found: true,
+        flux_check_rate: f64::NAN,
+        flux_check_rate_profiles: f64::NAN,
+        bulk_volume_fraction: BULK_FRACTION,
+        bulk_area_fraction: f64::NAN,
+        bed_height: f64::NAN,
+        centre_velocity: f64::NAN,
+        centre_area_fraction: f64::NAN,
+        max_area_fraction: f64::NAN,
+        max_area_fraction_position: f64::NAN,
+        clogged,
+        stop_reason: if clogged { StopReason::Clogged } else { stop },
+        discharged_mass: mass,
+        discharge_time: 1.0,
+        fill_time: 0.5,
+        settled_kinetic_energy: 1e-9,
+        settled: true,
+        area_fraction_exponent: None,
+        crossing_area_fraction_exponent: None,
+        radial_fit: None,
+        janssen: None,
+        janssen_not_fitted: None,
+        start: None,
+    }
+}
+
+/// A cylinder case: W from the 3D Beverloo law with noise, radial profiles whose rate is
+/// the law's W (times `silo_profile_rate`) with their fit, and the settled bed's φ_B.
+fn write_silo_case(
+    fake: &FakeRunner,
+    case: &SweepCase,
+    silo: &CylinderSilo,
+    dir: &Path,
+) -> CaseSummary {
+    let d = case.case.particles.mean_diameter();
+    let rho = case.case.particles.density();
+    let gravity = case.case.gravity;
+    let (c, k) = fake
+        .silo_beverloo
+        .unwrap_or((SILO_BEVERLOO_C, SILO_BEVERLOO_K));
+    let law = beverloo_3d_rate(c, BULK_FRACTION * rho, silo.outlet_diameter, k, d, gravity);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(case.case.seed);
+    let mut uniform = || rng.gen::<f64>() * 2.0 - 1.0;
+    let rate = law * (1.0 + fake.silo_rate_noise * uniform());
+    // v_c such that π R² ρ_p φ_c v_c/(1 + a + b) is the law's W (times the chosen factor).
+    let (a, b, phi_c) = (
+        SILO_VELOCITY_EXPONENT,
+        SILO_PACKING_EXPONENT,
+        SILO_CENTRE_FRACTION,
+    );
+    let radius = 0.5 * silo.outlet_diameter;
+    let profile_rate = law * fake.silo_profile_rate.unwrap_or(1.0);
+    let v_c = profile_rate * (1.0 + a + b) / (std::f64::consts::PI * radius * radius * rho * phi_c);
+    let bins = RadialBins::with_width(
+        [silo.outlet_offset, 0.0],
+        radius,
+        case.case.measure.x_bin_width,
+    )
+    .unwrap();
+    let annuli: Vec<RadialBin> = (0..bins.count)
+        .map(|i| {
+            let r = bins.mean_radius(i);
+            let base = 1.0 - (r / radius).powi(2);
+            let velocity = v_c * base.powf(a) * (1.0 + fake.noise * uniform());
+            let volume_fraction = phi_c * base.powf(b) * (1.0 + fake.noise * uniform());
+            RadialBin {
+                r_star: r / radius,
+                r,
+                velocity,
+                velocity_error: 0.01 * velocity,
+                crossings: 200,
+                volume_fraction,
+                volume_fraction_error: 0.01 * volume_fraction,
+            }
+        })
+        .collect();
+    write_radial_profiles(&dir.join("profiles.csv"), &annuli).unwrap();
+    CaseSummary {
+        bulk_volume_fraction: if fake.no_bulk.contains(&case.id) {
+            f64::NAN
+        } else {
+            BULK_FRACTION
+        },
+        bed_height: 2.0 * silo.radius,
+        radial_fit: fit_radial(&annuli, radius, rho),
+        janssen_not_fitted: Some("the fake records no wall pressure".into()),
+        // The standard deviation of the uniform noise, as the run's blocking error.
+        ..common_summary(
+            fake,
+            case,
+            dir,
+            rate,
+            fake.silo_rate_noise / 3f64.sqrt() * rate,
+            StopReason::Fraction,
+        )
+    }
+}
+
+fn write_slab_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
     let g = case.case.geometry.slab().expect("a slab case");
     let d = case.case.particles.mean_diameter();
     let rho = case.case.particles.density();
@@ -226,69 +417,20 @@ fn write_case(fake: &FakeRunner, case: &SweepCase, dir: &Path) -> CaseSummary {
         &rows,
     )
     .unwrap();
-    let times: Vec<f64> = (0..50).map(|i| 0.02 * i as f64).collect();
-    let rates: Vec<f64> = times
-        .iter()
-        .map(|t| rate * (1.0 - (-t / 0.05).exp()) * if *t > 0.8 { 0.5 } else { 1.0 })
-        .collect();
-    let mut mass = 0.0;
-    let flow: Vec<Vec<Cell>> = times
-        .iter()
-        .zip(&rates)
-        .map(|(t, w)| {
-            mass += w * 0.02;
-            vec![Cell::Number(*t), Cell::Number(*w), Cell::Number(mass)]
-        })
-        .collect();
-    write_csv_table(
-        dir.join("flow.csv"),
-        &["time", "rate", "cumulative_mass"],
-        &flow,
-    )
-    .unwrap();
-    let clogged = fake.clog.contains(&case.id);
     CaseSummary {
-        version: "test".into(),
-        seed: case.case.seed,
-        config_hash: study::run::config_hash(&case.case.to_toml_string()),
-        outlet_width: g.outlet_width,
-        hopper_angle_deg: alpha,
         outlet_gap: g.outlet_gap,
         dimensionless_gap: s_star,
         width: g.width,
         thickness: g.thickness,
-        particle_diameter: d,
-        particle_density: rho,
-        particles: case.case.particles.count,
-        discharge_rate: rate,
-        discharge_rate_error: 0.01 * rate,
-        steady_window: [0.1, 0.7],
-        plateau_found: true,
         flux_check_rate: 1.01 * rate,
         flux_check_rate_profiles: 0.99 * rate,
-        bulk_volume_fraction: BULK_FRACTION,
         bulk_area_fraction: 0.885,
         bed_height: 0.24,
         centre_velocity: v_centre,
         centre_area_fraction: phi_centre,
         max_area_fraction: phi_max,
         max_area_fraction_position: phi_max_at,
-        clogged,
-        stop_reason: if clogged {
-            StopReason::Clogged
-        } else {
-            StopReason::Empty
-        },
-        discharged_mass: mass,
-        discharge_time: 1.0,
-        fill_time: 0.5,
-        settled_kinetic_energy: 1e-9,
-        settled: true,
         area_fraction_exponent: (!eccentric).then_some(b),
-        crossing_area_fraction_exponent: None,
-        radial_fit: None,
-        janssen: None,
-        janssen_not_fitted: None,
-        start: None,
+        ..common_summary(fake, case, dir, rate, 0.01 * rate, StopReason::Empty)
     }
 }
