@@ -44,12 +44,14 @@ plots = true
 /// Upper bound on one phase of the tiny case in wall time; only a hung child reaches it.
 const PATIENCE: Duration = Duration::from_secs(120);
 
-/// The tiny case run to its end without interruption, once for every test that compares
-/// with it, in the test build's scratch folder (replaced on each test run).
+/// The tiny case run to its end without interruption, once per test process for every test
+/// that compares with it, in a folder of the test build's scratch space named by the process
+/// (so that test runners that start a process per test do not share it).
 fn reference() -> &'static Path {
     static REFERENCE: OnceLock<PathBuf> = OnceLock::new();
     REFERENCE.get_or_init(|| {
-        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("real_kill");
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR"))
+            .join(format!("real_kill-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&root);
         std::fs::create_dir_all(&root).expect("the scratch folder");
         let case = root.join("tiny.toml");
