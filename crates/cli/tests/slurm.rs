@@ -85,23 +85,22 @@ const REDUCED: [&str; 3] = [
     "measure.steady_end_fraction=0.4",
 ];
 
+/// `hopperflow study fan2023 --quick` reduced as [`REDUCED`] says, into `out`, with `extra`
+/// options.
+fn reduced_quick(out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["study", "fan2023", "--quick", "--no-pictures"];
+    for set in REDUCED {
+        args.extend(["--set", set]);
+    }
+    args.extend(["--out", utf8(out)]);
+    args.extend_from_slice(extra);
+    hopperflow(&args)
+}
+
 /// The reduced quick study run here, for the reference table.
 fn local_quick(dir: &Path) -> Vec<u8> {
     let out = dir.join("local");
-    let run = hopperflow(&[
-        "study",
-        "fan2023",
-        "--quick",
-        "--no-pictures",
-        "--set",
-        REDUCED[0],
-        "--set",
-        REDUCED[1],
-        "--set",
-        REDUCED[2],
-        "--out",
-        utf8(&out),
-    ]);
+    let run = reduced_quick(&out, &[]);
     assert!(run.status.success(), "local study: {}", text(&run));
     std::fs::read(out.join("results.csv")).expect("local results.csv")
 }
@@ -115,24 +114,7 @@ fn quick_study_as_an_array_job_gives_the_local_table_and_survives_a_scancel() {
 
     // 1. The whole study as an array job, then the report job after it.
     let array = dir.path().join("array");
-    let submit = hopperflow(&[
-        "study",
-        "fan2023",
-        "--quick",
-        "--no-pictures",
-        "--set",
-        REDUCED[0],
-        "--set",
-        REDUCED[1],
-        "--set",
-        REDUCED[2],
-        "--out",
-        utf8(&array),
-        "--slurm",
-        "--submit",
-        "--mem",
-        "500M",
-    ]);
+    let submit = reduced_quick(&array, &["--slurm", "--submit", "--mem", "500M"]);
     assert!(submit.status.success(), "submit: {}", text(&submit));
     let (array_job, report_job) = job_ids(&submit);
     wait_for(&[&array_job, &report_job]);
@@ -154,26 +136,10 @@ fn quick_study_as_an_array_job_gives_the_local_table_and_survives_a_scancel() {
 
     // 2. One task cancelled while it runs, then the unfinished case resubmitted.
     let cancelled = dir.path().join("cancelled");
-    let submit = hopperflow(&[
-        "study",
-        "fan2023",
-        "--quick",
-        "--no-pictures",
-        "--set",
-        REDUCED[0],
-        "--set",
-        REDUCED[1],
-        "--set",
-        REDUCED[2],
-        "--out",
-        utf8(&cancelled),
-        "--slurm",
-        "--submit",
-        "--mem",
-        "500M",
-        "--throttle",
-        "1",
-    ]);
+    let submit = reduced_quick(
+        &cancelled,
+        &["--slurm", "--submit", "--mem", "500M", "--throttle", "1"],
+    );
     assert!(submit.status.success(), "submit: {}", text(&submit));
     let (array_job, report_job) = job_ids(&submit);
     // With one task at a time, task 0 runs first: cancel it once its case has started.
@@ -210,24 +176,7 @@ fn quick_study_as_an_array_job_gives_the_local_table_and_survives_a_scancel() {
         "the task says it stopped on the signal:\n{log}"
     );
     // The resubmission runs only the cancelled case, from its checkpoint.
-    let resubmit = hopperflow(&[
-        "study",
-        "fan2023",
-        "--quick",
-        "--no-pictures",
-        "--set",
-        REDUCED[0],
-        "--set",
-        REDUCED[1],
-        "--set",
-        REDUCED[2],
-        "--out",
-        utf8(&cancelled),
-        "--slurm",
-        "--submit",
-        "--mem",
-        "500M",
-    ]);
+    let resubmit = reduced_quick(&cancelled, &["--slurm", "--submit", "--mem", "500M"]);
     assert!(resubmit.status.success(), "resubmit: {}", text(&resubmit));
     assert!(
         String::from_utf8_lossy(&resubmit.stdout).contains("1 of 6 cases to run"),

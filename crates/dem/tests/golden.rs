@@ -15,7 +15,7 @@
 
 mod common;
 
-use common::{bits_by_tag, pile};
+use common::{bits_by_tag, fnv1a, pile};
 use dem::SimulationConfig;
 
 /// Steps run: 2000 steps of 2.5 µs, 5 ms of simulated time, in which the lattice's random
@@ -28,17 +28,6 @@ const STEPS: u64 = 2000;
 const GOLDEN_STATE_HASH: u64 = 0x0610_bd80_cff1_c1ea;
 /// Particle–particle contacts after the run (a coarse, readable companion of the hash).
 const GOLDEN_CONTACTS: usize = 330;
-
-fn fnv1a(words: impl Iterator<Item = u64>) -> u64 {
-    let mut hash = 0xcbf2_9ce4_8422_2325u64;
-    for word in words {
-        for byte in word.to_le_bytes() {
-            hash ^= u64::from(byte);
-            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    hash
-}
 
 #[test]
 fn pile_run_reproduces_its_golden_state() {

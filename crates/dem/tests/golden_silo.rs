@@ -119,24 +119,7 @@ fn silo(threads: usize, laws: ContactLaws) -> Silo {
         placeholder,
     )
     .expect("a valid cone");
-    let n = 12;
-    let side = 2.0 * SILO_RADIUS / n as f64;
-    let at = |p: usize, q: usize| {
-        DVec3::new(
-            -SILO_RADIUS + p as f64 * side,
-            -SILO_RADIUS + q as f64 * side,
-            0.0,
-        )
-    };
-    let tiles: Vec<[DVec3; 3]> = (0..n)
-        .flat_map(|p| (0..n).map(move |q| (p, q)))
-        .flat_map(|(p, q)| {
-            [
-                [at(p, q), at(p + 1, q), at(p + 1, q + 1)],
-                [at(p, q), at(p + 1, q + 1), at(p, q + 1)],
-            ]
-        })
-        .collect();
+    let tiles = common::square_floor(SILO_RADIUS, 12);
     let floor = Wall::mesh(&tiles, WallMaterial::Rigid, placeholder).expect("a valid mesh");
     let walls = [
         sim.add_wall(cylinder).expect("the cylinder"),
@@ -154,16 +137,7 @@ fn silo(threads: usize, laws: ContactLaws) -> Silo {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(17);
     let placed = packed_spheres(&mut rng);
     for (k, (position, radius)) in placed.into_iter().enumerate() {
-        let velocity = loop {
-            let v = DVec3::new(
-                rng.gen_range(-1.0..1.0),
-                rng.gen_range(-1.0..1.0),
-                rng.gen_range(-1.0..1.0),
-            );
-            if v.length_squared() <= 1.0 {
-                break 0.3 * v;
-            }
-        };
+        let velocity = common::velocity_in_ball(&mut rng, 0.3);
         // Materials alternate independently of size (one in eight is large, one in two "a"),
         // so every pair of materials meets at both sizes.
         let mut init = ParticleInit::at_rest(position, radius, materials[k % 2]);
@@ -264,18 +238,6 @@ fn run_script(silo: &mut Silo) {
     }
 }
 
-/// FNV-1a (64 bit) over `words`.
-fn fnv1a(words: impl Iterator<Item = u64>) -> u64 {
-    let mut hash = 0xcbf2_9ce4_8422_2325u64;
-    for word in words {
-        for byte in word.to_le_bytes() {
-            hash ^= u64::from(byte);
-            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    hash
-}
-
 /// The run's fingerprint: every position, velocity and spin bit by tag, then for each wall
 /// its last step's force and torque and every element's impulse, normal and shear impulse
 /// since the start.
@@ -294,7 +256,7 @@ fn fingerprint(silo: &Silo) -> u64 {
             loads.push(element.shear_impulse.to_bits());
         }
     }
-    fnv1a(state.chain(loads))
+    common::fnv1a(state.chain(loads))
 }
 
 fn golden(law: usize) {

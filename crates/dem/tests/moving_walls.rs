@@ -141,18 +141,7 @@ fn silo(threads: usize) -> (Simulation, [WallId; 3]) {
         i,
     )
     .unwrap();
-    let n = 12;
-    let a = 2.0 * r / n as f64;
-    let at = |p: usize, q: usize| DVec3::new(-r + p as f64 * a, -r + q as f64 * a, 0.0);
-    let tiles: Vec<[DVec3; 3]> = (0..n)
-        .flat_map(|p| (0..n).map(move |q| (p, q)))
-        .flat_map(|(p, q)| {
-            [
-                [at(p, q), at(p + 1, q), at(p + 1, q + 1)],
-                [at(p, q), at(p + 1, q + 1), at(p, q + 1)],
-            ]
-        })
-        .collect();
+    let tiles = common::square_floor(r, 12);
     let mesh = Wall::mesh(&tiles, WallMaterial::Rigid, i).unwrap();
     let ids = [
         sim.add_wall(cyl).unwrap(),

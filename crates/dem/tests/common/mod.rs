@@ -77,16 +77,7 @@ impl Gas {
                     }
                     let position = (DVec3::new(i as f64, j as f64, k as f64) + DVec3::splat(0.5))
                         * self.spacing;
-                    let velocity = loop {
-                        let v = DVec3::new(
-                            rng.gen_range(-1.0..1.0),
-                            rng.gen_range(-1.0..1.0),
-                            rng.gen_range(-1.0..1.0),
-                        );
-                        if v.length_squared() <= 1.0 {
-                            break v * self.speed;
-                        }
-                    };
+                    let velocity = velocity_in_ball(&mut rng, self.speed);
                     let mut init = ParticleInit::at_rest(position, RADIUS, id);
                     init.velocity = velocity;
                     sim.add_particle(init).expect("valid particle");
@@ -127,4 +118,47 @@ pub fn bits_by_tag(sim: &Simulation) -> Vec<(u64, [u64; 9])> {
         .collect();
     out.sort_by_key(|e| e.0);
     out
+}
+
+/// A velocity uniform in the ball of radius `speed` [m/s]: three draws in (−1, 1) from `rng`,
+/// repeated until they fall in the unit ball, times `speed`.
+pub fn velocity_in_ball(rng: &mut Xoshiro256PlusPlus, speed: f64) -> DVec3 {
+    loop {
+        let v = DVec3::new(
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+        );
+        if v.length_squared() <= 1.0 {
+            return v * speed;
+        }
+    }
+}
+
+/// A flat floor at z = 0: the square [−`half`, `half`]² [m] cut into `n` × `n` squares of two
+/// triangles each.
+pub fn square_floor(half: f64, n: usize) -> Vec<[DVec3; 3]> {
+    let side = 2.0 * half / n as f64;
+    let at = |p: usize, q: usize| DVec3::new(-half + p as f64 * side, -half + q as f64 * side, 0.0);
+    (0..n)
+        .flat_map(|p| (0..n).map(move |q| (p, q)))
+        .flat_map(|(p, q)| {
+            [
+                [at(p, q), at(p + 1, q), at(p + 1, q + 1)],
+                [at(p, q), at(p + 1, q + 1), at(p, q + 1)],
+            ]
+        })
+        .collect()
+}
+
+/// FNV-1a (64 bit) over `words`: the goldens' hash of a state's bits.
+pub fn fnv1a(words: impl Iterator<Item = u64>) -> u64 {
+    let mut hash = 0xcbf2_9ce4_8422_2325u64;
+    for word in words {
+        for byte in word.to_le_bytes() {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    hash
 }

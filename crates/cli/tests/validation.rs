@@ -1,0 +1,225 @@
+//! The long validations: runs that take minutes to tens of minutes each, ignored by the test
+//! command, that re-check the numbers `docs/reproduction.md` gives, to the digits it prints.
+//! Run them all with the command that document gives:
+//!
+//! ```sh
+//! cargo test --locked -p hopperflow --test validation -- --ignored --test-threads 1
+//! ```
+//!
+//! A run's numbers depend only on its case, its seed and the build (bit-reproducible at any
+//! thread count), so each documented value is met exactly up to its rounding: the tolerance
+//! is half a unit of the last printed digit. When a change of physics moves them on purpose,
+//! the documented numbers and these tests change together.
+
+mod run_cli;
+
+use std::path::Path;
+
+use run_cli::{hopperflow, utf8};
+use serde_json::Value;
+
+/// The summary of the run in `dir`.
+fn summary(dir: &Path) -> Value {
+    let text = std::fs::read(dir.join("summary.json"))
+        .unwrap_or_else(|e| panic!("{}/summary.json: {e}", dir.display()));
+    serde_json::from_slice(&text).expect("summary.json is JSON")
+}
+
+/// `value` printed with `decimals` decimals, as the documentation prints it.
+fn printed(value: f64, decimals: usize) -> String {
+    format!("{value:.decimals$}")
+}
+
+/// Asserts that `value` in `unit_scale` units rounds to the documented `text`, whose decimals
+/// give the precision: half a unit of its last digit.
+fn assert_documented(what: &str, value: f64, unit_scale: f64, text: &str) {
+    let decimals = text.split('.').nth(1).map_or(0, str::len);
+    assert_eq!(
+        printed(value * unit_scale, decimals),
+        text,
+        "{what}: {value} against the documented {text}"
+    );
+}
+
+/// The `key` of a summary as a number, or its `[value, error]` pair's value.
+fn number(summary: &Value, key: &str) -> f64 {
+    let v = &summary[key];
+    v.as_f64()
+        .or_else(|| v[0].as_f64())
+        .unwrap_or_else(|| panic!("summary key {key}: {v}"))
+}
+
+/// `hopperflow run` with `args` into `dir`; panics with its error output when it fails.
+fn run(args: &[&str], dir: &Path) {
+    let mut all = vec!["run"];
+    all.extend_from_slice(args);
+    all.extend(["--out", utf8(dir), "--quiet"]);
+    let output = hopperflow(&all);
+    assert!(
+        output.status.success(),
+        "hopperflow {all:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// The repository's root.
+fn repository() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}
+
+#[test]
+#[ignore = "long validation (minutes): docs/reproduction.md, \"Long validations\""]
+fn the_base_case_gives_the_documented_rate_and_profiles() {
+    // docs/reproduction.md, "Base case": W = 50.99 ± 0.78 g/s, flux checks 50.71 and
+    // 51.63 g/s, v_c = 0.698 m/s, φ_c = 0.679, φ_B = 0.537, drained after 4.19 s; two
+    // threads give the same bytes.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
+    run(&["--threads", "1"], &one);
+    let s = summary(&one);
+    assert_documented("W [g/s]", number(&s, "discharge_rate"), 1e3, "50.99");
+    assert_documented("σ_W [g/s]", number(&s, "discharge_rate_error"), 1e3, "0.78");
+    assert_documented(
+        "flux ⟨φv⟩ [g/s]",
+        number(&s, "flux_check_rate"),
+        1e3,
+        "50.71",
+    );
+    assert_documented(
+        "flux φ(x)v(x) [g/s]",
+        number(&s, "flux_check_rate_profiles"),
+        1e3,
+        "51.63",
+    );
+    assert_documented("v_c [m/s]", number(&s, "centre_velocity"), 1.0, "0.698");
+    assert_documented("φ_c", number(&s, "centre_area_fraction"), 1.0, "0.679");
+    assert_documented("φ_B", number(&s, "bulk_volume_fraction"), 1.0, "0.537");
+    assert_documented("discharge [s]", number(&s, "discharge_time"), 1.0, "4.19");
+    run(&["--threads", "2"], &two);
+    for name in ["summary.json", "flow.csv", "profiles.csv", "crossings.csv"] {
+        let read = |d: &Path| std::fs::read(d.join(name)).expect(name);
+        assert!(
+            read(&one) == read(&two),
+            "{name} differs between 1 and 2 threads"
+        );
+    }
+}
+
+#[test]
+#[ignore = "long validation (minutes): docs/reproduction.md, \"Long validations\""]
+fn the_reduced_benchmark_silo_gives_the_documented_rate_and_n_of_t() {
+    // docs/reproduction.md, "Reduced silo, exact walls", run under g = 9.81 m/s² as
+    // documented: W = 1.943 ± 0.023 kg/s, φ_B = 0.588, bed 73.8 mm; N(t) every 0.1 s;
+    // the radial fits; W from the fitted profiles 1.936 kg/s.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let case = repository().join("cases/dosta2024-silo-reduced.toml");
+    run(
+        &[utf8(&case), "--set", "gravity=9.81", "--threads", "2"],
+        dir.path(),
+    );
+    let s = summary(dir.path());
+    assert_documented("W [kg/s]", number(&s, "discharge_rate"), 1.0, "1.943");
+    assert_documented(
+        "σ_W [kg/s]",
+        number(&s, "discharge_rate_error"),
+        1.0,
+        "0.023",
+    );
+    assert_documented("φ_B", number(&s, "bulk_volume_fraction"), 1.0, "0.588");
+    assert_documented("bed [mm]", number(&s, "bed_height"), 1e3, "73.8");
+    let fit = &s["radial_fit"];
+    assert_documented(
+        "v_c [m/s]",
+        fit["centre_velocity"][0].as_f64().unwrap(),
+        1.0,
+        "0.745",
+    );
+    assert_documented(
+        "a",
+        fit["velocity_exponent"][0].as_f64().unwrap(),
+        1.0,
+        "0.365",
+    );
+    assert_documented(
+        "φ_c",
+        fit["centre_volume_fraction"][0].as_f64().unwrap(),
+        1.0,
+        "0.541",
+    );
+    assert_documented(
+        "b",
+        fit["packing_exponent"][0].as_f64().unwrap(),
+        1.0,
+        "0.106",
+    );
+    assert_documented(
+        "W from the profiles [kg/s]",
+        fit["profile_rate"][0].as_f64().unwrap(),
+        1.0,
+        "1.936",
+    );
+    let text = std::fs::read_to_string(dir.path().join("remaining.csv")).expect("remaining.csv");
+    let documented = [
+        20_000, 18_244, 15_868, 13_486, 11_134, 8834, 6598, 4444, 2420, 781, 113,
+    ];
+    for (k, expected) in documented.iter().enumerate() {
+        let t = 0.1 * k as f64;
+        let row = text
+            .lines()
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .map(|c| c.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .find(|r| (r[0] - t).abs() < 1e-9)
+            .unwrap_or_else(|| panic!("no N(t) row at t = {t} s"));
+        assert_eq!(row[1], f64::from(*expected), "N({t} s)");
+    }
+}
+
+#[test]
+#[ignore = "long validation (tens of minutes): docs/reproduction.md, \"Long validations\""]
+fn the_quick_3d_beverloo_study_gives_the_documented_table() {
+    // docs/reproduction.md, "3D Beverloo", the reduced study: per orifice D [mm], W [g/s],
+    // v_c [m/s], a, φ_c and b.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let sweep = repository().join("cases/beverloo3d-quick.toml");
+    let output = hopperflow(&[
+        "study",
+        utf8(&sweep),
+        "--out",
+        utf8(dir.path()),
+        "--jobs",
+        "2",
+        "--no-pictures",
+    ]);
+    assert!(
+        output.status.success(),
+        "the study: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let documented = [
+        ("15", "28.2", "0.371", "0.58", "0.380", "0.55"),
+        ("21", "83.6", "0.449", "0.57", "0.437", "0.39"),
+        ("27", "182.2", "0.526", "0.54", "0.477", "0.38"),
+    ];
+    let cases: Vec<_> = std::fs::read_dir(dir.path().join("cases"))
+        .expect("the study's cases")
+        .map(|e| e.expect("an entry").path())
+        .collect();
+    for (d, w, v_c, a, phi_c, b) in documented {
+        let s = cases
+            .iter()
+            .map(|c| summary(c))
+            .find(|s| printed(number(s, "outlet_width") * 1e3, 0) == d)
+            .unwrap_or_else(|| panic!("no case of D = {d} mm"));
+        let fit = &s["radial_fit"];
+        let at = |key: &str| fit[key][0].as_f64().unwrap();
+        assert_documented("W [g/s]", number(&s, "discharge_rate"), 1e3, w);
+        assert_documented("v_c [m/s]", at("centre_velocity"), 1.0, v_c);
+        assert_documented("a", at("velocity_exponent"), 1.0, a);
+        assert_documented("φ_c", at("centre_volume_fraction"), 1.0, phi_c);
+        assert_documented("b", at("packing_exponent"), 1.0, b);
+    }
+}
