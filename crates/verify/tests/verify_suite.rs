@@ -2,7 +2,15 @@
 //! to pass within the tolerance the spec documents for it (each case's module explains its
 //! tolerance; the fast resolution uses 1000 steps per contact, see `Resolution`).
 
+use std::sync::OnceLock;
+
 use verify::{cot, run_all, Resolution, Row};
+
+/// The whole suite's rows at the fast resolution, run once for the tests that read them.
+fn fast_rows() -> &'static [Row] {
+    static ROWS: OnceLock<Vec<Row>> = OnceLock::new();
+    ROWS.get_or_init(|| run_all(Resolution::Fast))
+}
 
 fn failures(rows: &[Row]) -> String {
     rows.iter()
@@ -18,8 +26,7 @@ fn failures(rows: &[Row]) -> String {
 
 #[test]
 fn every_verification_row_passes_at_fast_resolution() {
-    let rows = run_all(Resolution::Fast);
-    let failed = failures(&rows);
+    let failed = failures(fast_rows());
     assert!(failed.is_empty(), "failing rows:\n{failed}");
 }
 
@@ -90,7 +97,7 @@ fn every_case_reports_exactly_its_rows() {
         // per-triangle sum against the total, normal force against the weight.
         ("W6", 2),
     ];
-    let rows = run_all(Resolution::Fast);
+    let rows = fast_rows();
     for (case, n) in expected {
         let count = rows.iter().filter(|r| r.test == case).count();
         assert_eq!(count, n, "case {case} reported {count} rows, expected {n}");
