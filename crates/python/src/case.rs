@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use pyo3::exceptions::{PyKeyError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
-use study::config::{default_case, load_case, parse_case};
+use study::config::{default_case, load_case, parse_case, parse_case_in};
 
 use crate::errors::{case_error, key_error};
 
@@ -22,8 +22,14 @@ const MAX_DEPTH: usize = 16;
 enum Origin {
     /// The paper's base case (no file).
     Paper,
-    /// Case text and the name errors give it (a file name, or `<string>`).
-    Text { text: String, name: String },
+    /// Case text, the name errors give it (a file name, or `<string>`) and the folder its
+    /// relative paths (a mesh case's STL files) are taken from: the case file's, or the
+    /// current folder (`None`) for text.
+    Text {
+        text: String,
+        name: String,
+        dir: Option<PathBuf>,
+    },
 }
 
 /// A validated hopper case (see `hopperflow.Case`).
@@ -42,7 +48,7 @@ impl Case {
     ) -> Result<study::config::Case, study::config::ConfigErrors> {
         match origin {
             Origin::Paper => default_case(sets),
-            Origin::Text { text, name } => parse_case(text, name, sets),
+            Origin::Text { text, name, dir } => parse_case_in(text, name, dir.as_deref(), sets),
         }
     }
 
@@ -105,6 +111,7 @@ impl Case {
             origin: Origin::Text {
                 text,
                 name: path.display().to_string(),
+                dir: path.parent().map(PathBuf::from),
             },
             sets: Vec::new(),
             case,
@@ -117,7 +124,11 @@ impl Case {
     fn from_toml(py: Python<'_>, text: String, name: String) -> PyResult<Self> {
         let case = parse_case(&text, &name, &[]).map_err(|e| case_error(py, &e))?;
         Ok(Self {
-            origin: Origin::Text { text, name },
+            origin: Origin::Text {
+                text,
+                name,
+                dir: None,
+            },
             sets: Vec::new(),
             case,
         })

@@ -1,20 +1,25 @@
 //! `Simulation`: the engine of a case, stepped from Python, its state read as numpy arrays.
 //!
-//! The simulation starts as a run does: the case's hopper walls with the gate closed and
-//! the case's particle material, but no particles; the caller adds them. Arrays are read-only
-//! copies (numpy arrays over bytes), so no Python object ever points into the engine's
-//! storage while it steps.
+//! The simulation starts as a run does, for every container kind (slab, cylinder, box,
+//! mesh): `study::hopper::case_simulation_by_component`, the function a run builds its
+//! engine with, gives the container's walls with the gate closed and the material of each
+//! mixture component, but no particles; the caller adds them. A simulation may also start
+//! from a bed a run saved (`from_bed`), its settled state as the run kept it. Arrays are
+//! read-only copies (numpy arrays over bytes), so no Python object ever points into the
+//! engine's storage while it steps.
 
 use std::collections::HashSet;
+use std::path::PathBuf;
 
-use dem::{DVec3, DemError, MaterialId, ParticleInit, Wall, WallId};
+use dem::{DVec3, DemError, Interaction, MaterialId, ParticleInit, Wall, WallId, WallMaterial};
 use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use study::hopper::{hopper_simulation, HopperWalls};
+use study::hopper::{case_simulation, case_simulation_by_component, ContainerWalls};
+use study::run::read_bed;
 
 use crate::case::Case;
-use crate::errors::RunError;
+use crate::errors::{case_error, RunError};
 use crate::run::{checked_threads, panic_text};
 
 /// Steps taken between two looks at signals (Ctrl-C) during `step(n)`: each `run` ends
@@ -25,12 +30,31 @@ const STEPS_PER_SLICE: u64 = 2000;
 /// paper's Δt it is 2500 s of simulated time).
 const MAX_STEPS: i64 = 1_000_000_000;
 
-/// The engine of a case (see `hopperflow.Simulation`).
+/// How the container's walls meet the particles, which walls added from Python copy: the
+/// wall material, the wall's own interaction and the one with each particle material that
+/// differs from it (a case with a `[materials]` table sets one per pair).
+#[derive(Clone)]
+struct WallTemplate {
+    material: WallMaterial,
+    interaction: Interaction,
+    per_material: Vec<(MaterialId, Interaction)>,
+}
+
+/// The DEM engine of a case, stepped from Python. `Simulation.from_case(case)` builds the
+/// container of any kind (slab, cylinder, box, mesh; mixtures included) as a run does, gate
+/// closed and no particles yet; `Simulation.from_bed(path)` starts from a bed a run saved.
+/// Particles are added and read as numpy arrays (read-only copies), and `walls` names the
+/// container's walls (docs/python.md, "The engine").
 #[pyclass(module = "hopperflow._native", name = "Simulation")]
 pub struct Simulation {
     sim: dem::Simulation,
-    walls: HopperWalls,
-    material: MaterialId,
+    walls: ContainerWalls,
+    /// The engine material of each component of `particles.components`, in order.
+    materials: Vec<MaterialId>,
+    /// The component of each particle, by tag, for a mixture (empty for one component), as
+    /// a run records them.
+    components: Vec<u8>,
+    wall_template: WallTemplate,
     case: study::config::Case,
 }
 
@@ -67,6 +91,16 @@ fn array<'py>(
     }
 }
 
+/// Refuses an argument `name` of `len` `items` beside `n` positions: one `each` per particle.
+fn one_each(name: &str, items: &str, len: usize, n: usize, each: &str) -> PyResult<()> {
+    if len == n {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "{name} has {len} {items} but positions has {n}: one {each} per particle"
+    )))
+}
+
 fn f64_bytes(values: impl Iterator<Item = f64>) -> Vec<u8> {
     values.flat_map(f64::to_ne_bytes).collect()
 }
@@ -75,16 +109,92 @@ fn vec3_bytes(values: &[DVec3]) -> Vec<u8> {
     f64_bytes(values.iter().flat_map(|v| v.to_array()))
 }
 
+/// The template of the walls of `walls` in `sim`, read from the first of them present (the
+/// gate, closed, is present in a fresh container and in a bed); the case's `[wall]`
+/// coefficients on a rigid wall if none is.
+fn wall_template(
+    sim: &dem::Simulation,
+    walls: &ContainerWalls,
+    materials: &[MaterialId],
+    case: &study::config::Case,
+) -> WallTemplate {
+    let present = walls
+        .all()
+        .into_iter()
+        .find_map(|id| sim.wall(id).map(|w| (id, w)));
+    let Some((id, wall)) = present else {
+        let i = &case.wall.interaction;
+        return WallTemplate {
+            material: WallMaterial::Rigid,
+            interaction: Interaction {
+                friction: i.friction,
+                rolling_friction: i.rolling_friction,
+                restitution: i.restitution,
+            },
+            per_material: Vec::new(),
+        };
+    };
+    let mut per_material: Vec<(MaterialId, Interaction)> = Vec::new();
+    for &m in materials {
+        let pair = sim
+            .wall_interaction(id, m)
+            .filter(|i| *i != wall.interaction);
+        if let Some(i) = pair.filter(|_| per_material.iter().all(|(k, _)| *k != m)) {
+            per_material.push((m, i));
+        }
+    }
+    WallTemplate {
+        material: wall.material,
+        interaction: wall.interaction,
+        per_material,
+    }
+}
+
 impl Simulation {
     fn build(case: &study::config::Case, threads: usize) -> PyResult<Self> {
-        let (sim, walls, material) =
-            hopper_simulation(case, threads).map_err(|e| engine_error(&e))?;
-        Ok(Self {
+        let (sim, walls, materials) =
+            case_simulation_by_component(case, threads).map_err(|e| engine_error(&e))?;
+        Ok(Self::assemble(sim, walls, materials, Vec::new(), case))
+    }
+
+    fn assemble(
+        sim: dem::Simulation,
+        walls: ContainerWalls,
+        materials: Vec<MaterialId>,
+        components: Vec<u8>,
+        case: &study::config::Case,
+    ) -> Self {
+        let wall_template = wall_template(&sim, &walls, &materials, case);
+        Self {
             sim,
             walls,
-            material,
+            materials,
+            components,
+            wall_template,
             case: case.clone(),
-        })
+        }
+    }
+
+    /// The component index `component`, checked against the case's components.
+    fn component(&self, component: i64) -> PyResult<u8> {
+        let n = self.materials.len();
+        match usize::try_from(component) {
+            Ok(k) if k < n => Ok(k as u8),
+            _ => Err(PyValueError::new_err(format!(
+                "component = {component}: must be an integer in 0..{n} (an index into \
+                 `component_names`: {})",
+                self.component_names().join(", ")
+            ))),
+        }
+    }
+
+    fn component_names(&self) -> Vec<String> {
+        self.case
+            .particles
+            .components
+            .iter()
+            .map(|c| c.name.clone())
+            .collect()
     }
 
     fn init(
@@ -93,13 +203,15 @@ impl Simulation {
         radius: f64,
         velocity: Option<[f64; 3]>,
         angular_velocity: Option<[f64; 3]>,
+        component: u8,
     ) -> PyResult<ParticleInit> {
         if !(radius > 0.0 && radius.is_finite()) {
             return Err(PyValueError::new_err(format!(
                 "radius = {radius}: must be positive and finite [m]"
             )));
         }
-        let mut init = ParticleInit::at_rest(vec3("position", position)?, radius, self.material);
+        let material = self.materials[usize::from(component)];
+        let mut init = ParticleInit::at_rest(vec3("position", position)?, radius, material);
         if let Some(v) = velocity {
             init.velocity = vec3("velocity", v)?;
         }
@@ -107,6 +219,31 @@ impl Simulation {
             init.angular_velocity = vec3("angular_velocity", w)?;
         }
         Ok(init)
+    }
+
+    /// Adds a checked particle of mixture component `component`; returns its id.
+    fn add(&mut self, init: ParticleInit, component: u8) -> PyResult<u64> {
+        let tag = self.sim.add_particle(init).map_err(|e| engine_error(&e))?;
+        // Recorded as a run records them: only a mixture's particles, by tag.
+        if self.materials.len() > 1 {
+            let k = tag as usize;
+            if self.components.len() <= k {
+                self.components.resize(k + 1, u8::MAX);
+            }
+            self.components[k] = component;
+        }
+        Ok(tag)
+    }
+
+    /// Adds `wall` with the container walls' material and interactions; returns its id.
+    fn add_wall(&mut self, wall: Wall) -> PyResult<u32> {
+        let id = self.sim.add_wall(wall).map_err(|e| engine_error(&e))?;
+        for &(m, interaction) in &self.wall_template.per_material {
+            self.sim
+                .set_wall_interaction(id, m, interaction)
+                .map_err(|e| engine_error(&e))?;
+        }
+        Ok(id.0)
     }
 
     /// Takes `n` steps with the GIL released, looking for Ctrl-C between slices.
@@ -140,7 +277,7 @@ impl Simulation {
             .filter(|w| self.sim.wall(*w).is_some());
         valid.ok_or_else(|| {
             PyKeyError::new_err(format!(
-                "wall {id}: no such wall (removed, or never added); `walls` lists the hopper's"
+                "wall {id}: no such wall (removed, or never added); `walls` lists the container's"
             ))
         })
     }
@@ -148,12 +285,37 @@ impl Simulation {
 
 #[pymethods]
 impl Simulation {
-    /// The engine of `case`: its walls (gate closed) and material, no particles yet.
+    /// The engine of `case`, of any kind (slab, cylinder, box, mesh), as a run builds it:
+    /// the container's walls (gate closed) and the material of each mixture component, no
+    /// particles yet.
     #[staticmethod]
     #[pyo3(signature = (case, threads = 1))]
     fn from_case(case: PyRef<'_, Case>, threads: i64) -> PyResult<Self> {
         let threads = checked_threads(threads)?;
         Self::build(&case.case, threads)
+    }
+
+    /// The settled bed a run saved in folder `path` (`save_bed=`, `--save-bed`): its case,
+    /// the engine's state at the end of the settling (gate closed) and each particle's
+    /// component, bit for bit as the run kept them.
+    #[staticmethod]
+    #[pyo3(signature = (path, threads = 1))]
+    fn from_bed(py: Python<'_>, path: PathBuf, threads: i64) -> PyResult<Self> {
+        let threads = checked_threads(threads)?;
+        let bed = read_bed(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let name = format!("{} (its case)", bed.path().display());
+        let case = study::config::parse_case(bed.case_text(), &name, &[])
+            .map_err(|e| case_error(py, &e))?;
+        let state = bed.state();
+        let sim = dem::Simulation::from_state(state.simulation().clone(), threads)
+            .map_err(|e| engine_error(&e))?;
+        Ok(Self::assemble(
+            sim,
+            state.walls().clone(),
+            state.component_materials().to_vec(),
+            state.particle_components().to_vec(),
+            &case,
+        ))
     }
 
     /// Takes `n` steps of Δt (the case's `time_step`). Ctrl-C stops between slices of
@@ -168,43 +330,41 @@ impl Simulation {
         self.advance(py, n as u64)
     }
 
-    /// Adds one particle of the case's material; returns its id.
-    #[pyo3(signature = (position, radius, velocity = None, angular_velocity = None))]
+    /// Adds one particle, of the material of mixture component `component` (an index into
+    /// `component_names`; 0, the case's one material, for a case of one component); returns
+    /// its id.
+    #[pyo3(signature = (position, radius, velocity = None, angular_velocity = None, component = 0))]
     fn add_particle(
         &mut self,
         position: [f64; 3],
         radius: f64,
         velocity: Option<[f64; 3]>,
         angular_velocity: Option<[f64; 3]>,
+        component: i64,
     ) -> PyResult<u64> {
-        let init = self.init(position, radius, velocity, angular_velocity)?;
-        self.sim.add_particle(init).map_err(|e| engine_error(&e))
+        let component = self.component(component)?;
+        let init = self.init(position, radius, velocity, angular_velocity, component)?;
+        self.add(init, component)
     }
 
-    /// Adds particles at `positions` (N×3) with `radii` (N) and optional `velocities`
-    /// (N×3); returns their ids. Nothing is added when any of them is refused.
-    #[pyo3(signature = (positions, radii, velocities = None))]
+    /// Adds particles at `positions` (N×3) with `radii` (N), optional `velocities` (N×3)
+    /// and optional mixture `components` (N indices into `component_names`; all 0 when
+    /// left out); returns their ids. Nothing is added when any of them is refused.
+    #[pyo3(signature = (positions, radii, velocities = None, components = None))]
     fn add_particles(
         &mut self,
         positions: Vec<[f64; 3]>,
         radii: Vec<f64>,
         velocities: Option<Vec<[f64; 3]>>,
+        components: Option<Vec<i64>>,
     ) -> PyResult<Vec<u64>> {
-        if radii.len() != positions.len() {
-            return Err(PyValueError::new_err(format!(
-                "radii has {} entries but positions has {}: one radius per particle",
-                radii.len(),
-                positions.len()
-            )));
-        }
+        let n = positions.len();
+        one_each("radii", "entries", radii.len(), n, "radius")?;
         if let Some(v) = &velocities {
-            if v.len() != positions.len() {
-                return Err(PyValueError::new_err(format!(
-                    "velocities has {} rows but positions has {}: one velocity per particle",
-                    v.len(),
-                    positions.len()
-                )));
-            }
+            one_each("velocities", "rows", v.len(), n, "velocity")?;
+        }
+        if let Some(c) = &components {
+            one_each("components", "entries", c.len(), n, "component")?;
         }
         let inits = positions
             .iter()
@@ -212,13 +372,15 @@ impl Simulation {
             .enumerate()
             .map(|(k, (p, r))| {
                 let v = velocities.as_ref().map(|v| v[k]);
-                self.init(*p, *r, v, None)
+                let component = components.as_ref().map_or(0, |c| c[k]);
+                self.component(component)
+                    .and_then(|c| Ok((self.init(*p, *r, v, None, c)?, c)))
                     .map_err(|e| PyValueError::new_err(format!("particle {k}: {e}")))
             })
             .collect::<PyResult<Vec<_>>>()?;
         inits
             .into_iter()
-            .map(|init| self.sim.add_particle(init).map_err(|e| engine_error(&e)))
+            .map(|(init, component)| self.add(init, component))
             .collect()
     }
 
@@ -244,9 +406,13 @@ impl Simulation {
             .collect())
     }
 
-    /// Adds an infinite plane wall of the case's wall material; returns its id.
+    /// Adds an infinite plane wall of the container walls' material; returns its id.
     fn add_plane(&mut self, point: [f64; 3], normal: [f64; 3]) -> PyResult<u32> {
-        let (material, interaction) = self.wall_material();
+        let WallTemplate {
+            material,
+            interaction,
+            ..
+        } = self.wall_template;
         let wall = Wall::plane(
             vec3("point", point)?,
             vec3("normal", normal)?,
@@ -254,19 +420,24 @@ impl Simulation {
             interaction,
         )
         .map_err(|e| PyValueError::new_err(format!("plane: {e}")))?;
-        Ok(self.sim.add_wall(wall).map_err(|e| engine_error(&e))?.0)
+        self.add_wall(wall)
     }
 
-    /// Adds a convex planar polygon wall (vertices in order) of the case's wall material.
+    /// Adds a convex planar polygon wall (vertices in order) of the container walls'
+    /// material; returns its id.
     fn add_polygon(&mut self, vertices: Vec<[f64; 3]>) -> PyResult<u32> {
-        let (material, interaction) = self.wall_material();
+        let WallTemplate {
+            material,
+            interaction,
+            ..
+        } = self.wall_template;
         let vertices = vertices
             .into_iter()
             .map(|v| vec3("vertex", v))
             .collect::<PyResult<Vec<_>>>()?;
         let wall = Wall::polygon(vertices, material, interaction)
             .map_err(|e| PyValueError::new_err(format!("polygon: {e}")))?;
-        Ok(self.sim.add_wall(wall).map_err(|e| engine_error(&e))?.0)
+        self.add_wall(wall)
     }
 
     /// Removes a wall (the gate, say).
@@ -278,7 +449,7 @@ impl Simulation {
 
     /// Opens the outlet: removes the gate.
     fn open_gate(&mut self) -> PyResult<()> {
-        self.remove_wall(i64::from(self.walls.gate.0))
+        self.remove_wall(i64::from(self.walls.gate().0))
     }
 
     /// Moves a wall rigidly by `offset` [m].
@@ -301,7 +472,8 @@ impl Simulation {
 
     /// The load the particles exerted on wall `id` in the last step: the force [N] and the
     /// torque about the origin [N m], each a read-only float64 array of 3. Zero before the
-    /// first step, and for the front and back faces, whose load is not summed.
+    /// first step, and always for a wall that does not sum its load (a slab's front and
+    /// back faces).
     fn wall_load<'py>(
         &self,
         py: Python<'py>,
@@ -315,27 +487,37 @@ impl Simulation {
         ))
     }
 
-    /// The hopper's walls by name: left, right, front, back, plate_left, plate_right (when
-    /// present) and gate (while present).
+    /// The container's walls by name, the names of `wall_forces.csv`, while present (walls
+    /// added from Python are not among them): a slab's left, right, front, back,
+    /// plate_left and plate_right (where the outlet leaves room for them); a cylinder's
+    /// cylinder and hopper (a cone) or bottom (flat); a box's left, right, front, back,
+    /// its plates (plate_left, plate_right, plate_front, plate_back) or bottom; a mesh's
+    /// STL walls by their names; and every kind's gate until it is removed.
     #[getter]
     fn walls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        let w = &self.walls;
-        let named = [
-            ("left", Some(w.sides[0])),
-            ("right", Some(w.sides[1])),
-            ("front", Some(w.faces[0])),
-            ("back", Some(w.faces[1])),
-            ("plate_left", w.plates[0]),
-            ("plate_right", w.plates[1]),
-            ("gate", Some(w.gate)),
-        ];
-        for (name, id) in named {
-            if let Some(id) = id.filter(|id| self.sim.wall(*id).is_some()) {
+        for id in self.walls.all() {
+            if self.sim.wall(id).is_none() {
+                continue;
+            }
+            if let Some(name) = self.walls.name_of(id) {
                 d.set_item(name, id.0)?;
             }
         }
         Ok(d)
+    }
+
+    /// The container's kind: "slab", "cylinder", "box" or "mesh".
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.case.geometry.kind()
+    }
+
+    /// The names of the case's particle components, in order (one name for a case of one
+    /// component): what the indices of `components` and of `add_particle(component=)` mean.
+    #[getter(component_names)]
+    fn get_component_names(&self) -> Vec<String> {
+        self.component_names()
     }
 
     /// Simulated time [s].
@@ -434,6 +616,21 @@ impl Simulation {
         array(py, bytes, "uint64", 0)
     }
 
+    /// Each particle's mixture component, N: an index into `component_names` (all 0 for a
+    /// case of one component).
+    #[getter]
+    fn components<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        // Only a mixture records components, for every particle it adds; the others are 0.
+        let component = |tag: &u64| self.components.get(*tag as usize).copied();
+        let tags = self.sim.particles().tags();
+        array(
+            py,
+            tags.iter().map(|t| component(t).unwrap_or(0)).collect(),
+            "uint8",
+            0,
+        )
+    }
+
     /// Material index of each particle, N.
     #[getter]
     fn materials<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -478,25 +675,6 @@ impl Simulation {
     }
 }
 
-impl Simulation {
-    /// The material and interaction of the case's walls, as the hopper's walls have them.
-    fn wall_material(&self) -> (dem::WallMaterial, dem::Interaction) {
-        // The hopper's walls all share one material; the left side wall always exists.
-        let wall = self.sim.wall(self.walls.sides[0]);
-        match wall {
-            Some(w) => (w.material, w.interaction),
-            None => (
-                dem::WallMaterial::Rigid,
-                dem::Interaction {
-                    friction: self.case.wall.interaction.friction,
-                    rolling_friction: self.case.wall.interaction.rolling_friction,
-                    restitution: self.case.wall.interaction.restitution,
-                },
-            ),
-        }
-    }
-}
-
 /// The reference for the bit-identity test of `Simulation`: the same set-up stepped by the
 /// engine in one uninterrupted `run`, without the Python class in between. Returns the
 /// positions, velocities and angular velocities as read-only N×3 arrays.
@@ -517,14 +695,14 @@ pub fn engine_reference<'py>(
     let case = case.case.clone();
     let result = py.detach(move || -> Result<dem::Simulation, String> {
         let (mut sim, walls, material) =
-            hopper_simulation(&case, threads).map_err(|e| e.to_string())?;
+            case_simulation(&case, threads).map_err(|e| e.to_string())?;
         for ((p, r), v) in positions.iter().zip(&radii).zip(&velocities) {
             let mut init = ParticleInit::at_rest(DVec3::from_array(*p), *r, material);
             init.velocity = DVec3::from_array(*v);
             sim.add_particle(init).map_err(|e| e.to_string())?;
         }
         if open_gate {
-            sim.remove_wall(walls.gate).map_err(|e| e.to_string())?;
+            sim.remove_wall(walls.gate()).map_err(|e| e.to_string())?;
         }
         sim.run(steps).map_err(|e| e.to_string())?;
         Ok(sim)

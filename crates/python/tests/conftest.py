@@ -9,8 +9,9 @@ import pytest
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[2]
-TINY = HERE / "cases" / "tiny.toml"
-TINY_SWEEP = HERE / "cases" / "tiny-sweep.toml"
+CASES = HERE / "cases"
+TINY = CASES / "tiny.toml"
+TINY_SWEEP = CASES / "tiny-sweep.toml"
 
 
 def cli_path() -> Path:

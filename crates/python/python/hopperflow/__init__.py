@@ -47,16 +47,19 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: The tables of a run, by attribute name: a finished run writes flow.csv, profiles.csv,
-#: field.csv (when its steady window was found), crossings.csv, wall_forces.csv (the
-#: mean loads on the walls, by window of the run) and, for a mixture, composition.csv (the
-#: outflow by component); asking for a table the run folder does not hold raises
-#: FileNotFoundError.
+#: crossings.csv, remaining.csv (the particles left in the container against time),
+#: wall_forces.csv (the mean loads on the walls, by window of the run), field.csv (a slab's,
+#: when its steady window was found), wall_pressure.csv (a cylindrical silo's wall pressure
+#: by zone of height) and, for a mixture, composition.csv (the outflow by component); asking
+#: for a table the run folder does not hold raises FileNotFoundError.
 RUN_TABLES = {
     "flow": "flow.csv",
     "profiles": "profiles.csv",
     "field": "field.csv",
     "crossings": "crossings.csv",
+    "remaining": "remaining.csv",
     "wall_forces": "wall_forces.csv",
+    "wall_pressure": "wall_pressure.csv",
     "composition": "composition.csv",
 }
 

@@ -115,6 +115,12 @@ impl Bed {
     pub fn sha256(&self) -> &str {
         &self.sha256
     }
+
+    /// The run's state at the end of the settling, gate closed: what a simulation of the
+    /// bed starts from.
+    pub fn state(&self) -> &RunState {
+        &self.state
+    }
 }
 
 /// Why a bed cannot be read, or cannot be reused by a case.

@@ -116,6 +116,27 @@ pub struct RunState {
 }
 
 impl RunState {
+    /// The engine's state: particles, walls, contact histories, time and step count.
+    pub fn simulation(&self) -> &SimulationState {
+        &self.sim
+    }
+
+    /// The handles of the container's walls in [`RunState::simulation`].
+    pub fn walls(&self) -> &ContainerWalls {
+        &self.walls
+    }
+
+    /// The engine material of each component of `particles.components`, in order.
+    pub fn component_materials(&self) -> &[MaterialId] {
+        &self.materials
+    }
+
+    /// The component of each particle, by tag, for a mixture (an index into
+    /// `particles.components`; `u8::MAX` for a tag never given one); empty for one component.
+    pub fn particle_components(&self) -> &[u8] {
+        &self.components
+    }
+
     /// Records that the particle tagged `tag` belongs to mixture component `component`.
     fn record_component(&mut self, tag: u64, component: u8) {
         let k = tag as usize;
