@@ -390,7 +390,7 @@ pub fn discharge_benchmark(
             })
         }
         // The loop above ends only in the discharge or after it.
-        Phase::Fill { .. } | Phase::Settle { .. } => {
+        Phase::Fill { .. } | Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => {
             return Err(crate::run::RunError::NotMeasured(
                 "a benchmark window before the gate opened",
             ))

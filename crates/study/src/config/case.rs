@@ -138,6 +138,11 @@ pub struct Protocol {
     /// until the hopper is empty, drained or clogged; the studies stop at 0.7, as soon as
     /// the steady window (15–70 % of the fill discharged) is complete.
     pub stop_fraction: f64,
+    /// How far a silo's side walls slip up past the settled bed before the opening [m]
+    /// (docs/physics.md §7.7): the bed then settles again with its wall friction mobilised
+    /// upward, Janssen's filling state. 0 (the default) leaves the fill's bed as it is.
+    #[serde(default)]
+    pub wall_slip: f64,
 }
 
 /// Measurement settings (physics spec §7).
@@ -227,6 +232,7 @@ impl Case {
                 clog_timeout: 0.3,
                 time_limit: 20.0,
                 stop_fraction: 1.0,
+                wall_slip: 0.0,
             },
             geometry: Geometry::Slab(slab),
             materials: None,

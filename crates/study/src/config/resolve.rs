@@ -180,6 +180,12 @@ pub(crate) fn resolve_case(
         d_max,
         d_max_source,
         height,
+        (
+            particles.as_ref().map_or(3.0e-3, |(p, _)| p.min_diameter()),
+            geometry
+                .as_ref()
+                .map(|g| matches!(g, Geometry::Cylinder(_) | Geometry::Box(_))),
+        ),
         &mut errors,
     );
     let measure = read_measure(

@@ -100,6 +100,7 @@ pub(crate) fn read_protocol(
     d_max: f64,
     d_max_source: Option<&str>,
     height: Option<f64>,
+    (d_min, side_walls): (f64, Option<bool>),
     errors: &mut Vec<ConfigError>,
 ) -> Option<Protocol> {
     let base = Case::paper_base().protocol;
@@ -117,6 +118,7 @@ pub(crate) fn read_protocol(
     let clog = section.float_or("clog_timeout", "s", base.clog_timeout, errors);
     let limit = section.float_or("time_limit", "s", base.time_limit, errors);
     let stop = section.float_or("stop_fraction", "-", base.stop_fraction, errors);
+    let slip = section.float_or("wall_slip", "m", base.wall_slip, errors);
     section.finish(
         &[
             "settle_kinetic_energy",
@@ -128,6 +130,7 @@ pub(crate) fn read_protocol(
             "clog_timeout",
             "time_limit",
             "stop_fraction",
+            "wall_slip",
         ],
         errors,
     );
@@ -141,6 +144,30 @@ pub(crate) fn read_protocol(
         & stop.require_positive(errors);
     if ok && stop.value > 1.0 {
         errors.push(stop.error(ErrorKind::Invalid, "must be in (0, 1]".to_string()));
+        ok = false;
+    }
+    // The slip opens a gap of its size under the side walls (or between a cylinder and its
+    // cone): at most half the smallest diameter keeps every sphere inside.
+    if slip.require_non_negative(errors) {
+        if slip.value > 0.5 * d_min {
+            errors.push(slip.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be in [0, {} m], half the smallest particle diameter, so that the \
+                     gap the slip opens under the side walls keeps every sphere inside",
+                    rounded(0.5 * d_min)
+                ),
+            ));
+            ok = false;
+        } else if slip.value > 0.0 && side_walls == Some(false) {
+            errors.push(slip.error(
+                ErrorKind::Invalid,
+                "must be 0 here: only a cylinder's or a box's side walls can slip past \
+                 the bed (geometry.kind = \"cylinder\" or \"box\")",
+            ));
+            ok = false;
+        }
+    } else {
         ok = false;
     }
     if ok && bottom.value >= top.value {
@@ -191,6 +218,7 @@ pub(crate) fn read_protocol(
         clog_timeout: clog.value,
         time_limit: limit.value,
         stop_fraction: stop.value,
+        wall_slip: slip.value,
     })
 }
 

@@ -189,6 +189,7 @@ deletion_depth = 0.02    # [m], particles this far below the orifice are removed
 clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
 time_limit = 5.0         # [s], longest simulated discharge after the gate opens
 stop_fraction = 1.0      # [-], stop once this fraction of the fill has left and the steady window is complete
+wall_slip = 0.0          # [m], after settling the side walls slip up past the bed by this much, then it settles again: wall friction mobilised upward (Janssen's filling state, docs/physics.md §7.7); in [0, d_min/2], 0 = off
 
 [measure]
 rate_bin_width = 0.01    # [s], time bins of W(t) and the samples of N(t) (remaining.csv)
@@ -270,6 +271,7 @@ fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped
 time_limit = 10.0        # [s], longest simulated discharge after the gate opens
 stop_fraction = 1.0      # [-], stop once this fraction of the fill has left and the steady window is complete
+wall_slip = 0.0          # [m], after settling the side walls slip up past the bed by this much, then it settles again: wall friction mobilised upward (Janssen's filling state, docs/physics.md §7.7); in [0, d_min/2], 0 = off
 
 [measure]
 rate_bin_width = 0.02    # [s], time bins of W(t) and the samples of N(t) (remaining.csv)

@@ -391,6 +391,11 @@ impl Case {
         let _ = writeln!(out, "clog_timeout = {}  # [s]", float(pr.clog_timeout));
         let _ = writeln!(out, "time_limit = {}  # [s]", float(pr.time_limit));
         let _ = writeln!(out, "stop_fraction = {}  # [-]", float(pr.stop_fraction));
+        // Written only when set, so that the resolved text (and the config hash) of every case
+        // without a slip stays as it was.
+        if pr.wall_slip > 0.0 {
+            let _ = writeln!(out, "wall_slip = {}  # [m]", float(pr.wall_slip));
+        }
 
         let m = &self.measure;
         let _ = writeln!(out, "\n[measure]");

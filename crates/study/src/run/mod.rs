@@ -216,7 +216,8 @@ pub enum RunOutcome {
 fn phase_name(p: Phase) -> &'static str {
     match p {
         Phase::Fill { .. } => "fill",
-        Phase::Settle { .. } => "settle",
+        Phase::Settle { .. } | Phase::Resettle { .. } => "settle",
+        Phase::Slip { .. } => "slip",
         Phase::Discharge { .. } => "discharge",
         Phase::Done { .. } => "done",
     }
@@ -636,7 +637,7 @@ pub fn run_case_from(
             let total = case.particles.count as f64;
             let fraction = match run.phase() {
                 Phase::Fill { inserted, .. } => inserted as f64 / total,
-                Phase::Settle { .. } => 1.0,
+                Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => 1.0,
                 Phase::Discharge { .. } | Phase::Done { .. } => {
                     run.state.discharged_mass / (total_mass(case)).max(f64::MIN_POSITIVE)
                 }

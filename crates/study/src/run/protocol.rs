@@ -43,6 +43,12 @@ const CROSSING_BAND_DIAMETERS: f64 = 2.0;
 /// profile (decay lengths of tens of diameters), coarse enough that a zone holds many
 /// contacts.
 const PRESSURE_ZONE_DIAMETERS: f64 = 2.0;
+/// Speed at which the side walls slip past the settled bed (`protocol.wall_slip`) [m/s]:
+/// slow enough to be quasi-static (a sphere of the benchmark's M1 at this speed has 4e-10 J of
+/// kinetic energy, below the default settling threshold of 1e-9 J, and the slip's 10⁴–10⁵
+/// steps are hundreds of contact times), fast enough that a slip of a tenth of a diameter
+/// costs under 0.1 s of simulated time.
+const WALL_SLIP_SPEED: f64 = 0.003;
 /// The discharge's pressure windows, in W(t) bins.
 const PRESSURE_WINDOW_BINS: f64 = 10.0;
 
@@ -74,6 +80,17 @@ pub enum Phase {
         reason: StopReason,
         /// When the gate opened [s].
         opened: f64,
+    },
+    /// The settled bed's side walls rise by `protocol.wall_slip` relative to its bottom
+    /// (docs/physics.md §7.7), at a constant speed, until the step `until_step`.
+    Slip {
+        /// The step at which the walls have risen by the whole slip and stop.
+        until_step: u64,
+    },
+    /// Settling again after the slip, as in `Settle`; the gate opens when it is calm.
+    Resettle {
+        /// When the slip ended [s].
+        since: f64,
     },
 }
 
@@ -500,7 +517,9 @@ impl CaseRun {
                 inserted,
                 last_insert,
             } => self.fill(inserted, last_insert, chunk),
-            Phase::Settle { since } => self.settle(since, chunk),
+            Phase::Settle { since } => self.settle(since, chunk, false),
+            Phase::Slip { until_step } => self.slip(until_step, chunk),
+            Phase::Resettle { since } => self.settle(since, chunk, true),
             Phase::Discharge {
                 opened,
                 last_crossing,
@@ -588,7 +607,10 @@ impl CaseRun {
         Ok(())
     }
 
-    fn settle(&mut self, since: f64, chunk: u64) -> Result<(), RunError> {
+    /// Settling checks until the bed is calm, then the opening; `slipped` says whether the
+    /// walls have slipped past the bed already. A calm bed that is still to slip
+    /// (`protocol.wall_slip` > 0) starts the slip instead of the opening.
+    fn settle(&mut self, since: f64, chunk: u64, slipped: bool) -> Result<(), RunError> {
         self.run_recording_loads(chunk)?;
         let t = self.sim.time();
         if t < self.state.next_check {
@@ -600,6 +622,9 @@ impl CaseRun {
         let ke = self.mean_kinetic_energy();
         let calm = ke < self.case.protocol.settle_kinetic_energy;
         if calm || t - since > self.case.protocol.max_settle_time {
+            if !slipped && self.case.protocol.wall_slip > 0.0 {
+                return self.start_slip();
+            }
             self.state.settled = calm;
             self.state.settled_kinetic_energy = ke;
             self.state.bulk = self.measure_bulk().ok();
@@ -609,6 +634,61 @@ impl CaseRun {
                 self.bed = Some(Box::new(self.checkpoint().clone()));
             }
             self.open_gate()?;
+        }
+        Ok(())
+    }
+
+    /// The side walls that slip past the settled bed: a silo's cylinder, a box's four sides
+    /// (the bottom, a cone or plates and the gate stay, so the bed keeps resting on them).
+    fn slipping_walls(&self) -> Vec<dem::WallId> {
+        match &self.state.walls {
+            ContainerWalls::Silo(w) => vec![w.cylinder],
+            ContainerWalls::Box(w) => w.sides.to_vec(),
+            // The case's checks refuse a slip for these kinds.
+            ContainerWalls::Slab(_) | ContainerWalls::Mesh(_) => Vec::new(),
+        }
+    }
+
+    /// Starts raising the side walls by `protocol.wall_slip` at `WALL_SLIP_SPEED`, in a whole
+    /// number of steps (the speed adjusted to it, so that the walls stop exactly at the slip).
+    fn start_slip(&mut self) -> Result<(), RunError> {
+        let dt = self.case.time_step;
+        let slip = self.case.protocol.wall_slip;
+        let steps = (slip / (WALL_SLIP_SPEED * dt)).ceil().max(1.0) as u64;
+        let speed = slip / (steps as f64 * dt);
+        for id in self.slipping_walls() {
+            self.sim.set_wall_motion(
+                id,
+                dem::WallMotion {
+                    velocity: DVec3::new(0.0, 0.0, speed),
+                    displaced: true,
+                    ..Default::default()
+                },
+            )?;
+        }
+        self.state.phase = Phase::Slip {
+            until_step: self.sim.steps() + steps,
+        };
+        Ok(())
+    }
+
+    /// Raises the side walls until `until_step`, then stops them and settles again.
+    fn slip(&mut self, until_step: u64, chunk: u64) -> Result<(), RunError> {
+        let left = until_step.saturating_sub(self.sim.steps());
+        self.run_recording_loads(chunk.min(left).max(1))?;
+        if self.sim.steps() >= until_step {
+            for id in self.slipping_walls() {
+                self.sim.set_wall_motion(id, dem::WallMotion::default())?;
+            }
+            // The loads booked while the walls moved belong to no window of the settled bed.
+            // The cylinder's bands moved up with it by the slip (at most half a diameter);
+            // its zones keep the heights they were given at the start.
+            if let Some(p) = &mut self.state.pressure {
+                p.observe_settling(&mut self.sim);
+            }
+            let t = self.sim.time();
+            self.state.next_check = t + MIN_SETTLE_AFTER_FILL;
+            self.state.phase = Phase::Resettle { since: t };
         }
         Ok(())
     }

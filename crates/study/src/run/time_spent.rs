@@ -57,7 +57,9 @@ impl ProtocolTime {
     pub(crate) fn add(&mut self, phase: Phase, secs: f64) {
         match phase {
             Phase::Fill { .. } => self.fill += secs,
-            Phase::Settle { .. } => self.settle += secs,
+            Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => {
+                self.settle += secs
+            }
             Phase::Discharge { .. } | Phase::Done { .. } => self.discharge += secs,
         }
     }
