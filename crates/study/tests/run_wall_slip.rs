@@ -68,7 +68,7 @@ fn slipped_bed_hangs_partly_on_its_walls() {
     let dir = root.path().join("slip");
     let case = silo(4.0e-4);
     let options = RunOptions {
-        pictures: false,
+        pictures: true,
         threads: 1,
         ..RunOptions::default()
     };
@@ -91,4 +91,9 @@ fn slipped_bed_hangs_partly_on_its_walls() {
         cylinder < -0.1 * weight,
         "the cylinder is pulled down: fz = {cylinder} N, weight {weight} N"
     );
+    // The run draws the settled bed's wall stresses against depth, beside its other plots.
+    let png = std::fs::read(dir.join("wall_pressure.png")).expect("wall_pressure.png");
+    assert!(png.starts_with(b"\x89PNG"), "wall_pressure.png is a PNG");
+    let svg = std::fs::read_to_string(dir.join("wall_pressure.svg")).expect("wall_pressure.svg");
+    assert!(svg.contains("ρ_b g h") && svg.contains("wall pressure"), "its legend");
 }

@@ -131,3 +131,46 @@ fn profile_figure(
     }
     figure
 }
+
+/// The colour of a reference that is neither measured nor fitted: grey.
+const REFERENCE_COLOR: [u8; 3] = [127, 127, 127];
+
+/// A settled silo's wall stresses against depth below its surface (docs/physics.md §7.7):
+/// the normal pressure p_w [Pa] and the shear stress τ_w [Pa] of each zone of the cylinder,
+/// Janssen's fitted p_w(h) where there is one, and the hydrostatic ρ_b g h that a bed without
+/// wall friction would press with.
+pub fn wall_pressure_figure(
+    depths: &[f64],
+    pressures: &[f64],
+    shears: &[f64],
+    janssen: Option<&FittedCurve>,
+    hydrostatic: &FittedCurve,
+) -> Figure {
+    let mut figure = Figure::new(
+        "Wall stresses of the settled bed",
+        Axis::new("depth h", "m"),
+        Axis::new("stress", "Pa"),
+    )
+    .with_series(
+        Series::points("wall pressure p_w", depths.to_vec(), pressures.to_vec())
+            .with_color(DATA_COLOR),
+    )
+    .with_series(
+        Series::points("wall shear τ_w", depths.to_vec(), shears.to_vec())
+            .with_color([44, 160, 44]),
+    )
+    .with_series(
+        Series::line(
+            hydrostatic.label.clone(),
+            hydrostatic.x.clone(),
+            hydrostatic.y.clone(),
+        )
+        .with_color(REFERENCE_COLOR),
+    );
+    if let Some(fit) = janssen {
+        figure = figure.with_series(
+            Series::line(fit.label.clone(), fit.x.clone(), fit.y.clone()).with_color(FIT_COLOR),
+        );
+    }
+    figure
+}

@@ -40,8 +40,8 @@ pub use atomic::{
 pub use colormap::viridis;
 pub use error::OutputError;
 pub use figures::{
-    area_fraction_profile_figure, discharge_rate_figure, velocity_profile_figure, FittedCurve,
-    Profile,
+    area_fraction_profile_figure, discharge_rate_figure, velocity_profile_figure,
+    wall_pressure_figure, FittedCurve, Profile,
 };
 pub use frame::{
     render_frame, write_frame_png, FrameLayout, FrameParticle, FrameView, WallSegment,

@@ -27,9 +27,9 @@ use crate::measure::{
 };
 use crate::output::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
-    velocity_profile_figure, write_csv_table, write_frame_png, write_particles_vtu,
-    write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView, ParticleFields, Profile,
-    PvdCollection, PvdEntry, WallSegment,
+    velocity_profile_figure, wall_pressure_figure, write_csv_table, write_frame_png,
+    write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView,
+    ParticleFields, Profile, PvdCollection, PvdEntry, WallSegment,
 };
 use crate::summary::{CaseSummary, ProfileRow, RadialFit, StopReason};
 
@@ -594,6 +594,41 @@ pub fn finish(
         }
         _ => (None, None),
     };
+    if pictures {
+        if let (Some(p), Some(silo), Some(b)) = (&state.pressure, case.geometry.cylinder(), bulk) {
+            let zones = p.settled_cylinder(b.bed_height);
+            let deepest = zones.last().map_or(0.0, |z| z.0);
+            if deepest > 0.0 {
+                let rho_b = b.volume_fraction * density;
+                let g = case.gravity;
+                let hydrostatic =
+                    FittedCurve::sampled("ρ_b g h", (0.0, deepest), 2, |h| rho_b * g * h);
+                let fit = janssen.as_ref().map(|j| {
+                    let (p_sat, k_mu) = (j.saturation_pressure[0], j.k_mu[0]);
+                    FittedCurve::sampled(
+                        format!(
+                            "Janssen, K = {:.2}, μ_w = {:.3}",
+                            j.stress_ratio[0], j.wall_friction[0]
+                        ),
+                        (0.0, deepest),
+                        60,
+                        |h| p_sat * (1.0 - (-2.0 * k_mu * h / silo.radius).exp()),
+                    )
+                });
+                let column =
+                    |k: usize| -> Vec<f64> { zones.iter().map(|z| [z.0, z.1, z.2][k]).collect() };
+                let fig = wall_pressure_figure(
+                    &column(0),
+                    &column(1),
+                    &column(2),
+                    fit.as_ref(),
+                    &hydrostatic,
+                );
+                plot_png(&fig, out_dir.join("wall_pressure.png"), 900, 600)?;
+                plot_svg(&fig, out_dir.join("wall_pressure.svg"), 900, 600)?;
+            }
+        }
+    }
     Ok(CaseSummary {
         version: env!("CARGO_PKG_VERSION").to_string(),
         seed: case.seed,

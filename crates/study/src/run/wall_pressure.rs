@@ -238,6 +238,26 @@ impl WallPressureRecorder {
             .collect()
     }
 
+    /// The settled bed's zones of the wall named `cylinder` below its surface `bed_height`
+    /// [m]: each zone's depth below the surface at its middle [m], its pressure and its shear
+    /// stress [Pa], deepest last.
+    pub(crate) fn settled_cylinder(&self, bed_height: f64) -> Vec<(f64, f64, f64)> {
+        let Some(cylinder) = WALL_NAMES.iter().position(|n| *n == "cylinder") else {
+            return Vec::new();
+        };
+        let mut zones: Vec<(f64, f64, f64)> = self
+            .settled
+            .iter()
+            .filter(|r| r.wall as usize == cylinder && r.zone.0 < bed_height)
+            .map(|r| {
+                let depth = bed_height - 0.5 * (r.zone.0 + r.zone.1);
+                (depth, r.pressure, r.shear)
+            })
+            .collect();
+        zones.sort_by(|a, b| a.0.total_cmp(&b.0));
+        zones
+    }
+
     /// Janssen's law fitted to the settled bed's pressures on the wall named `cylinder` of
     /// radius `radius` [m], over the zones that lie wholly between `bottom` [m] (the top of
     /// the cone) and two diameters `diameter` [m] below the bed's surface `bed_height` [m];
