@@ -95,5 +95,8 @@ fn slipped_bed_hangs_partly_on_its_walls() {
     let png = std::fs::read(dir.join("wall_pressure.png")).expect("wall_pressure.png");
     assert!(png.starts_with(b"\x89PNG"), "wall_pressure.png is a PNG");
     let svg = std::fs::read_to_string(dir.join("wall_pressure.svg")).expect("wall_pressure.svg");
-    assert!(svg.contains("ρ_b g h") && svg.contains("wall pressure"), "its legend");
+    assert!(
+        svg.contains("ρ_b g h") && svg.contains("wall pressure"),
+        "its legend"
+    );
 }
