@@ -230,3 +230,56 @@ fn the_quick_3d_beverloo_study_gives_the_documented_table() {
         assert_documented("b", at("packing_exponent"), 1.0, b);
     }
 }
+
+#[test]
+#[ignore = "long validation (about 20 minutes on two cores): docs/reproduction.md, \"Long validations\""]
+fn the_paper_study_gives_the_documented_comparison() {
+    // docs/reproduction.md, "One replica per case": 44 cases, angle-a90-D018 and
+    // eccentric-s12-D018 clogged, and the comparison items' measured values to the four
+    // decimals the table prints.
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let output = hopperflow(&[
+        "study",
+        "fan2023",
+        "--out",
+        utf8(dir.path()),
+        "--jobs",
+        "2",
+        "--no-pictures",
+    ]);
+    assert!(
+        output.status.success(),
+        "the study: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let cases = dir.path().join("cases");
+    let mut clogged: Vec<String> = std::fs::read_dir(&cases)
+        .expect("the study's cases")
+        .map(|e| e.expect("an entry").path())
+        .filter(|c| summary(c)["clogged"] == Value::Bool(true))
+        .map(|c| c.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    clogged.sort();
+    assert_eq!(clogged, ["angle-a90-D018", "eccentric-s12-D018"]);
+    let text = std::fs::read_to_string(dir.path().join("report/comparison.json"))
+        .expect("report/comparison.json");
+    let items: Value = serde_json::from_str(&text).expect("comparison.json is JSON");
+    let items = items.as_array().expect("an array of items");
+    let measured = |starts: &str| {
+        items
+            .iter()
+            .find(|i| i["item"].as_str().is_some_and(|t| t.starts_with(starts)))
+            .unwrap_or_else(|| panic!("no item {starts}"))["measured"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("item {starts} is not a number"))
+    };
+    for (item, documented) in [
+        ("Beverloo k", "2.4452"),
+        ("γ(90°)", "1.8380"),
+        ("a(90°)", "0.4162"),
+        ("b(90°)", "0.2048"),
+        ("W(s = 0)/W0", "1.2645"),
+    ] {
+        assert_documented(item, measured(item), 1.0, documented);
+    }
+}
