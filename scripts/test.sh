@@ -16,13 +16,31 @@ cd "$(dirname "$0")/.."
 # Every later step reuses this build: the CLI binary it made (the test profile is optimised)
 # and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
 # package alone (`-p`) unifies features differently and compiles the CLI again.
-cargo test --workspace --locked
-export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
-
+#
+# The Python environment and wheel are prepared beside it (scripts/test-python.sh prepare,
+# its output in target/python-prepare.log), and its tests run once both are done.
+python=0
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
     echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
 else
-    scripts/test-python.sh
+    mkdir -p target
+    scripts/test-python.sh prepare > target/python-prepare.log 2>&1 &
+    python=$!
+fi
+if ! cargo test --workspace --locked; then
+    [ "$python" = 0 ] || wait "$python" || true
+    exit 1
+fi
+export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
+
+if [ "$python" != 0 ]; then
+    if ! wait "$python"; then
+        cat target/python-prepare.log >&2
+        echo "the Python environment or wheel could not be prepared" >&2
+        exit 1
+    fi
+    tail -n 1 target/python-prepare.log
+    scripts/test-python.sh run
 fi
 
 if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
