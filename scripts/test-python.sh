@@ -3,13 +3,13 @@
 # environment under target/, the abi3 wheel of crates/python built by maturin and
 # installed in it, the CLI that the tests compare against, then pytest.
 #
-#   scripts/test-python.sh            both steps below, one after the other
-#   scripts/test-python.sh prepare    the environment and the wheel only
-#   scripts/test-python.sh run        pytest against what `prepare` installed
+#   scripts/test-python.sh            the three steps below, one after the other
+#   scripts/test-python.sh env        the virtual environment and the packages from the index
+#   scripts/test-python.sh wheel      the wheel, built and installed in that environment
+#   scripts/test-python.sh run        pytest against what `wheel` installed
 #
-# scripts/test.sh runs `prepare` beside the Rust tests, whose test runs leave a core idle
-# much of the time. The wheel is built in its own target folder (target/python-wheel-build),
-# so that its cargo never waits for the Rust tests' lock on target/.
+# scripts/test.sh runs `env`, which mostly waits on downloads, beside the Rust tests' build,
+# and `wheel` and `run` after them.
 #
 # Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
 # pandas, matplotlib and pytest.
@@ -19,13 +19,15 @@ cd "$(dirname "$0")/.."
 venv=target/python-test-venv
 wheels=target/python-wheels
 
-prepare() {
+env() {
     python3 -m venv --clear "$venv"
     "$venv/bin/python" -m pip install --quiet --upgrade pip
     "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest
+}
+
+wheel() {
     rm -rf "$wheels"
-    CARGO_TARGET_DIR="$PWD/target/python-wheel-build" \
-        "$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels"
+    "$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels"
     "$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
 }
 
@@ -44,9 +46,10 @@ run() {
 
 started=$(date +%s)
 case "${1:-all}" in
-    prepare) prepare ;;
+    env) env ;;
+    wheel) wheel ;;
     run) run ;;
-    all) prepare && run ;;
-    *) echo "usage: scripts/test-python.sh [prepare|run]" >&2; exit 2 ;;
+    all) env && wheel && run ;;
+    *) echo "usage: scripts/test-python.sh [env|wheel|run]" >&2; exit 2 ;;
 esac
 echo "Python part (${1:-all}): $(($(date +%s) - started)) s"
