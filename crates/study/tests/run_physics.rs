@@ -152,7 +152,7 @@ fn outlet_at_the_left_wall_skews_velocity_toward_the_wall_and_raises_the_flow_ra
     let (wall, wall_profile) = run(&small_case("outlet_gap = 0.0"), "outlet at the wall");
     let (centre, centre_profile) = centred();
     let (wall_left, wall_right) = half_means(&wall_profile);
-    let (centre_left, centre_right) = half_means(&centre_profile);
+    let (centre_left, centre_right) = half_means(centre_profile);
     eprintln!(
         "wall: v(x*<0) = {wall_left:.3}, v(x*>0) = {wall_right:.3} m/s; centre: {centre_left:.3}, {centre_right:.3} m/s; W_wall/W_centre = {:.2}",
         wall.discharge_rate / centre.discharge_rate
