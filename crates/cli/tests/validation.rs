@@ -260,7 +260,8 @@ fn the_paper_study_gives_the_documented_comparison() {
         .map(|c| c.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
     clogged.sort();
-    assert_eq!(clogged, ["angle-a90-D018", "eccentric-s12-D018"]);
+    // Case folders carry the replica: `-r0` for the one replica of each case.
+    assert_eq!(clogged, ["angle-a90-D018-r0", "eccentric-s12-D018-r0"]);
     let text = std::fs::read_to_string(dir.path().join("report/comparison.json"))
         .expect("report/comparison.json");
     let items: Value = serde_json::from_str(&text).expect("comparison.json is JSON");
