@@ -232,7 +232,7 @@ fn the_quick_3d_beverloo_study_gives_the_documented_table() {
 }
 
 #[test]
-#[ignore = "long validation (about 20 minutes on two cores): docs/reproduction.md, \"Long validations\""]
+#[ignore = "long validation (most of an hour on two cores): docs/reproduction.md, \"Long validations\""]
 fn the_paper_study_gives_the_documented_comparison() {
     // docs/reproduction.md, "One replica per case": 44 cases, angle-a90-D018 and
     // eccentric-s12-D018 clogged, and the comparison items' measured values to the four
