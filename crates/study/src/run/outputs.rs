@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use analysis::flowrate::{axisymmetric_discharge_rate, AxisymmetricFlowParameters};
+use analysis::janssen::janssen_wall_pressure;
 use analysis::profile::BinnedProfile;
 use analysis::selfsimilar::{
     fit_collapsed_power_profile, fit_power_profile, power_profile, PROFILE_FIT_HALF_WIDTH,
@@ -597,36 +598,8 @@ pub fn finish(
     if pictures {
         if let (Some(p), Some(silo), Some(b)) = (&state.pressure, case.geometry.cylinder(), bulk) {
             let zones = p.settled_cylinder(b.bed_height);
-            let deepest = zones.last().map_or(0.0, |z| z.0);
-            if deepest > 0.0 {
-                let rho_b = b.volume_fraction * density;
-                let g = case.gravity;
-                let hydrostatic =
-                    FittedCurve::sampled("ρ_b g h", (0.0, deepest), 2, |h| rho_b * g * h);
-                let fit = janssen.as_ref().map(|j| {
-                    let (p_sat, k_mu) = (j.saturation_pressure[0], j.k_mu[0]);
-                    FittedCurve::sampled(
-                        format!(
-                            "Janssen, K = {:.2}, μ_w = {:.3}",
-                            j.stress_ratio[0], j.wall_friction[0]
-                        ),
-                        (0.0, deepest),
-                        60,
-                        |h| p_sat * (1.0 - (-2.0 * k_mu * h / silo.radius).exp()),
-                    )
-                });
-                let column =
-                    |k: usize| -> Vec<f64> { zones.iter().map(|z| [z.0, z.1, z.2][k]).collect() };
-                let fig = wall_pressure_figure(
-                    &column(0),
-                    &column(1),
-                    &column(2),
-                    fit.as_ref(),
-                    &hydrostatic,
-                );
-                plot_png(&fig, out_dir.join("wall_pressure.png"), 900, 600)?;
-                plot_svg(&fig, out_dir.join("wall_pressure.svg"), 900, 600)?;
-            }
+            let hydrostatic = b.volume_fraction * density * case.gravity;
+            wall_pressure_plot(out_dir, &zones, janssen.as_ref(), hydrostatic, silo.radius)?;
         }
     }
     Ok(CaseSummary {
@@ -809,6 +782,42 @@ pub fn fit_radial(bins: &[RadialBin], radius: f64, density: f64) -> Option<Radia
         packing_exponent: pair(phi.exponent),
         profile_rate: pair(rate),
     })
+}
+
+/// `wall_pressure.png` and `.svg`: the settled bed's cylinder zones `zones` (depth [m],
+/// pressure and shear [Pa], deepest last) against depth, with ρ_b g h (`hydrostatic` = ρ_b g
+/// [Pa/m]) and the Janssen fit `janssen` of a cylinder of radius `radius` [m] where there is
+/// one. Nothing when no zone lies below the surface.
+fn wall_pressure_plot(
+    out_dir: &Path,
+    zones: &[(f64, f64, f64)],
+    janssen: Option<&crate::summary::JanssenSummary>,
+    hydrostatic: f64,
+    radius: f64,
+) -> Result<(), RunError> {
+    let deepest = zones.last().map_or(0.0, |z| z.0);
+    if deepest.is_nan() || deepest <= 0.0 {
+        return Ok(());
+    }
+    let depths = (0.0, deepest);
+    let weight = FittedCurve::sampled("ρ_b g h", depths, 2, |h| hydrostatic * h);
+    let fit = janssen.map(|j| {
+        let label = format!(
+            "Janssen, K = {:.2}, μ_w = {:.3}",
+            j.stress_ratio[0], j.wall_friction[0]
+        );
+        // A cylinder's hydraulic radius is R/2 (docs/physics.md §7.7).
+        FittedCurve::sampled(label, depths, 60, |h| {
+            janssen_wall_pressure(h, j.saturation_pressure[0], j.k_mu[0], 0.5 * radius)
+        })
+    });
+    let depth: Vec<f64> = zones.iter().map(|z| z.0).collect();
+    let pressure: Vec<f64> = zones.iter().map(|z| z.1).collect();
+    let shear: Vec<f64> = zones.iter().map(|z| z.2).collect();
+    let fig = wall_pressure_figure(&depth, &pressure, &shear, fit.as_ref(), &weight);
+    plot_png(&fig, out_dir.join("wall_pressure.png"), 900, 600)?;
+    plot_svg(&fig, out_dir.join("wall_pressure.svg"), 900, 600)?;
+    Ok(())
 }
 
 fn plots(

@@ -238,17 +238,21 @@ impl WallPressureRecorder {
             .collect()
     }
 
+    /// The settled window's rows of the wall named `cylinder`.
+    fn settled_on_cylinder(&self) -> impl Iterator<Item = &PressureRow> {
+        let cylinder = WALL_NAMES.iter().position(|n| *n == "cylinder");
+        self.settled
+            .iter()
+            .filter(move |r| Some(usize::from(r.wall)) == cylinder)
+    }
+
     /// The settled bed's zones of the wall named `cylinder` below its surface `bed_height`
     /// [m]: each zone's depth below the surface at its middle [m], its pressure and its shear
     /// stress [Pa], deepest last.
     pub(crate) fn settled_cylinder(&self, bed_height: f64) -> Vec<(f64, f64, f64)> {
-        let Some(cylinder) = WALL_NAMES.iter().position(|n| *n == "cylinder") else {
-            return Vec::new();
-        };
         let mut zones: Vec<(f64, f64, f64)> = self
-            .settled
-            .iter()
-            .filter(|r| r.wall as usize == cylinder && r.zone.0 < bed_height)
+            .settled_on_cylinder()
+            .filter(|r| r.zone.0 < bed_height)
             .map(|r| {
                 let depth = bed_height - 0.5 * (r.zone.0 + r.zone.1);
                 (depth, r.pressure, r.shear)
@@ -270,15 +274,9 @@ impl WallPressureRecorder {
         bulk_density: f64,
         gravity: f64,
     ) -> Result<crate::summary::JanssenSummary, String> {
-        let cylinder = WALL_NAMES
-            .iter()
-            .position(|n| *n == "cylinder")
-            .ok_or("no wall is named cylinder")? as u8;
         let top = bed_height - 2.0 * diameter;
         let (depths, pressures): (Vec<f64>, Vec<f64>) = self
-            .settled
-            .iter()
-            .filter(|r| r.wall == cylinder)
+            .settled_on_cylinder()
             .filter(|r| r.zone.0 >= bottom && r.zone.1 <= top)
             .map(|r| (bed_height - 0.5 * (r.zone.0 + r.zone.1), r.pressure))
             .unzip();
