@@ -41,7 +41,8 @@ fn assert_documented(what: &str, value: f64, unit_scale: f64, text: &str) {
     );
 }
 
-/// The `key` of a summary as a number, or its `[value, error]` pair's value.
+/// The `key` of a summary (or of one of its objects) as a number, or its `[value, error]`
+/// pair's value.
 fn number(summary: &Value, key: &str) -> f64 {
     let v = &summary[key];
     v.as_f64()
@@ -128,36 +129,15 @@ fn the_reduced_benchmark_silo_gives_the_documented_rate_and_n_of_t() {
     assert_documented("φ_B", number(&s, "bulk_volume_fraction"), 1.0, "0.588");
     assert_documented("bed [mm]", number(&s, "bed_height"), 1e3, "73.8");
     let fit = &s["radial_fit"];
-    assert_documented(
-        "v_c [m/s]",
-        fit["centre_velocity"][0].as_f64().unwrap(),
-        1.0,
-        "0.745",
-    );
-    assert_documented(
-        "a",
-        fit["velocity_exponent"][0].as_f64().unwrap(),
-        1.0,
-        "0.365",
-    );
-    assert_documented(
-        "φ_c",
-        fit["centre_volume_fraction"][0].as_f64().unwrap(),
-        1.0,
-        "0.541",
-    );
-    assert_documented(
-        "b",
-        fit["packing_exponent"][0].as_f64().unwrap(),
-        1.0,
-        "0.106",
-    );
-    assert_documented(
-        "W from the profiles [kg/s]",
-        fit["profile_rate"][0].as_f64().unwrap(),
-        1.0,
-        "1.936",
-    );
+    for (what, key, documented) in [
+        ("v_c [m/s]", "centre_velocity", "0.745"),
+        ("a", "velocity_exponent", "0.365"),
+        ("φ_c", "centre_volume_fraction", "0.541"),
+        ("b", "packing_exponent", "0.106"),
+        ("W from the profiles [kg/s]", "profile_rate", "1.936"),
+    ] {
+        assert_documented(what, number(fit, key), 1.0, documented);
+    }
     let text = std::fs::read_to_string(dir.path().join("remaining.csv")).expect("remaining.csv");
     let documented = [
         20_000, 18_244, 15_868, 13_486, 11_134, 8834, 6598, 4444, 2420, 781, 113,
@@ -222,12 +202,11 @@ fn the_quick_3d_beverloo_study_gives_the_documented_table() {
             .find(|s| printed(number(s, "outlet_width") * 1e3, 0) == d)
             .unwrap_or_else(|| panic!("no case of D = {d} mm"));
         let fit = &s["radial_fit"];
-        let at = |key: &str| fit[key][0].as_f64().unwrap();
         assert_documented("W [g/s]", number(&s, "discharge_rate"), 1e3, w);
-        assert_documented("v_c [m/s]", at("centre_velocity"), 1.0, v_c);
-        assert_documented("a", at("velocity_exponent"), 1.0, a);
-        assert_documented("φ_c", at("centre_volume_fraction"), 1.0, phi_c);
-        assert_documented("b", at("packing_exponent"), 1.0, b);
+        assert_documented("v_c [m/s]", number(fit, "centre_velocity"), 1.0, v_c);
+        assert_documented("a", number(fit, "velocity_exponent"), 1.0, a);
+        assert_documented("φ_c", number(fit, "centre_volume_fraction"), 1.0, phi_c);
+        assert_documented("b", number(fit, "packing_exponent"), 1.0, b);
     }
 }
 
