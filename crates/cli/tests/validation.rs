@@ -63,6 +63,25 @@ fn run(args: &[&str], dir: &Path) {
     );
 }
 
+/// `hopperflow study` of `sweep` (a file or a built-in name) into `dir`, two cases at a time,
+/// without pictures; panics with its error output when it fails.
+fn study(sweep: &str, dir: &Path) {
+    let output = hopperflow(&[
+        "study",
+        sweep,
+        "--out",
+        utf8(dir),
+        "--jobs",
+        "2",
+        "--no-pictures",
+    ]);
+    assert!(
+        output.status.success(),
+        "the study of {sweep}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
 /// The repository's root.
 fn repository() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
@@ -172,20 +191,7 @@ fn the_quick_3d_beverloo_study_gives_the_documented_table() {
     // v_c [m/s], a, φ_c and b.
     let dir = tempfile::tempdir().expect("temporary directory");
     let sweep = repository().join("cases/beverloo3d-quick.toml");
-    let output = hopperflow(&[
-        "study",
-        utf8(&sweep),
-        "--out",
-        utf8(dir.path()),
-        "--jobs",
-        "2",
-        "--no-pictures",
-    ]);
-    assert!(
-        output.status.success(),
-        "the study: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    study(utf8(&sweep), dir.path());
     let documented = [
         ("15", "28.2", "0.371", "0.58", "0.380", "0.55"),
         ("21", "83.6", "0.449", "0.57", "0.437", "0.39"),
@@ -217,20 +223,7 @@ fn the_paper_study_gives_the_documented_comparison() {
     // eccentric-s12-D018 clogged, and the comparison items' measured values to the four
     // decimals the table prints.
     let dir = tempfile::tempdir().expect("temporary directory");
-    let output = hopperflow(&[
-        "study",
-        "fan2023",
-        "--out",
-        utf8(dir.path()),
-        "--jobs",
-        "2",
-        "--no-pictures",
-    ]);
-    assert!(
-        output.status.success(),
-        "the study: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    study("fan2023", dir.path());
     let cases = dir.path().join("cases");
     let mut clogged: Vec<String> = std::fs::read_dir(&cases)
         .expect("the study's cases")
