@@ -68,7 +68,7 @@ mod tests {
     // No row of the real suite can be made to fail from the command line without a flag
     // whose only use would be this test, so the mapping from rows to the exit status is
     // tested here on rows made to pass and fail; the binary's 0 on the real suite is
-    // tested in tests/exit_codes.rs.
+    // tested in tests/suite/exit_codes.rs.
     #[test]
     fn one_failing_row_makes_the_exit_status_one() {
         let pass = Row::absolute("CO1", "q [-]", 1.0, 1.0, 0.0);

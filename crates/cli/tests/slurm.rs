@@ -9,6 +9,7 @@
 //! the daemons. The checks that need no cluster are in `slurm_input.rs`.
 #![cfg(unix)]
 
+#[path = "suite/run_cli.rs"]
 mod run_cli;
 use run_cli::{hopperflow, utf8};
 use std::path::Path;

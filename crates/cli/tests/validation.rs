@@ -11,6 +11,7 @@
 //! is half a unit of the last printed digit. When a change of physics moves them on purpose,
 //! the documented numbers and these tests change together.
 
+#[path = "suite/run_cli.rs"]
 mod run_cli;
 
 use std::path::Path;

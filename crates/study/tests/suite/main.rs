@@ -1,0 +1,41 @@
+//! Every integration test of `study` in one test binary: one link instead of one per
+//! file keeps the test command's build short. Each module is one file's tests.
+
+mod study_fake;
+mod tiny_hopper;
+
+mod config_bad_cases;
+mod config_case;
+mod config_fuzz;
+mod config_kinds;
+mod config_materials;
+mod config_shipped;
+mod config_sweep;
+mod golden;
+mod golden_silo;
+mod measure_bulk;
+mod measure_crossing;
+mod measure_disc_area;
+mod measure_flux;
+mod measure_strip;
+mod measure_velocity_field;
+mod output_atomic;
+mod output_csv;
+mod output_frame;
+mod output_plot;
+mod output_vtu;
+mod report_build;
+mod run_bed;
+mod run_guard;
+mod run_kinds;
+mod run_mixture;
+mod run_packing;
+mod run_physics;
+mod run_resume;
+mod run_silo;
+mod run_stop;
+mod run_timing;
+mod run_wall_forces;
+mod run_wall_slip;
+mod study_resume;
+mod study_runner;
