@@ -7,7 +7,7 @@ pub mod bench;
 pub mod cluster;
 pub mod config;
 pub mod hopper;
-pub mod measure;
+
 pub mod output;
 pub mod report;
 pub mod run;

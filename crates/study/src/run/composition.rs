@@ -4,7 +4,7 @@
 //! component (`RunState::components`), so the table is derived after the run from what a
 //! checkpoint holds.
 
-use crate::measure::CrossingEvent;
+use measure::CrossingEvent;
 use crate::output::Cell;
 
 /// A component index no particle has: an id the run never recorded (not expected).

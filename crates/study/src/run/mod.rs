@@ -47,7 +47,7 @@ pub enum RunError {
     Engine(#[from] dem::DemError),
     /// A probe refused its input.
     #[error("measurement: {0}")]
-    Measure(#[from] crate::measure::MeasureError),
+    Measure(#[from] measure::MeasureError),
     /// The analysis of the measurements failed.
     #[error("analysis: {0}")]
     Analysis(#[from] analysis::AnalysisError),

@@ -22,7 +22,7 @@ use crate::hopper::{
     box_outline, box_wall_polygons, mesh_outline, mesh_wall_polygons, outline, silo_outline,
     silo_wall_polygons, wall_names,
 };
-use crate::measure::{
+use measure::{
     radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
     XProfileBin,
 };

@@ -14,7 +14,7 @@ use crate::hopper::{
     adopt_walls, case_simulation_by_component, fill::insert_batch, ContainerWalls, Draw, Packing,
     ParticleDraws,
 };
-use crate::measure::{
+use measure::{
     bed_bulk, silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid,
     FrameView, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
     StripConfig, StripProbe, VelocityFieldProbe,

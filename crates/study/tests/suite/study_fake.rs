@@ -25,7 +25,7 @@ use analysis::flowrate::brown_ratio;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use study::config::{CylinderSilo, SweepCase};
-use study::measure::{RadialBin, RadialBins};
+use measure::{RadialBin, RadialBins};
 use study::output::{write_csv_table, Cell};
 use study::run::{fit_radial, write_radial_profiles, CASE_FILE};
 use study::summary::{CaseSummary, StopReason};

@@ -1,7 +1,7 @@
 //! Strip area fraction φ(x), ⟨φ v⟩ and the snapshot speed on synthetic packings with known answers.
 
 use std::f64::consts::PI;
-use study::measure::{
+use measure::{
     FrameView, MeasureError, OutletBins, OutletGeometry, StripConfig, StripProbe, TimeWindow,
 };
 
@@ -15,7 +15,7 @@ fn geometry() -> OutletGeometry {
         centre: 0.002,
         half_width: 0.015,
         particle_diameter: D,
-        shape: study::measure::OutletShape::Slot,
+        shape: measure::OutletShape::Slot,
     }
 }
 

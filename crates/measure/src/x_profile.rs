@@ -114,7 +114,7 @@ pub fn x_profiles(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::measure::{CrossingEvent, CrossingTally, OutletGeometry, OutletShape};
+    use crate::{CrossingEvent, CrossingTally, OutletGeometry, OutletShape};
 
     /// Spheres of volume V falling at v through a bin of area A, k per second, carry the volume
     /// fraction k V/(v A): a uniform stream gives it in every bin.

@@ -1,7 +1,7 @@
 //! Bulk volume fraction φ_B, bed height and the container cross-section.
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
-use study::measure::{
+use measure::{
     sphere_volume_below, BulkProbe, ContainerOutline, CrossSection, FrameView, OutletGeometry,
 };
 
@@ -15,7 +15,7 @@ fn outlet() -> OutletGeometry {
         centre: 0.0,
         half_width: 0.01,
         particle_diameter: D,
-        shape: study::measure::OutletShape::Slot,
+        shape: measure::OutletShape::Slot,
     }
 }
 

@@ -1,7 +1,7 @@
 //! Outlet crossings: interpolation, the velocity profile, tallies and the discharge series.
 
 use std::f64::consts::PI;
-use study::measure::{
+use measure::{
     CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry, TimeWindow,
 };
 
@@ -14,7 +14,7 @@ fn geometry() -> OutletGeometry {
         centre: -0.01,
         half_width: 0.015,
         particle_diameter: D,
-        shape: study::measure::OutletShape::Slot,
+        shape: measure::OutletShape::Slot,
     }
 }
 
@@ -278,7 +278,7 @@ fn record_survives_a_json_round_trip_and_gives_the_same_profile() {
     }
     let record = probe.into_record();
     let text = serde_json::to_string(&record).unwrap();
-    let reloaded: study::measure::CrossingRecord = serde_json::from_str(&text).unwrap();
+    let reloaded: measure::CrossingRecord = serde_json::from_str(&text).unwrap();
     assert_eq!(reloaded.events.len(), 2);
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * a.abs().max(b.abs());
     for (a, b) in reloaded.events.iter().zip(&record.events) {

@@ -3,7 +3,7 @@
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::PI;
-use study::measure::{overlap_area, section_radius, Disc, Rectangle};
+use measure::{overlap_area, section_radius, Disc, Rectangle};
 
 const R: f64 = 1.5e-3;
 // Closed-form comparisons: the routine sums a handful of asin/sqrt terms of size r², so

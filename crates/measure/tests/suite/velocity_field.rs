@@ -1,7 +1,7 @@
 //! Coarse-grained velocity field: uniform flows, mass conservation and window selection.
 
 use std::f64::consts::PI;
-use study::measure::{
+use measure::{
     FieldGrid, FrameView, Kernel, MeasureError, OutletGeometry, TimeWindow, VelocityFieldProbe,
     DEFAULT_BLOCK_DURATION,
 };
@@ -158,7 +158,7 @@ fn outlet_grid_spans_the_hopper_width_and_two_widths_above_the_outlet() {
         centre: 0.0,
         half_width: 0.015,
         particle_diameter: D,
-        shape: study::measure::OutletShape::Slot,
+        shape: measure::OutletShape::Slot,
     };
     let grid = FieldGrid::around_outlet(&g, 0.1).unwrap();
     // 0.1 m / 3 mm → 34 columns (last overhangs); (3d + 0.2 m)/3 mm → 70 rows.

@@ -1,7 +1,7 @@
 //! Flux check W = (2/3) ρ_p d ∫ φ v dx against the counted crossing rate for uniform flow.
 
 use std::f64::consts::PI;
-use study::measure::{
+use measure::{
     flux_from_profiles, CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry,
     OutletSummary, StripConfig, StripProbe, TimeWindow,
 };
@@ -23,7 +23,7 @@ fn geometry() -> OutletGeometry {
         centre: -0.004,
         half_width: 0.5 * COLUMNS as f64 * A,
         particle_diameter: D,
-        shape: study::measure::OutletShape::Slot,
+        shape: measure::OutletShape::Slot,
     }
 }
 

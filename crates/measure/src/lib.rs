@@ -15,6 +15,7 @@
 
 // Validation is written as `!(x > 0.0)` on purpose: NaN must fail it, and `x <= 0.0` would let
 // NaN through.
+#![warn(missing_docs)]
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod block_error;
