@@ -9,11 +9,9 @@ use study::config::{
     default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE,
 };
 use study::hopper::read_packing;
-use study::output::write_atomic;
-use study::run::{
-    check_bed, check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress,
-    RunError, RunOptions, RunOutcome, Start, BED_CASE_FILE,
-};
+use files::write_atomic;
+use study::run::{check_bed, check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
+use files::BED_CASE_FILE;
 
 /// Exit code for bad input (a malformed case file or override).
 pub const EXIT_BAD_INPUT: i32 = 2;

@@ -12,10 +12,8 @@ use clap::Args;
 use serde::{Deserialize, Serialize};
 use study::cluster::{array_script, report_script, SlurmOptions, TimeLimit};
 use study::config::SweepPlan;
-use study::output::{write_atomic, write_json_atomic};
-use study::sweep::{
-    case_states, collect_study, prepare_study, run_task, CaseState, SimulationRunner, TaskOutcome,
-};
+use files::{write_atomic, write_json_atomic};
+use study::sweep::{case_states, collect_study, prepare_study, run_task, CaseState, SimulationRunner, TaskOutcome};
 
 use crate::run_cmd::EXIT_BAD_INPUT;
 use crate::signals::EXIT_STOPPED;
@@ -438,7 +436,7 @@ pub fn task(
         );
         return EXIT_BAD_INPUT;
     };
-    let checkpoint = out.join("cases").join(id).join(study::run::CHECKPOINT_FILE);
+    let checkpoint = out.join("cases").join(id).join(files::CHECKPOINT_FILE);
     if let Ok(header) = study::run::read_checkpoint_header(&checkpoint) {
         println!(
             "{id}: continuing from its checkpoint in the {} at t = {:.4} s",

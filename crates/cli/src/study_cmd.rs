@@ -17,7 +17,8 @@ use study::config::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
 use study::run::Start;
-use study::sweep::{run_study, CaseStatus, SimulationRunner, StudyError, StudyEvent, StudyOptions};
+use study::sweep::{run_study, SimulationRunner, StudyError, StudyEvent, StudyOptions};
+use files::CaseStatus;
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -239,7 +240,7 @@ pub fn run(args: StudyArgs) -> i32 {
         return 1;
     }
     // Keep the sweep as run beside its results, so the study can be rerun or edited.
-    if let Err(e) = study::output::write_atomic(out.join("sweep.toml"), text.as_bytes()) {
+    if let Err(e) = files::write_atomic(out.join("sweep.toml"), text.as_bytes()) {
         eprintln!("error: {e}");
         return 1;
     }

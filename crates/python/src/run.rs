@@ -15,10 +15,7 @@ use std::time::Duration;
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use study::hopper::read_packing;
-use study::run::{
-    check_bed, check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions,
-    RunOutcome, Start,
-};
+use study::run::{check_bed, check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
 
 use crate::case::Case;
 use crate::errors::RunError as PyRunError;

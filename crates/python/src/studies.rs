@@ -11,7 +11,8 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use study::config::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
 use study::run::Start;
-use study::sweep::{CaseStatus, SimulationRunner, StudyEvent, StudyOptions};
+use study::sweep::{SimulationRunner, StudyEvent, StudyOptions};
+use files::CaseStatus;
 
 use crate::errors::{case_error, RunError};
 use crate::run::{checked_threads, panic_text};
@@ -95,7 +96,7 @@ pub fn run_study<'py>(
     };
     study::sweep::check_study_dir(&plan, &out).map_err(|e| PyValueError::new_err(e.to_string()))?;
     std::fs::create_dir_all(&out)?;
-    study::output::write_atomic(out.join("sweep.toml"), text.as_bytes())
+    files::write_atomic(out.join("sweep.toml"), text.as_bytes())
         .map_err(|e| RunError::new_err(e.to_string()))?;
 
     let stop = Arc::new(AtomicBool::new(false));

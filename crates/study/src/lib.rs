@@ -7,9 +7,6 @@ pub mod bench;
 pub mod cluster;
 pub mod config;
 pub mod hopper;
-
-pub mod output;
 pub mod report;
 pub mod run;
-pub mod summary;
 pub mod sweep;

@@ -9,7 +9,9 @@ use std::process::{Child, Command, Output, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-use study::run::{read_checkpoint_header, CHECKPOINT_FILE};
+use study::run::read_checkpoint_header;
+
+use files::CHECKPOINT_FILE;
 
 /// A hopper a few particles wide that fills, settles and drains in about a second of wall
 /// time: 250 spheres of 3 mm, an 18 mm outlet, a checkpoint every 10 ms of simulated time

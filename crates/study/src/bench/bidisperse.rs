@@ -148,7 +148,7 @@ pub fn settled_bidisperse_bed(
             let _ = std::fs::create_dir_all(dir);
         }
         if let Ok(bytes) = postcard::to_allocvec(sim.state()) {
-            crate::output::write_atomic(path, &bytes)?;
+            files::write_atomic(path, &bytes)?;
         }
     }
     Ok(sim)

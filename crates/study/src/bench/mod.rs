@@ -371,7 +371,7 @@ pub fn discharge_benchmark(
                     let _ = std::fs::create_dir_all(dir);
                 }
                 if let Ok(bytes) = postcard::to_allocvec(run.checkpoint()) {
-                    crate::output::write_atomic(path, &bytes)?;
+                    files::write_atomic(path, &bytes)?;
                 }
             }
             run

@@ -69,7 +69,7 @@ pub struct SweepPlan {
     /// What every case starts from instead of its own fill: a saved bed
     /// (`hopperflow study --from-bed`, [`crate::sweep::plan_from_bed`]); `None`: each case
     /// fills its container.
-    pub start: Option<crate::run::StartRecord>,
+    pub start: Option<files::StartRecord>,
 }
 
 /// Reads and expands a sweep file; `sets` override keys of the base case.

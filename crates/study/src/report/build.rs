@@ -8,8 +8,9 @@ use super::data::load_study;
 use super::document::{Block, Document};
 use super::figures::report_figures;
 use super::{analyse_study, tables};
-use crate::output::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
-use crate::sweep::{CaseStatus, StudyError, StudyPaths};
+use files::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
+use crate::sweep::StudyError;
+use files::{CaseStatus, StudyPaths};
 
 /// Figure size [px]: wide enough for legends beside six series.
 const FIGURE_SIZE: (u32, u32) = (900, 600);

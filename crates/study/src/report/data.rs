@@ -8,10 +8,9 @@ use analysis::profile::BinnedProfile;
 use analysis::Estimate;
 
 use crate::config::DEFAULT_GRAVITY;
-use crate::summary::ProfileRow;
-use crate::sweep::{
-    read_results_table, CaseStatus, ResultRow, StudyError, StudyManifest, StudyPaths,
-};
+use files::ProfileRow;
+use crate::sweep::StudyError;
+use files::{read_results_table, CaseStatus, ResultRow, StudyManifest, StudyPaths, SUMMARY_FILE};
 
 /// Tolerance on s* for "the outlet is centred" (s* = 1); grid values are exact decimals.
 const CENTRED_TOLERANCE: f64 = 1e-6;
@@ -81,7 +80,7 @@ pub struct GridPoint {
     /// g [m/s²] of the case (`gravity`; its default when the case file omits it).
     pub gravity: f64,
     /// The first replica's radial profile fits (circular orifices only).
-    pub radial_fit: Option<crate::summary::RadialFit>,
+    pub radial_fit: Option<files::RadialFit>,
 }
 
 impl GridPoint {
@@ -241,8 +240,8 @@ fn case_facts(dir: &Path, row: &ResultRow) -> (String, f64) {
 }
 
 /// A case's `summary.json`, when it reads.
-fn read_summary(dir: &Path) -> Option<crate::summary::CaseSummary> {
-    let text = std::fs::read_to_string(dir.join(crate::run::SUMMARY_FILE)).ok()?;
+fn read_summary(dir: &Path) -> Option<files::CaseSummary> {
+    let text = std::fs::read_to_string(dir.join(SUMMARY_FILE)).ok()?;
     serde_json::from_str(&text).ok()
 }
 

@@ -7,7 +7,7 @@ use analysis::selfsimilar::{packing_saturation, power_profile};
 
 use super::comparison::{ANGLE_SERIES, ECCENTRIC_SERIES};
 use super::{common_gravity, StudyAnalysis};
-use crate::output::{Axis, Figure, Series};
+use files::{Axis, Figure, Series};
 
 /// A figure with its file stem and caption.
 pub struct ReportFigure {

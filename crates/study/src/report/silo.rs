@@ -50,7 +50,7 @@ pub struct ProfileCheck {
     /// Measured W [kg/s].
     pub rate: Estimate,
     /// The first replica's fits (v_c, a, φ_c, b and W from the profiles).
-    pub fit: crate::summary::RadialFit,
+    pub fit: files::RadialFit,
 }
 
 impl ProfileCheck {

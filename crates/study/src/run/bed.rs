@@ -22,17 +22,14 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::checkpoint::{case_changes, config_hash, framed, unframed, FrameFault, KeyChange};
+use files::{BED_CASE_FILE, BED_FILE};
+
 use super::protocol::RunState;
 use crate::config::{Case, Geometry};
-use crate::output::{remove_stale_temporaries, write_atomic, OutputError};
+use files::{remove_stale_temporaries, write_atomic, OutputError};
 
 /// The first eight bytes of every `bed.bin`: a name and the layout's version.
 pub const BED_MAGIC: [u8; 8] = *b"HFBED\x00\x00\x01";
-/// Name of the bed's state inside a bed folder.
-pub const BED_FILE: &str = "bed.bin";
-/// Name of the bed's resolved case inside a bed folder (for reading; `bed.bin` holds the
-/// same text, which is what a reuse compares).
-pub const BED_CASE_FILE: &str = "case.toml";
 
 /// Keys that may differ between a bed's case and the case that reuses it, besides every key
 /// of `[measure]` and `[output]`: the outlet's size and position, and the rules that act

@@ -25,9 +25,9 @@ use sha2::{Digest, Sha256};
 
 use super::outputs::PictureSchedule;
 use super::protocol::RunState;
-use super::start::StartRecord;
+use files::StartRecord;
 use super::time_spent::TimeSpent;
-use crate::output::{write_atomic, OutputError};
+use files::{write_atomic, OutputError};
 
 /// The first eight bytes of every checkpoint: a name and the layout's version (8: the
 /// header records how the run started, [`CheckpointHeader::start`], and the state each

@@ -5,7 +5,7 @@
 //! checkpoint holds.
 
 use measure::CrossingEvent;
-use crate::output::Cell;
+use files::Cell;
 
 /// A component index no particle has: an id the run never recorded (not expected).
 const UNKNOWN: u8 = u8::MAX;

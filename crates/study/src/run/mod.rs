@@ -18,12 +18,13 @@ use std::time::Instant;
 
 use crate::config::Case;
 use crate::hopper::PackingError;
-use crate::output::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
-use crate::summary::CaseSummary;
+use files::{StartRecord, CASE_FILE, CHECKPOINT_FILE, START_FILE, SUMMARY_FILE};
+use files::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
+use files::CaseSummary;
 
 pub use bed::{
     bed_header, check_bed, check_bed_case, check_save_bed, read_bed, Bed, BedError, BedHeader,
-    BedReuse, SaveBedError, BED_CASE_FILE, BED_FILE, BED_MAGIC,
+    BedReuse, SaveBedError, BED_MAGIC,
 };
 pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
@@ -31,13 +32,8 @@ pub use checkpoint::{
 };
 pub use outputs::{fit_radial, write_radial_profiles};
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
-pub use start::{Start, StartKind, StartRecord, START_FILE};
+pub use start::Start;
 pub use time_spent::{ProtocolTime, TimeSpent};
-
-/// Name of the checkpoint file inside a run directory.
-pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
-/// Name of the summary; its presence marks a finished case.
-pub const SUMMARY_FILE: &str = "summary.json";
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -92,7 +88,7 @@ pub enum RunError {
     },
     /// The output directory holds a run that started otherwise (from another bed or
     /// packing, or from its own fill): resuming it would mix two starts. Nothing was written.
-    #[error("{} holds a run that started from {} (per its {file}); this run starts from {}; nothing was changed", .dir.display(), start::describe(.found.as_ref()), start::describe(.expected.as_ref()))]
+    #[error("{} holds a run that started from {} (per its {file}); this run starts from {}; nothing was changed", .dir.display(), files::describe_start(.found.as_ref()), files::describe_start(.expected.as_ref()))]
     OtherStart {
         /// The output directory.
         dir: PathBuf,
@@ -131,7 +127,7 @@ pub enum RunError {
     #[error("the discharge stopped ({reason:?}) {stopped:.4} s after the gate opened, before the end of the benchmark window ({start:.4}-{end:.4} s after the opening): it needs more particles, or a longer protocol.time_limit or clog_timeout")]
     EndedBeforeWindow {
         /// Why the discharge stopped.
-        reason: crate::summary::StopReason,
+        reason: files::StopReason,
         /// When, after the opening [s].
         stopped: f64,
         /// The window's start after the opening [s].
@@ -232,8 +228,6 @@ fn describe_changes(changes: &[KeyChange]) -> String {
     format!("; changed keys: {}", list.join(", "))
 }
 
-/// Name of the resolved case inside a run directory.
-pub const CASE_FILE: &str = "case.toml";
 /// The first line of `case.toml` starts with this, then the version and the hash.
 const CASE_HEADER: &str = "# Resolved by hopperflow ";
 

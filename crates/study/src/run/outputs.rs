@@ -26,13 +26,13 @@ use measure::{
     radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
     XProfileBin,
 };
-use crate::output::{
+use files::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, wall_pressure_figure, write_csv_table, write_frame_png,
     write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView,
     ParticleFields, Profile, PvdCollection, PvdEntry, WallSegment,
 };
-use crate::summary::{CaseSummary, ProfileRow, RadialFit, StopReason};
+use files::{CaseSummary, ProfileRow, RadialFit, StopReason};
 
 /// The results a finished run writes beside its summary, besides the snapshot folder.
 pub(crate) const RESULT_FILES: &[&str] = &[
@@ -791,7 +791,7 @@ pub fn fit_radial(bins: &[RadialBin], radius: f64, density: f64) -> Option<Radia
 fn wall_pressure_plot(
     out_dir: &Path,
     zones: &[(f64, f64, f64)],
-    janssen: Option<&crate::summary::JanssenSummary>,
+    janssen: Option<&files::JanssenSummary>,
     hydrostatic: f64,
     radius: f64,
 ) -> Result<(), RunError> {

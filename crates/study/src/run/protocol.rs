@@ -19,7 +19,7 @@ use measure::{
     FrameView, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
     StripConfig, StripProbe, VelocityFieldProbe,
 };
-use crate::summary::StopReason;
+use files::StopReason;
 
 use super::remaining::RemainingRecorder;
 use super::wall_forces::WallForceRecorder;

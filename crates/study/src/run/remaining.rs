@@ -5,7 +5,7 @@
 use dem::Watched;
 use serde::{Deserialize, Serialize};
 
-use crate::output::Cell;
+use files::Cell;
 
 /// Columns of `remaining.csv`: time since the gate opened [s], the particles whose centre is
 /// above the orifice plane, and their mass [kg].

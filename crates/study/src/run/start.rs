@@ -3,17 +3,10 @@
 //! its `start.json` keep, so that `--resume` continues only a run that started the same way
 //! (docs/user-guide.md §5).
 
-use std::fmt;
-
-use serde::{Deserialize, Serialize};
+use files::{StartKind, StartRecord};
 
 use super::bed::Bed;
 use crate::hopper::Packing;
-
-/// Name of the file in a run directory that says where a run started, when it did not fill
-/// its container: the kind, the source's path and SHA-256, and for a bed the keys that
-/// differ from the bed's case and the walls rebuilt for them.
-pub const START_FILE: &str = "start.json";
 
 /// What a run starts from.
 #[derive(Debug, Clone, Default)]
@@ -44,42 +37,3 @@ impl Start {
     }
 }
 
-/// The kind of source a run started from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum StartKind {
-    /// A bed saved by another run.
-    Bed,
-    /// A packing file.
-    Packing,
-}
-
-/// The identity of what a run started from: its kind and the SHA-256 of its content (a
-/// bed's body, a packing file's bytes). The path is left out, so that runs from copies of one
-/// bed or file record the same start.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-pub struct StartRecord {
-    /// Bed or packing.
-    pub kind: StartKind,
-    /// Hex SHA-256 of the content.
-    pub sha256: String,
-}
-
-impl fmt::Display for StartRecord {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let kind = match self.kind {
-            StartKind::Bed => "a saved bed",
-            StartKind::Packing => "a packing file",
-        };
-        write!(
-            f,
-            "{kind} (SHA-256 {})",
-            &self.sha256[..self.sha256.len().min(16)]
-        )
-    }
-}
-
-/// "a fill" or the record in words.
-pub(crate) fn describe(start: Option<&StartRecord>) -> String {
-    start.map_or_else(|| "its own fill".to_string(), ToString::to_string)
-}

@@ -19,7 +19,7 @@ use dem::{WallId, WallLoad, Watched};
 use serde::{Deserialize, Serialize};
 
 use crate::hopper::ContainerWalls;
-use crate::output::Cell;
+use files::Cell;
 
 /// Columns of `wall_forces.csv`; units in the module's and the docs' description.
 pub(crate) const WALL_FORCE_COLUMNS: [&str; 8] =

@@ -13,7 +13,7 @@ use dem::{Simulation, WallId, WallShape};
 use serde::{Deserialize, Serialize};
 
 use crate::hopper::WALL_NAMES;
-use crate::output::Cell;
+use files::Cell;
 
 /// Columns of `wall_pressure.csv`: the window's middle [s from the opening; the settled
 /// bed's window ends at the opening], the phase, the wall, the zone's heights [m], its mean
@@ -273,7 +273,7 @@ impl WallPressureRecorder {
         (bed_height, diameter): (f64, f64),
         bulk_density: f64,
         gravity: f64,
-    ) -> Result<crate::summary::JanssenSummary, String> {
+    ) -> Result<files::JanssenSummary, String> {
         let top = bed_height - 2.0 * diameter;
         let (depths, pressures): (Vec<f64>, Vec<f64>) = self
             .settled_on_cylinder()
@@ -301,7 +301,7 @@ impl WallPressureRecorder {
             )
         })?;
         let pair = |e: analysis::Estimate| [e.value, e.standard_error];
-        Ok(crate::summary::JanssenSummary {
+        Ok(files::JanssenSummary {
             saturation_pressure: pair(fit.saturation_pressure),
             k_mu: pair(fit.k_mu),
             wall_friction: pair(fit.wall_friction),

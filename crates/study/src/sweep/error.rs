@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::output::OutputError;
+use files::OutputError;
 
 /// A study-level failure. A single case failing is not one of these: it is recorded in
 /// `failures.json` and the results table, and the other cases go on.
@@ -20,6 +20,9 @@ pub enum StudyError {
     /// A writer failed (results table, manifest, failures list).
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// The study's manifest or results table could not be read or written.
+    #[error(transparent)]
+    File(#[from] files::StudyFileError),
     /// A results table or a summary could not be parsed.
     #[error("cannot read {path}: {reason}")]
     Parse {

@@ -12,7 +12,8 @@ use std::path::Path;
 
 use super::StudyError;
 use crate::config::SweepPlan;
-use crate::run::{check_bed, read_bed, Bed, Start, StartKind, StartRecord};
+use crate::run::{check_bed, read_bed, Bed, Start};
+use files::{StartKind, StartRecord};
 
 /// Reads the bed in `dir` and makes `plan` start from it ([`plan_from_bed`]): the plan and
 /// the start its cases run from.

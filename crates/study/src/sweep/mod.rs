@@ -7,22 +7,20 @@
 
 mod error;
 mod from_bed;
-mod manifest;
-mod results;
+mod rows;
 mod runner;
 mod simulation;
 mod task;
 
 pub use error::StudyError;
 pub use from_bed::{plan_from_bed, plan_from_bed_dir};
-pub use manifest::{CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
-pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
+pub use rows::{failed_row, manifest_of_plan, measured_row};
 pub use runner::{
     check_study_dir, expected_cost, run_study, CaseRunner, StudyEvent, StudyOptions, StudyOutcome,
-    StudyPaths, SUMMARY_FILE,
+
 };
 pub use simulation::{SimulationRunner, STOPPED};
 pub use task::{
     case_states, collect_study, prepare_study, run_task, CaseState, Collected, TaskOutcome,
-    FAILURE_FILE,
+
 };

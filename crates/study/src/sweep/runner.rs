@@ -11,20 +11,19 @@
 
 use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
 use super::error::StudyError;
-use super::manifest::{CaseFailure, StudyManifest};
-use super::results::{write_results_table, CaseStatus, ResultRow};
+use files::{
+    write_results_table, CaseFailure, CaseStatus, ResultRow, StudyManifest, StudyPaths,
+    SUMMARY_FILE,
+};
 use crate::config::{SweepCase, SweepPlan};
-use crate::output::write_json_atomic;
-use crate::summary::CaseSummary;
-
-/// File name of a case's summary inside its directory; its presence marks the case done.
-pub const SUMMARY_FILE: &str = "summary.json";
+use files::write_json_atomic;
+use files::CaseSummary;
 
 /// Runs one case into its directory and returns its summary.
 ///
@@ -111,36 +110,6 @@ pub struct StudyOutcome {
     pub failures: Vec<CaseFailure>,
 }
 
-/// Paths inside a study directory.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct StudyPaths {
-    /// The study directory.
-    pub root: PathBuf,
-}
-
-impl StudyPaths {
-    /// Paths of the study in `root`.
-    pub fn new(root: impl Into<PathBuf>) -> Self {
-        Self { root: root.into() }
-    }
-    /// `study.json`.
-    pub fn manifest(&self) -> PathBuf {
-        self.root.join("study.json")
-    }
-    /// `results.csv`.
-    pub fn results(&self) -> PathBuf {
-        self.root.join("results.csv")
-    }
-    /// `failures.json`.
-    pub fn failures(&self) -> PathBuf {
-        self.root.join("failures.json")
-    }
-    /// `cases/<id>/`.
-    pub fn case_dir(&self, id: &str) -> PathBuf {
-        self.root.join("cases").join(id)
-    }
-}
-
 /// Saves a summary the runner returned but did not save, so that the case counts as finished
 /// on a restart, and returns it as read back from disk: JSON parsing may differ from the
 /// in-memory value in the last bit, and the table of a resumed (or collected) study must
@@ -184,7 +153,7 @@ pub(crate) fn same_study(plan: &SweepPlan, paths: &StudyPaths) -> Result<bool, S
     let Some(old) = StudyManifest::read(&paths.manifest())? else {
         return Ok(false);
     };
-    let manifest = StudyManifest::of_plan(plan);
+    let manifest = super::manifest_of_plan(plan);
     if old.name != manifest.name || old.config_hash != manifest.config_hash {
         return Err(StudyError::DifferentStudy {
             path: paths.manifest(),
@@ -243,7 +212,7 @@ pub fn run_study(
     check_study_dir(plan, root)?;
     let cases_dir = root.join("cases");
     std::fs::create_dir_all(&cases_dir).map_err(|e| StudyError::io(&cases_dir, e))?;
-    let manifest = StudyManifest::of_plan(plan);
+    let manifest = super::manifest_of_plan(plan);
     manifest.write(&paths.manifest())?;
 
     let mut rows = BTreeMap::new();
@@ -251,7 +220,7 @@ pub fn run_study(
     for case in &plan.cases {
         match finished_summary(&paths.case_dir(&case.id)) {
             Some(summary) => {
-                rows.insert(case.id.clone(), ResultRow::measured(case, &summary));
+                rows.insert(case.id.clone(), super::measured_row(case, &summary));
             }
             None => pending.push(case),
         }
@@ -294,8 +263,8 @@ pub fn run_study(
         let result = result.and_then(|summary| keep_summary(&dir, summary));
         let wall_time = started.elapsed().as_secs_f64();
         let (row, reason) = match result {
-            Ok(summary) => (ResultRow::measured(case, &summary), None),
-            Err(reason) => (ResultRow::failed(case), Some(reason)),
+            Ok(summary) => (super::measured_row(case, &summary), None),
+            Err(reason) => (super::failed_row(case), Some(reason)),
         };
         let mut state = progress.lock().unwrap_or_else(|p| p.into_inner());
         state.done += 1;
@@ -319,10 +288,12 @@ pub fn run_study(
             total,
         };
         state.rows.insert(case.id.clone(), row);
-        let written = write_results_table(&paths.results(), &state.rows).and_then(|()| {
-            let failures: Vec<&CaseFailure> = state.failures.values().collect();
-            write_json_atomic(paths.failures(), &failures).map_err(StudyError::from)
-        });
+        let written = write_results_table(&paths.results(), &state.rows)
+            .map_err(StudyError::from)
+            .and_then(|()| {
+                let failures: Vec<&CaseFailure> = state.failures.values().collect();
+                write_json_atomic(paths.failures(), &failures).map_err(StudyError::from)
+            });
         if let Err(e) = written {
             state.first_error.get_or_insert(e);
         }

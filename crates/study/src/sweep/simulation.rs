@@ -8,7 +8,7 @@ use std::sync::Arc;
 use super::runner::CaseRunner;
 use crate::config::SweepCase;
 use crate::run::{run_case_from, RunOptions, RunOutcome, Start};
-use crate::summary::CaseSummary;
+use files::CaseSummary;
 
 /// What a case stopped by the `stop` flag reports as its error.
 pub const STOPPED: &str = "stopped by a signal; its checkpoint will be resumed";

@@ -17,20 +17,17 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::error::StudyError;
-use super::manifest::{CaseFailure, StudyManifest};
-use super::results::{write_results_table, ResultRow};
+use files::{
+    write_results_table, CaseFailure, ResultRow, StudyManifest, StudyPaths, CHECKPOINT_FILE,
+    FAILURE_FILE,
+};
 use super::runner::{
     check_study_dir, finished_summary, keep_summary, panic_message, same_study, CaseRunner,
-    StudyPaths,
 };
 use super::simulation::STOPPED;
 use crate::config::SweepPlan;
-use crate::output::write_json_atomic;
-use crate::run::CHECKPOINT_FILE;
-use crate::summary::CaseSummary;
-
-/// The marker a failed task leaves in its case folder: the case's id and the error.
-pub const FAILURE_FILE: &str = "failure.json";
+use files::write_json_atomic;
+use files::CaseSummary;
 
 /// How one task ended.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,7 +83,9 @@ pub fn prepare_study(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> {
     let paths = StudyPaths::new(root);
     let cases = root.join("cases");
     std::fs::create_dir_all(&cases).map_err(|e| StudyError::io(&cases, e))?;
-    StudyManifest::of_plan(plan).write(&paths.manifest())
+    super::manifest_of_plan(plan)
+        .write(&paths.manifest())
+        .map_err(StudyError::from)
 }
 
 /// The state of every case of the study in `root`, in the manifest's order. Reads only.
@@ -110,7 +109,7 @@ fn state_of(dir: &Path) -> CaseState {
         CaseState::Failed(failure.reason)
     } else if dir.join(CHECKPOINT_FILE).is_file() {
         CaseState::Checkpointed
-    } else if dir.join(crate::run::CASE_FILE).is_file() {
+    } else if dir.join(files::CASE_FILE).is_file() {
         CaseState::Started
     } else {
         CaseState::NotStarted
@@ -202,9 +201,9 @@ pub fn collect_study(plan: &SweepPlan, root: &Path) -> Result<Collected, StudyEr
     for case in &plan.cases {
         let dir = paths.case_dir(&case.id);
         if let Some(summary) = finished_summary(&dir) {
-            rows.insert(case.id.clone(), ResultRow::measured(case, &summary));
+            rows.insert(case.id.clone(), super::measured_row(case, &summary));
         } else if let Some(failure) = read_failure(&dir) {
-            rows.insert(case.id.clone(), ResultRow::failed(case));
+            rows.insert(case.id.clone(), super::failed_row(case));
             failures.insert(case.id.clone(), failure);
         } else {
             unfinished.push(case.id.clone());

@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 use crate::tiny_hopper;
 
 use study::config::parse_sweep;
-use study::run::{check_run_dir, run_case, RunError, RunOptions, RunOutcome, CHECKPOINT_FILE};
+use study::run::{check_run_dir, run_case, RunError, RunOptions, RunOutcome};
+use files::CHECKPOINT_FILE;
 use study::sweep::{check_study_dir, StudyError};
 
 /// Every file under `dir` with its bytes.

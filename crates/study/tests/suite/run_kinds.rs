@@ -9,7 +9,7 @@ use glam::DVec3;
 use study::config::{load_case, parse_case, Case};
 use study::hopper::case_simulation;
 use study::run::{run_case, RunOptions, RunOutcome};
-use study::summary::{CaseSummary, StopReason};
+use files::{CaseSummary, StopReason};
 
 /// The run settings of every case here: 400 spheres of 4 mm (the paper's soft material, so
 /// Δt = 5 µs is 0.15 Rayleigh times) poured from `fill_top` [m], a discharge of at most

@@ -14,9 +14,10 @@ use crate::tiny_hopper;
 
 use study::config::parse_case;
 use study::hopper::{read_packing, PackedParticle, Packing};
-use study::output::{write_particles_vtu, ParticleFields};
-use study::run::{run_case_from, RunOptions, RunOutcome, Start, StartKind, SUMMARY_FILE};
-use study::summary::StopReason;
+use files::{write_particles_vtu, ParticleFields};
+use study::run::{run_case_from, RunOptions, RunOutcome, Start};
+use files::{StartKind, SUMMARY_FILE};
+use files::StopReason;
 use tiny_hopper::{read, tiny_case};
 
 /// 250 spheres of the tiny hopper on a square lattice 1 % wider than a diameter, from
@@ -184,7 +185,7 @@ fn a_csv_and_a_vtu_of_one_packing_read_back_exactly_and_start_the_same_run() {
         }
     }
     // The summaries differ only in the start's file identity (the files' bytes differ).
-    let without_start = |s: &study::summary::CaseSummary| {
+    let without_start = |s: &files::CaseSummary| {
         let mut value = serde_json::to_value(s).expect("a summary serialises");
         value["start"] = serde_json::Value::Null;
         value

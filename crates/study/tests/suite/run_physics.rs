@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use study::config::{parse_case, Case};
 use study::run::{run_case, RunOptions, RunOutcome};
-use study::summary::{CaseSummary, StopReason};
+use files::{CaseSummary, StopReason};
 
 /// A hopper of 400 spheres of 3 mm, 60 mm wide and 120 mm tall, with an 18 mm (6 d)
 /// outlet, wide enough that arches are rare. `geometry_lines` adds keys to `[geometry]`.

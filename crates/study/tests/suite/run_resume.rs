@@ -10,7 +10,9 @@ use crate::tiny_hopper;
 
 use tiny_hopper::read;
 
-use study::run::{run_case, Progress, RunOptions, RunOutcome, CHECKPOINT_FILE, SUMMARY_FILE};
+use study::run::{run_case, Progress, RunOptions, RunOutcome};
+
+use files::{CHECKPOINT_FILE, SUMMARY_FILE};
 
 /// Options that record the phase after every protocol chunk.
 fn recording_options(

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use study::config::{parse_case, Case};
 use study::run::{run_case, RunOptions, RunOutcome};
-use study::summary::{CaseSummary, StopReason};
+use files::{CaseSummary, StopReason};
 
 /// A silo of 40 mm radius holding 400 spheres of 4 mm (the paper's soft material, so that
 /// Δt = 5 µs is 0.15 Rayleigh times), a 20 mm orifice (5 d: at 4 d arches stop the flow

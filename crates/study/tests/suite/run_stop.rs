@@ -4,8 +4,10 @@
 
 use std::path::Path;
 
-use study::run::{run_case, RunOptions, RunOutcome, SUMMARY_FILE};
-use study::summary::{CaseSummary, StopReason};
+use study::run::{run_case, RunOptions, RunOutcome};
+
+use files::SUMMARY_FILE;
+use files::{CaseSummary, StopReason};
 use tiny_hopper::{read, tiny_case};
 
 use crate::tiny_hopper;

@@ -5,7 +5,8 @@
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
-use study::run::{run_case, RunOptions, RunOutcome, CHECKPOINT_FILE};
+use study::run::{run_case, RunOptions, RunOutcome};
+use files::CHECKPOINT_FILE;
 use tiny_hopper::{read, tiny_case};
 
 use crate::tiny_hopper;

@@ -26,9 +26,10 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use study::config::{CylinderSilo, SweepCase};
 use measure::{RadialBin, RadialBins};
-use study::output::{write_csv_table, Cell};
-use study::run::{fit_radial, write_radial_profiles, CASE_FILE};
-use study::summary::{CaseSummary, StopReason};
+use files::{write_csv_table, Cell};
+use study::run::{fit_radial, write_radial_profiles};
+use files::CASE_FILE;
+use files::{CaseSummary, StopReason};
 use study::sweep::CaseRunner;
 
 /// Gravitational acceleration used by the fake [m/s²] (the analysis uses the same).

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use study::config::{parse_sweep, SweepCase};
 use study::run::{run_case, RunOptions, RunOutcome};
-use study::summary::CaseSummary;
+use files::CaseSummary;
 use study::sweep::{run_study, CaseRunner, SimulationRunner, StudyEvent, StudyOptions};
 
 /// Two cases of 150 spheres in a 45 mm wide, flat-bottomed hopper, outlet 15 and 18 mm
@@ -134,8 +134,8 @@ fn study_resume_matches_uninterrupted() {
         "a killed and resumed study gives the uninterrupted table"
     );
     // Both cases measured a discharge (not failed), so the comparison is of real rows.
-    let rows = study::sweep::read_results_table(&whole.path().join("results.csv")).unwrap();
+    let rows = files::read_results_table(&whole.path().join("results.csv")).unwrap();
     assert!(rows
         .iter()
-        .all(|r| r.status != study::sweep::CaseStatus::Failed && r.discharge_rate > 0.0));
+        .all(|r| r.status != files::CaseStatus::Failed && r.discharge_rate > 0.0));
 }

@@ -5,9 +5,8 @@ use crate::study_fake;
 use std::sync::atomic::Ordering;
 
 use study::config::{parse_sweep, SweepPlan};
-use study::sweep::{
-    read_results_table, run_study, CaseStatus, StudyError, StudyEvent, StudyOptions,
-};
+use study::sweep::{run_study, StudyError, StudyEvent, StudyOptions};
+use files::{read_results_table, CaseStatus};
 use study_fake::FakeRunner;
 
 /// Six cases: two hopper angles × three outlet widths.
@@ -61,7 +60,7 @@ fn parallel_study_runs_every_case_once_and_tabulates_them_sorted() {
     assert_eq!(ids, sorted, "rows are sorted by identifier");
     assert_eq!(rows.len(), 6);
     for row in &rows {
-        let summary: study::summary::CaseSummary = serde_json::from_str(
+        let summary: files::CaseSummary = serde_json::from_str(
             &std::fs::read_to_string(dir.path().join("cases").join(&row.id).join("summary.json"))
                 .unwrap(),
         )

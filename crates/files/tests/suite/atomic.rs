@@ -5,7 +5,7 @@ use std::path::Path;
 
 use serde::ser::{Error as _, SerializeSeq};
 use serde::{Serialize, Serializer};
-use study::output::{write_atomic, write_json_atomic, AtomicFile, OutputError};
+use files::{write_atomic, write_json_atomic, AtomicFile, OutputError};
 
 /// Names of every entry in `directory`, sorted, so a test can assert that no temporary file
 /// survived.

@@ -5,9 +5,8 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::error::StudyError;
-use crate::config::SweepPlan;
-use crate::output::write_json_atomic;
+use crate::atomic::write_json_atomic;
+use crate::StudyFileError;
 
 /// One planned case in the manifest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -50,79 +49,33 @@ pub struct StudyManifest {
     /// What every case starts from instead of its fill (a saved bed); absent when each case
     /// fills its container.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start: Option<crate::run::StartRecord>,
+    pub start: Option<crate::StartRecord>,
 }
 
 /// Hex SHA-256 of a text.
-pub(crate) fn hex_hash(text: &str) -> String {
+pub fn hex_hash(text: &str) -> String {
     let digest = Sha256::digest(text.as_bytes());
     digest.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 impl StudyManifest {
-    /// The manifest of a plan.
-    pub fn of_plan(plan: &SweepPlan) -> Self {
-        let mut whole = Sha256::new();
-        let cases = plan
-            .cases
-            .iter()
-            .map(|case| {
-                let text = case.case.to_toml_string();
-                whole.update(case.id.as_bytes());
-                whole.update([0u8]);
-                whole.update(text.as_bytes());
-                ManifestCase {
-                    id: case.id.clone(),
-                    seed: case.case.seed,
-                    config_hash: hex_hash(&text),
-                }
-            })
-            .collect();
-        // A study from a bed is another study than the same sweep's from fills; a study of
-        // fills hashes as it always did.
-        if let Some(start) = &plan.start {
-            whole.update(format!("start|{:?}|{}", start.kind, start.sha256).as_bytes());
-        }
-        Self {
-            name: plan.name.clone(),
-            description: plan.description.clone(),
-            version: env!("CARGO_PKG_VERSION").to_string(),
-            config_hash: whole
-                .finalize()
-                .iter()
-                .map(|b| format!("{b:02x}"))
-                .collect(),
-            replicas: plan.replicas,
-            cases,
-            skipped: plan
-                .skipped
-                .iter()
-                .map(|s| ManifestSkipped {
-                    id: s.id.clone(),
-                    reasons: s.reasons.clone(),
-                })
-                .collect(),
-            start: plan.start.clone(),
-        }
-    }
-
     /// Reads `study.json`; `Ok(None)` when the file does not exist.
-    pub fn read(path: &Path) -> Result<Option<Self>, StudyError> {
+    pub fn read(path: &Path) -> Result<Option<Self>, StudyFileError> {
         let text = match std::fs::read_to_string(path) {
             Ok(text) => text,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(StudyError::io(path, e)),
+            Err(e) => return Err(StudyFileError::io(path, e)),
         };
         serde_json::from_str(&text)
             .map(Some)
-            .map_err(|e| StudyError::Parse {
+            .map_err(|e| StudyFileError::Parse {
                 path: path.to_path_buf(),
                 reason: e.to_string(),
             })
     }
 
     /// Writes `study.json` atomically.
-    pub fn write(&self, path: &Path) -> Result<(), StudyError> {
+    pub fn write(&self, path: &Path) -> Result<(), StudyFileError> {
         write_json_atomic(path, self)?;
         Ok(())
     }

@@ -1,4 +1,9 @@
-//! Writers: atomic files, CSV, VTU/PVD, PNG/SVG plots and frames.
+//! What a run and a study leave on disk, and the writers that put it there.
+//!
+//! - [`CaseSummary`] (`summary.json`), [`StartRecord`] (`start.json`), [`StudyManifest`]
+//!   (`study.json`) and [`ResultRow`] (`results.csv`): the saved records, with the names of
+//!   their files ([`SUMMARY_FILE`], [`StudyPaths`], …). The report reads these and nothing
+//!   else; this crate does not depend on the engine or the run.
 //!
 //! Every writer takes plain data (slices of `f64`, `[f64; 3]`, the small structs defined here),
 //! never engine types, and every file appears atomically (temporary file in the same
@@ -20,6 +25,8 @@
 //! Functions that render in memory report errors with an empty path; the file writers fill
 //! in their target.
 
+#![warn(missing_docs)]
+
 mod atomic;
 mod colormap;
 mod error;
@@ -27,10 +34,16 @@ mod figures;
 mod font;
 mod frame;
 mod image;
+mod layout;
+mod manifest;
 #[cfg(feature = "parquet")]
 mod parquet;
 mod plot;
 mod pvd;
+mod results;
+mod start;
+mod study_file_error;
+mod summary;
 mod table;
 mod vtu;
 
@@ -53,3 +66,13 @@ pub use plot::{plot_png, plot_svg, render_plot, Axis, Figure, Series, SeriesStyl
 pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
 pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};
+
+pub use layout::{
+    StudyPaths, BED_CASE_FILE, BED_FILE, CASE_FILE, CHECKPOINT_FILE, FAILURE_FILE, START_FILE,
+    SUMMARY_FILE,
+};
+pub use manifest::{hex_hash, CaseFailure, ManifestCase, ManifestSkipped, StudyManifest};
+pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
+pub use start::{describe_start, StartKind, StartRecord};
+pub use study_file_error::StudyFileError;
+pub use summary::{CaseSummary, JanssenSummary, ProfileRow, RadialFit, StopReason};

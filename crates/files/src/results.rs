@@ -8,10 +8,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::error::StudyError;
-use crate::config::SweepCase;
-use crate::output::{write_csv_table, Cell};
-use crate::summary::CaseSummary;
+use crate::table::{write_csv_table, Cell};
+use crate::StudyFileError;
 
 /// How a case ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -124,75 +122,6 @@ pub const RESULT_COLUMNS: [&str; 26] = [
 ];
 
 impl ResultRow {
-    /// The row of a case whose run returned `summary`.
-    pub fn measured(case: &SweepCase, summary: &CaseSummary) -> Self {
-        let status = if summary.clogged {
-            CaseStatus::Clogged
-        } else {
-            CaseStatus::Complete
-        };
-        Self {
-            discharge_rate: summary.discharge_rate,
-            discharge_rate_error: summary.discharge_rate_error,
-            centre_velocity: summary.centre_velocity,
-            centre_area_fraction: summary.centre_area_fraction,
-            max_area_fraction: summary.max_area_fraction,
-            bulk_volume_fraction: summary.bulk_volume_fraction,
-            flux_check_rate: summary.flux_check_rate,
-            flux_check_ratio: summary.flux_check_rate / summary.discharge_rate,
-            plateau_found: summary.plateau_found,
-            clogged: summary.clogged,
-            status,
-            ..Self::failed(case)
-        }
-    }
-
-    /// The row of a case that produced no summary: inputs filled in, measurements NaN.
-    pub fn failed(case: &SweepCase) -> Self {
-        let geometry = &case.case.geometry;
-        let of_slab =
-            |f: fn(&crate::config::HopperGeometry) -> f64| geometry.slab().map_or(f64::NAN, f);
-        let labels = case
-            .labels
-            .iter()
-            .filter(|(key, _)| key.as_str() != "series" && key.as_str() != "replica")
-            .map(|(key, value)| format!("{key}={value}"))
-            .collect::<Vec<_>>()
-            .join(";");
-        Self {
-            id: case.id.clone(),
-            series: case.labels.get("series").cloned().unwrap_or_default(),
-            replica: case
-                .labels
-                .get("replica")
-                .and_then(|r| r.parse().ok())
-                .unwrap_or(0),
-            labels,
-            outlet_width: geometry.outlet_size(),
-            hopper_angle_deg: geometry.hopper_angle_deg(),
-            outlet_gap: of_slab(|g| g.outlet_gap),
-            dimensionless_gap: of_slab(|g| g.dimensionless_gap()),
-            thickness: of_slab(|g| g.thickness),
-            wall_friction: case.case.wall.interaction.friction,
-            width: of_slab(|g| g.width),
-            particle_diameter: case.case.particles.mean_diameter(),
-            particle_density: case.case.particles.density(),
-            particles: case.case.particles.count,
-            seed: case.case.seed,
-            discharge_rate: f64::NAN,
-            discharge_rate_error: f64::NAN,
-            centre_velocity: f64::NAN,
-            centre_area_fraction: f64::NAN,
-            max_area_fraction: f64::NAN,
-            bulk_volume_fraction: f64::NAN,
-            flux_check_rate: f64::NAN,
-            flux_check_ratio: f64::NAN,
-            plateau_found: false,
-            clogged: false,
-            status: CaseStatus::Failed,
-        }
-    }
-
     fn cells(&self) -> Vec<Cell> {
         let flag = |b: bool| Cell::Text(b.to_string());
         vec![
@@ -231,17 +160,17 @@ impl ResultRow {
 pub fn write_results_table(
     path: &Path,
     rows: &BTreeMap<String, ResultRow>,
-) -> Result<(), StudyError> {
+) -> Result<(), StudyFileError> {
     let cells: Vec<Vec<Cell>> = rows.values().map(ResultRow::cells).collect();
     write_csv_table(path, &RESULT_COLUMNS, &cells)?;
     #[cfg(feature = "parquet")]
-    crate::output::write_parquet_table(path.with_extension("parquet"), &RESULT_COLUMNS, &cells)?;
+    crate::parquet::write_parquet_table(path.with_extension("parquet"), &RESULT_COLUMNS, &cells)?;
     Ok(())
 }
 
 /// Reads a `results.csv` written by [`write_results_table`].
-pub fn read_results_table(path: &Path) -> Result<Vec<ResultRow>, StudyError> {
-    let parse = |reason: String| StudyError::Parse {
+pub fn read_results_table(path: &Path) -> Result<Vec<ResultRow>, StudyFileError> {
+    let parse = |reason: String| StudyFileError::Parse {
         path: path.to_path_buf(),
         reason,
     };

@@ -1,6 +1,6 @@
 //! Behaviour of the VTU and PVD writers: well-formed XML, consistent counts, exact values.
 
-use study::output::{
+use files::{
     write_particles_vtu, write_walls_vtu, OutputError, ParticleFields, PvdCollection,
 };
 

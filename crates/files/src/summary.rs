@@ -148,7 +148,7 @@ pub struct CaseSummary {
     /// What the run started from instead of its own fill: a saved bed or a packing file,
     /// by SHA-256 (`run::StartRecord`); absent for a run that filled its container.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start: Option<crate::run::StartRecord>,
+    pub start: Option<crate::StartRecord>,
 }
 
 /// Janssen's law p_w(h) = p_sat (1 − exp(−2Kμ_w h/R)) fitted to the settled bed's wall

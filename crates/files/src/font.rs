@@ -10,7 +10,7 @@ use plotters::style::{register_font, FontStyle};
 use super::OutputError;
 
 /// DejaVu Sans (Bitstream Vera licence, redistribution allowed; see the assets folder).
-static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+static DEJAVU_SANS: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// The family name every writer in this module asks plotters for.
 pub(crate) const FONT_FAMILY: &str = "sans-serif";

@@ -56,7 +56,7 @@ pub enum OutputError {
 
 impl OutputError {
     /// Builds an [`OutputError::InvalidData`] for `path`.
-    pub(crate) fn invalid(path: &std::path::Path, reason: impl Into<String>) -> Self {
+    pub fn invalid(path: &std::path::Path, reason: impl Into<String>) -> Self {
         Self::InvalidData {
             path: path.to_path_buf(),
             reason: reason.into(),
@@ -64,7 +64,7 @@ impl OutputError {
     }
 
     /// Builds an [`OutputError::Io`] for `path`.
-    pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+    pub fn io(path: &std::path::Path, source: std::io::Error) -> Self {
         Self::Io {
             path: path.to_path_buf(),
             source,

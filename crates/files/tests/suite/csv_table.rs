@@ -1,6 +1,6 @@
 //! Behaviour of the CSV table writers: values round-trip and bad shapes are refused.
 
-use study::output::{write_csv_columns, write_csv_table, Cell, OutputError};
+use files::{write_csv_columns, write_csv_table, Cell, OutputError};
 
 /// Reads a CSV file back as headers and string records.
 fn read_back(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {

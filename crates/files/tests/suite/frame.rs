@@ -1,7 +1,7 @@
 //! Behaviour of the hopper frame renderer: discs at the right place in the right colour,
 //! walls, colour bar, time label, clipping, PNG output.
 
-use study::output::{
+use files::{
     render_frame, viridis, write_frame_png, FrameParticle, FrameView, OutputError, WallSegment,
 };
 

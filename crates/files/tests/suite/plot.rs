@@ -1,7 +1,7 @@
 //! Behaviour of the plot writers: valid PNG/SVG files, data and bands drawn where expected,
 //! text rendered with the embedded font, bad specifications refused.
 
-use study::output::{
+use files::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg, render_plot,
     velocity_profile_figure, Axis, Figure, FittedCurve, OutputError, Profile, RgbImage, Series,
 };
