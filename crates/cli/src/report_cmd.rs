@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use study::report::{build_report, ReportError};
+use report::{build_report, ReportError};
 
 use crate::run_cmd::EXIT_BAD_INPUT;
 

@@ -487,7 +487,7 @@ pub fn collect(plan: &SweepPlan, out: &Path) -> i32 {
     for id in &collected.unfinished {
         println!("unfinished: {id}");
     }
-    match study::report::build_report(out) {
+    match report::build_report(out) {
         Ok(files) => println!("report: {}", files.markdown.display()),
         Err(e) => {
             eprintln!("error: the report: {e}");

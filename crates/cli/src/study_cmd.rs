@@ -322,7 +322,7 @@ pub fn run(args: StudyArgs) -> i32 {
                 println!("report:  hopperflow report {}", out.display());
                 true
             } else {
-                match study::report::build_report(&out) {
+                match report::build_report(&out) {
                     Ok(files) => {
                         println!("report:  {}", files.markdown.display());
                         println!("html:    {}", files.html.display());

@@ -29,6 +29,7 @@
 
 mod atomic;
 mod colormap;
+mod defaults;
 mod error;
 mod figures;
 mod font;
@@ -67,6 +68,7 @@ pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
 pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};
 
+pub use defaults::DEFAULT_GRAVITY;
 pub use layout::{
     StudyPaths, BED_CASE_FILE, BED_FILE, CASE_FILE, CHECKPOINT_FILE, FAILURE_FILE, START_FILE,
     SUMMARY_FILE,

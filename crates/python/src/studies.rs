@@ -237,7 +237,7 @@ pub fn run_study<'py>(
 /// Builds the report of the study in `root`; returns the paths of its files.
 #[pyfunction]
 pub fn study_report(root: PathBuf) -> PyResult<Vec<PathBuf>> {
-    let files = study::report::build_report(&root).map_err(|e| RunError::new_err(e.to_string()))?;
+    let files = report::build_report(&root).map_err(|e| RunError::new_err(e.to_string()))?;
     let mut paths = vec![files.markdown, files.html, files.comparison];
     paths.extend(files.figures);
     Ok(paths)

@@ -7,6 +7,6 @@ pub mod bench;
 pub mod cluster;
 pub mod config;
 pub mod hopper;
-pub mod report;
+
 pub mod run;
 pub mod sweep;

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::geometry::HopperGeometry;
 use super::particles::{Material, ParticleSpec};
 use super::silo::Geometry;
+use files::DEFAULT_GRAVITY;
 
 /// Version of the case-file format this code reads and writes.
 pub const CASE_FORMAT_VERSION: i64 = 1;
@@ -174,11 +175,6 @@ pub struct OutputSpec {
     /// Whether to draw the per-case plots.
     pub plots: bool,
 }
-
-/// g [m/s²] of a case that does not give `gravity`: the engine's and the paper's 9.81.
-/// A case file holds the key only when it differs, so that the cases written before the key
-/// existed keep their bytes and their configuration hashes.
-pub const DEFAULT_GRAVITY: f64 = 9.81;
 
 /// Largest g [m/s²] a case may give: about 100 times the Earth's, the range of geotechnical
 /// centrifuges; beyond it the default time-step guidance no longer holds.

@@ -40,7 +40,7 @@ pub use builtin::{
 };
 pub use case::{
     Case, ContactSpec, Interaction, MeasureSpec, OutputSpec, Protocol, RollingLaw, TangentialLaw,
-    WallMaterial, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION, DEFAULT_GRAVITY,
+    WallMaterial, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION,
     MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION, THICK_SLAB_DIAMETERS,
 };
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};

@@ -9,8 +9,10 @@ use std::sync::Arc;
 
 use super::case::{
     Case, ContactSpec, Interaction, RollingLaw, TangentialLaw, WallMaterial, WallSpec,
-    CASE_FORMAT_VERSION, DEFAULT_GRAVITY, MAX_GRAVITY,
+    CASE_FORMAT_VERSION, MAX_GRAVITY,
 };
+use files::DEFAULT_GRAVITY;
+
 use super::document::{NodeValue, Table};
 use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
 use super::geometry::HopperGeometry;

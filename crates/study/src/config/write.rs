@@ -5,9 +5,10 @@ use std::fmt::Write;
 use dem::MaterialTable;
 
 use super::case::{
-    Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION, DEFAULT_GRAVITY,
+    Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION,
 };
 use super::error::rounded;
+use files::DEFAULT_GRAVITY;
 use super::mesh_container::MeshOutlet;
 use super::particles::{FractionBasis, Material, SizeDistribution};
 use super::silo::{Geometry, WallSurface};

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde_json::Value;
 use study::config::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
-use study::report::{analyse_study, build_report, load_study};
+use report::{analyse_study, build_report, load_study};
 use study::sweep::{run_study, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
 
@@ -301,7 +301,7 @@ fn pooled_beverloo_k_fits_every_angle_together_and_differs_from_the_flat_bottom_
         points.iter().map(|p| p.hopper_angle_deg as u64).collect();
     assert_eq!(angles.len(), 5, "all five angles enter the pooled fit");
     let analysis = analyse_study(&data.points);
-    let pooled = study::report::beverloo::pooled_angle_fit(&analysis.beverloo, "angle").unwrap();
+    let pooled = report::beverloo::pooled_angle_fit(&analysis.beverloo, "angle").unwrap();
     assert_eq!(pooled.hopper_angles, [15.0, 30.0, 55.0, 75.0, 90.0]);
     let normalisation = analysis::beverloo::BeverlooNormalisation {
         slab_thickness: points[0].thickness,

@@ -9,7 +9,7 @@ use super::document::{Block, Document};
 use super::figures::report_figures;
 use super::{analyse_study, tables};
 use files::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
-use crate::sweep::StudyError;
+use files::StudyFileError;
 use files::{CaseStatus, StudyPaths};
 
 /// Figure size [px]: wide enough for legends beside six series.
@@ -34,7 +34,7 @@ pub enum ReportError {
     },
     /// The study could not be read.
     #[error(transparent)]
-    Study(#[from] StudyError),
+    Study(#[from] StudyFileError),
     /// A report file could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),

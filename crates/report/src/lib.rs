@@ -10,6 +10,8 @@
 //! - [`build_report`] writes `report/report.md`, `report/report.html` (self-contained),
 //!   `report/comparison.json` and the figures.
 
+#![warn(missing_docs)]
+
 pub mod beverloo;
 mod build;
 pub mod centred;

@@ -224,7 +224,7 @@ mod tests {
     use super::*;
 
     /// g [m/s²] of the points below unless a test sets another.
-    const GRAVITY: f64 = crate::config::DEFAULT_GRAVITY;
+    const GRAVITY: f64 = files::DEFAULT_GRAVITY;
 
     /// A flat-bottomed centred point of width `d` [m] with centre velocity `vc` ± `error`
     /// [m/s] and no profiles.

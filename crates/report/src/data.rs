@@ -7,9 +7,9 @@ use std::path::Path;
 use analysis::profile::BinnedProfile;
 use analysis::Estimate;
 
-use crate::config::DEFAULT_GRAVITY;
+use files::DEFAULT_GRAVITY;
 use files::ProfileRow;
-use crate::sweep::StudyError;
+use files::StudyFileError;
 use files::{read_results_table, CaseStatus, ResultRow, StudyManifest, StudyPaths, SUMMARY_FILE};
 
 /// Tolerance on s* for "the outlet is centred" (s* = 1); grid values are exact decimals.
@@ -247,7 +247,7 @@ fn read_summary(dir: &Path) -> Option<files::CaseSummary> {
 
 /// Loads a study directory: `results.csv` (required), `study.json` and each case's
 /// `profiles.csv` and `flow.csv` (optional).
-pub fn load_study(root: &Path) -> Result<StudyData, StudyError> {
+pub fn load_study(root: &Path) -> Result<StudyData, StudyFileError> {
     let paths = StudyPaths::new(root);
     let manifest = StudyManifest::read(&paths.manifest())?;
     let rows = read_results_table(&paths.results())?;
