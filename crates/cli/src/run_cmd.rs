@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use study::config::{
+use case::{
     default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE,
 };
 use study::hopper::read_packing;

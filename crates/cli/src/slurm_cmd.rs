@@ -11,7 +11,7 @@ use std::process::Command;
 use clap::Args;
 use serde::{Deserialize, Serialize};
 use study::cluster::{array_script, report_script, SlurmOptions, TimeLimit};
-use study::config::SweepPlan;
+use case::SweepPlan;
 use files::{write_atomic, write_json_atomic};
 use study::sweep::{case_states, collect_study, prepare_study, run_task, CaseState, SimulationRunner, TaskOutcome};
 

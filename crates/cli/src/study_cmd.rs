@@ -13,7 +13,7 @@ use clap::Args;
 
 use crate::slurm_cmd::SlurmArgs;
 use indicatif::{ProgressBar, ProgressStyle};
-use study::config::{
+use case::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
 use study::run::Start;

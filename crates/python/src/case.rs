@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use pyo3::exceptions::{PyKeyError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
-use study::config::{default_case, load_case, parse_case, parse_case_in};
+use case::{default_case, load_case, parse_case, parse_case_in};
 
 use crate::errors::{case_error, key_error};
 
@@ -38,14 +38,14 @@ enum Origin {
 pub struct Case {
     origin: Origin,
     sets: Vec<String>,
-    pub(crate) case: study::config::Case,
+    pub(crate) case: case::Case,
 }
 
 impl Case {
     fn resolve(
         origin: &Origin,
         sets: &[String],
-    ) -> Result<study::config::Case, study::config::ConfigErrors> {
+    ) -> Result<case::Case, case::ConfigErrors> {
         match origin {
             Origin::Paper => default_case(sets),
             Origin::Text { text, name, dir } => parse_case_in(text, name, dir.as_deref(), sets),
@@ -248,12 +248,12 @@ impl Case {
     fn __repr__(&self) -> String {
         let g = &self.case.geometry;
         let size = match g {
-            study::config::Geometry::Slab(s) => format!("L={} m", s.width),
-            study::config::Geometry::Cylinder(s) => format!("kind=cylinder, R={} m", s.radius),
-            study::config::Geometry::Box(s) => {
+            case::Geometry::Slab(s) => format!("L={} m", s.width),
+            case::Geometry::Cylinder(s) => format!("kind=cylinder, R={} m", s.radius),
+            case::Geometry::Box(s) => {
                 format!("kind=box, W={} m, B={} m", s.width, s.depth)
             }
-            study::config::Geometry::Mesh(s) => format!("kind=mesh, {} STL walls", s.walls.len()),
+            case::Geometry::Mesh(s) => format!("kind=mesh, {} STL walls", s.walls.len()),
         };
         format!(
             "Case(N={}, d={} m, {size}, D={} m, alpha={}°, seed={})",

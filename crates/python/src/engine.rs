@@ -55,7 +55,7 @@ pub struct Simulation {
     /// a run records them.
     components: Vec<u8>,
     wall_template: WallTemplate,
-    case: study::config::Case,
+    case: case::Case,
 }
 
 fn engine_error(e: &DemError) -> PyErr {
@@ -116,7 +116,7 @@ fn wall_template(
     sim: &dem::Simulation,
     walls: &ContainerWalls,
     materials: &[MaterialId],
-    case: &study::config::Case,
+    case: &case::Case,
 ) -> WallTemplate {
     let present = walls
         .all()
@@ -151,7 +151,7 @@ fn wall_template(
 }
 
 impl Simulation {
-    fn build(case: &study::config::Case, threads: usize) -> PyResult<Self> {
+    fn build(case: &case::Case, threads: usize) -> PyResult<Self> {
         let (sim, walls, materials) =
             case_simulation_by_component(case, threads).map_err(|e| engine_error(&e))?;
         Ok(Self::assemble(sim, walls, materials, Vec::new(), case))
@@ -162,7 +162,7 @@ impl Simulation {
         walls: ContainerWalls,
         materials: Vec<MaterialId>,
         components: Vec<u8>,
-        case: &study::config::Case,
+        case: &case::Case,
     ) -> Self {
         let wall_template = wall_template(&sim, &walls, &materials, case);
         Self {
@@ -304,7 +304,7 @@ impl Simulation {
         let threads = checked_threads(threads)?;
         let bed = read_bed(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
         let name = format!("{} (its case)", bed.path().display());
-        let case = study::config::parse_case(bed.case_text(), &name, &[])
+        let case = case::parse_case(bed.case_text(), &name, &[])
             .map_err(|e| case_error(py, &e))?;
         let state = bed.state();
         let sim = dem::Simulation::from_state(state.simulation().clone(), threads)

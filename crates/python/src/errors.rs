@@ -4,7 +4,7 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use study::config::{ConfigError, ConfigErrors};
+use case::{ConfigError, ConfigErrors};
 
 create_exception!(
     _native,
@@ -32,8 +32,8 @@ pub fn case_error(py: Python<'_>, errors: &ConfigErrors) -> PyErr {
 /// A `CaseError` about one key, for values that cannot even be written as TOML.
 pub fn key_error(py: Python<'_>, key: &str, value: Option<String>, message: &str) -> PyErr {
     let error = ConfigError::new(
-        study::config::ErrorKind::WrongType,
-        study::config::Location::whole(&std::sync::Arc::from("python")),
+        case::ErrorKind::WrongType,
+        case::Location::whole(&std::sync::Arc::from("python")),
         key,
         value,
         message,

@@ -80,7 +80,7 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 /// What the run starts from, checked against `case` as `hopperflow run` checks it: a saved
 /// bed (`from_bed`), a packing file (`packing`), or the fill.
 fn start_of(
-    case: &study::config::Case,
+    case: &case::Case,
     from_bed: Option<PathBuf>,
     packing: Option<PathBuf>,
 ) -> PyResult<Start> {

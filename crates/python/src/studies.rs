@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use study::config::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
+use case::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
 use study::run::Start;
 use study::sweep::{SimulationRunner, StudyEvent, StudyOptions};
 use files::CaseStatus;
@@ -52,7 +52,7 @@ fn plan(
     };
     let text = match replicas {
         None => text,
-        Some(r) if (1..=MAX_REPLICAS).contains(&r) => study::config::sweep_with_replicas(&text, r as u32),
+        Some(r) if (1..=MAX_REPLICAS).contains(&r) => case::sweep_with_replicas(&text, r as u32),
         Some(r) => {
             return Err(PyValueError::new_err(format!(
                 "replicas = {r}: must be an integer in 1..={MAX_REPLICAS} (independent fills per grid point)"

@@ -5,7 +5,7 @@
 
 pub mod bench;
 pub mod cluster;
-pub mod config;
+
 pub mod hopper;
 
 pub mod run;

@@ -61,7 +61,7 @@ fn assert_both_commands_refuse(file: &Path, fragments: &[&str]) {
 }
 
 fn bad_case_directory() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../study/tests/data/bad_cases")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../case/tests/data/bad_cases")
 }
 
 /// The `# expect: <fragment>` lines of a shared bad-case file (read lossily: one file is

@@ -15,7 +15,7 @@ use dem::{
 use rand::{Rng, SeedableRng};
 
 use super::{time_steps, BenchResult};
-use crate::config::Case;
+use case::Case;
 
 /// Diameter of the small spheres [m]: Table 1's.
 pub const SMALL_DIAMETER: f64 = 3.0e-3;

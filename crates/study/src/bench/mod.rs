@@ -7,7 +7,7 @@ use dem::{DemError, PhaseTimes, Simulation};
 use rand::SeedableRng;
 use serde::Serialize;
 
-use crate::config::Case;
+use case::Case;
 use crate::hopper::{hopper_simulation, lattice_bed};
 
 mod bidisperse;

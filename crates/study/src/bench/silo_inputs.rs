@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
-use crate::config::{
+use case::{
     load_case, parse_case, Case, ConfigErrors, Geometry, WallSurface, CYLINDER_TEMPLATE,
 };
 use crate::hopper::{packing_count, read_packing, Packing, PackingError};

@@ -6,7 +6,7 @@ use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
 use super::cut::vertical_cut;
-use crate::config::{BoxFace, BoxSilo, WallSurface};
+use case::{BoxFace, BoxSilo, WallSurface};
 
 /// Handles of a rectangular silo's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -45,12 +45,12 @@ fn flat_bottom(silo: &BoxSilo) -> Vec<stl::Triangle> {
     let (left, right) = (hole[0].x, hole[1].x);
     let mut triangles = Vec::new();
     match silo.outlet {
-        crate::config::BoxOutlet::Slot => {
+        case::BoxOutlet::Slot => {
             for (a, b) in [(-hw, left), (right, hw)] {
                 triangles.extend(fan(&[p(a, -hb), p(b, -hb), p(b, hb), p(a, hb)]));
             }
         }
-        crate::config::BoxOutlet::Square => {
+        case::BoxOutlet::Square => {
             let outer = [p(-hw, -hb), p(hw, -hb), p(hw, hb), p(-hw, hb)];
             for k in 0..4 {
                 let next = (k + 1) % 4;

@@ -3,7 +3,7 @@
 
 use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 
-use crate::config::HopperGeometry;
+use case::HopperGeometry;
 
 /// Handles of the hopper's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

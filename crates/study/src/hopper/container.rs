@@ -8,7 +8,7 @@ use super::box_walls::{build_box_walls, BoxWalls};
 use super::builder::{build_walls, HopperWalls};
 use super::mesh_walls::{build_mesh_walls, MeshWalls};
 use super::silo_walls::{build_silo_walls, SiloWalls};
-use crate::config::Geometry;
+use case::Geometry;
 
 /// The names of walls in `wall_forces.csv`, indexed by [`ContainerWalls::named`]; a mesh
 /// container's walls follow from [`MESH_WALL_INDEX`] on, named by the case ([`wall_names`]).

@@ -7,7 +7,7 @@ use rand::Rng;
 use serde::{Deserialize, Serialize};
 
 use super::setup::sample_radius;
-use crate::config::{ParticleSpec, SizeDistribution};
+use case::{ParticleSpec, SizeDistribution};
 
 /// One drawn particle, not yet placed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -5,7 +5,7 @@ use dem::{DVec3, ParticleInit, ParticleTag, Simulation};
 use rand::Rng;
 
 use super::draw::{Draw, ParticleDraws};
-use crate::config::HopperGeometry;
+use case::HopperGeometry;
 
 /// A particle a batch placed: its tag and its component (index into `particles.components`).
 pub type Inserted = (ParticleTag, u8);

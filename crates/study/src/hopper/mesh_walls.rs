@@ -7,7 +7,7 @@ use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
 use super::cut::vertical_cut;
-use crate::config::{MeshContainer, MeshOutlet};
+use case::{MeshContainer, MeshOutlet};
 
 /// Handles of a mesh container's walls in the simulation.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

@@ -36,7 +36,7 @@ use sha2::{Digest, Sha256};
 
 use super::fill::inside_hopper;
 use super::packing_vtu::parse_vtu;
-use crate::config::{BoxSilo, Case, CylinderSilo, Geometry, HopperGeometry};
+use case::{BoxSilo, Case, CylinderSilo, Geometry, HopperGeometry};
 
 /// The columns of a packing CSV, in the order hopperflow writes them. The first
 /// [`REQUIRED_PACKING_COLUMNS`] are required; `material` only for a mixture.

@@ -8,7 +8,7 @@ use rand::Rng;
 
 use super::builder::HopperWalls;
 use super::container::{build_container_walls, ContainerWalls};
-use crate::config::{self, Case, SizeDistribution};
+use case::{Case, SizeDistribution};
 
 /// EPSD viscous damping ratio η_r: Ai et al. (2011) suggest 0.3 (docs/physics.md §4.1).
 const EPSD_DAMPING: f64 = 0.3;
@@ -17,11 +17,11 @@ const EPSD_DAMPING: f64 = 0.3;
 /// actual contacts while particles at 1–2 m/s cross half of it in about 60 steps.
 const SKIN_DIAMETERS: f64 = 0.1;
 
-fn engine_material(m: &config::Material) -> dem::Material {
+fn engine_material(m: &case::Material) -> dem::Material {
     dem::Material::from_shear_modulus(m.density, m.shear_modulus, m.poisson_ratio)
 }
 
-fn engine_interaction(i: &config::Interaction) -> dem::Interaction {
+fn engine_interaction(i: &case::Interaction) -> dem::Interaction {
     dem::Interaction {
         friction: i.friction,
         rolling_friction: i.rolling_friction,
@@ -34,12 +34,12 @@ pub fn contact_laws(case: &Case) -> ContactLaws {
     ContactLaws {
         normal_clamp: case.contact.normal_clamp,
         tangential: match case.contact.tangential {
-            config::TangentialLaw::MindlinNoSlip => TangentialLaw::MindlinNoSlip,
-            config::TangentialLaw::MindlinDeresiewicz => TangentialLaw::MindlinDeresiewicz,
+            case::TangentialLaw::MindlinNoSlip => TangentialLaw::MindlinNoSlip,
+            case::TangentialLaw::MindlinDeresiewicz => TangentialLaw::MindlinDeresiewicz,
         },
         rolling: match case.contact.rolling {
-            config::RollingLaw::ConstantTorque => RollingLaw::ConstantTorque { limiter: false },
-            config::RollingLaw::Epsd => RollingLaw::Epsd {
+            case::RollingLaw::ConstantTorque => RollingLaw::ConstantTorque { limiter: false },
+            case::RollingLaw::Epsd => RollingLaw::Epsd {
                 viscous_damping: EPSD_DAMPING,
             },
         },
@@ -72,17 +72,17 @@ pub fn case_simulation_by_component(
     config.gravity = DVec3::new(0.0, 0.0, -case.gravity);
     config.threads = threads;
     config.skin = SKIN_DIAMETERS * case.particles.max_diameter();
-    config.max_rayleigh_fraction = config::MAX_RAYLEIGH_FRACTION;
+    config.max_rayleigh_fraction = case::MAX_RAYLEIGH_FRACTION;
     let mut sim = Simulation::new(config)?;
     let components = &case.particles.components;
     let Some(table) = &case.materials else {
         let material = engine_material(&components[0].material);
         let id = sim.add_material(material, engine_interaction(&case.contact.particle))?;
         let wall_material = match &case.wall.material {
-            config::WallMaterial::SameAsParticle => dem::WallMaterial::Elastic(material),
-            config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
-            config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
-            config::WallMaterial::Named(name) => return Err(no_table(name)),
+            case::WallMaterial::SameAsParticle => dem::WallMaterial::Elastic(material),
+            case::WallMaterial::Rigid => dem::WallMaterial::Rigid,
+            case::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
+            case::WallMaterial::Named(name) => return Err(no_table(name)),
         };
         let walls = build_container_walls(
             &mut sim,
@@ -114,7 +114,7 @@ pub fn case_simulation_by_component(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let walls = match &case.wall.material {
-        config::WallMaterial::Named(name) => {
+        case::WallMaterial::Named(name) => {
             // Built with the first particle material's pair; then each particle material
             // gets its own pair on every wall.
             let walls = build_container_walls(
@@ -130,8 +130,8 @@ pub fn case_simulation_by_component(
         }
         other => {
             let material = match other {
-                config::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
-                config::WallMaterial::Rigid => dem::WallMaterial::Rigid,
+                case::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
+                case::WallMaterial::Rigid => dem::WallMaterial::Rigid,
                 // Validation names the one particle material instead.
                 _ => {
                     return Err(DemError::InvalidInput(

@@ -10,7 +10,7 @@ use rand::Rng;
 
 use super::draw::{Draw, ParticleDraws};
 use super::fill::Inserted;
-use crate::config::{BoxSilo, CylinderSilo, MeshContainer};
+use case::{BoxSilo, CylinderSilo, MeshContainer};
 
 /// Where spheres may be inserted: a box of candidate centres and the test that keeps a sphere
 /// inside the container.

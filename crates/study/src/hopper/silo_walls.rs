@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
-use crate::config::{CylinderSilo, WallSurface};
+use case::{CylinderSilo, WallSurface};
 
 /// Handles of a cylindrical silo's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -25,7 +25,7 @@ use super::checkpoint::{case_changes, config_hash, framed, unframed, FrameFault,
 use files::{BED_CASE_FILE, BED_FILE};
 
 use super::protocol::RunState;
-use crate::config::{Case, Geometry};
+use case::{Case, Geometry};
 use files::{remove_stale_temporaries, write_atomic, OutputError};
 
 /// The first eight bytes of every `bed.bin`: a name and the layout's version.

@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::config::Case;
+use case::Case;
 use crate::hopper::PackingError;
 use files::{StartRecord, CASE_FILE, CHECKPOINT_FILE, START_FILE, SUMMARY_FILE};
 use files::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};

@@ -17,7 +17,7 @@ use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
 use super::RunError;
-use crate::config::{Case, Geometry};
+use case::{Case, Geometry};
 use crate::hopper::{
     box_outline, box_wall_polygons, mesh_outline, mesh_wall_polygons, outline, silo_outline,
     silo_wall_polygons, wall_names,
@@ -574,7 +574,7 @@ pub fn finish(
     let bulk = state.bulk.as_ref();
     // A silo has no slab width, thickness or gap: NaN, written as null.
     let slab = case.slab();
-    let of_slab = |f: fn(&crate::config::HopperGeometry) -> f64| slab.map_or(f64::NAN, f);
+    let of_slab = |f: fn(&case::HopperGeometry) -> f64| slab.map_or(f64::NAN, f);
     // Janssen's law on a silo's settled bed (docs/physics.md §7.7), or why there is none.
     let (janssen, janssen_not_fitted) = match (&state.pressure, case.geometry.cylinder()) {
         (Some(p), Some(silo)) => {

@@ -8,7 +8,7 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Case, Geometry, MeshOutlet};
+use case::{Case, Geometry, MeshOutlet};
 use crate::hopper::silo_fill::{insert_silo_batch, FillRegion};
 use crate::hopper::{
     adopt_walls, case_simulation_by_component, fill::insert_batch, ContainerWalls, Draw, Packing,
@@ -225,8 +225,8 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
             half_width: g.outlet_radius(),
             particle_diameter,
             shape: match g.outlet {
-                crate::config::BoxOutlet::Slot => OutletShape::Slot,
-                crate::config::BoxOutlet::Square => OutletShape::Rectangle {
+                case::BoxOutlet::Slot => OutletShape::Slot,
+                case::BoxOutlet::Square => OutletShape::Rectangle {
                     centre_y: 0.0,
                     half_depth: g.outlet_radius(),
                 },

@@ -11,7 +11,7 @@
 use std::path::Path;
 
 use super::StudyError;
-use crate::config::SweepPlan;
+use case::SweepPlan;
 use crate::run::{check_bed, read_bed, Bed, Start};
 use files::{StartKind, StartRecord};
 

@@ -1,7 +1,7 @@
 //! Parametric studies: run every case of a sweep in parallel and resumably, and collect
 //! one results table.
 //!
-//! [`run_study`] takes an expanded [`crate::config::SweepPlan`] and a [`CaseRunner`] (the
+//! [`run_study`] takes an expanded [`case::SweepPlan`] and a [`CaseRunner`] (the
 //! simulation, or a stand-in in tests), writes `study.json`, `cases/<id>/…`,
 //! `results.csv` and `failures.json`, and reports each finished case through a callback.
 

@@ -4,7 +4,7 @@
 use files::{hex_hash, CaseStatus, CaseSummary, ManifestCase, ManifestSkipped, ResultRow, StudyManifest};
 use sha2::{Digest, Sha256};
 
-use crate::config::{HopperGeometry, SweepCase, SweepPlan};
+use case::{HopperGeometry, SweepCase, SweepPlan};
 
 /// The manifest of a plan.
 pub fn manifest_of_plan(plan: &SweepPlan) -> StudyManifest {

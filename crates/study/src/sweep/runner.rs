@@ -21,7 +21,7 @@ use files::{
     write_results_table, CaseFailure, CaseStatus, ResultRow, StudyManifest, StudyPaths,
     SUMMARY_FILE,
 };
-use crate::config::{SweepCase, SweepPlan};
+use case::{SweepCase, SweepPlan};
 use files::write_json_atomic;
 use files::CaseSummary;
 
@@ -40,12 +40,12 @@ pub trait CaseRunner: Sync {
 /// W ∝ (D − 1.5 d)^{3/2} of a slot (or a rectangle), or (D − 1.5 d)^{5/2} of a circular or square
 /// orifice. In the paper's study the 11 cases with D = 18 mm take
 /// 2–5 min each and those with D = 60 mm under one; they now start first.
-pub fn expected_cost(case: &crate::config::Case) -> f64 {
+pub fn expected_cost(case: &case::Case) -> f64 {
     let d = case.particles.mean_diameter();
     // Outlets of 1.5 d or less clog at once; keep the estimate finite and large.
     let opening = (case.geometry.outlet_size() - 1.5 * d).max(0.1 * d);
     let n = case.particles.count as f64;
-    use crate::config::{BoxOutlet, Geometry, MeshOutlet};
+    use case::{BoxOutlet, Geometry, MeshOutlet};
     let exponent = match &case.geometry {
         Geometry::Slab(_) => 1.5,
         Geometry::Cylinder(_) => 2.5,

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use super::runner::CaseRunner;
-use crate::config::SweepCase;
+use case::SweepCase;
 use crate::run::{run_case_from, RunOptions, RunOutcome, Start};
 use files::CaseSummary;
 

@@ -25,7 +25,7 @@ use super::runner::{
     check_study_dir, finished_summary, keep_summary, panic_message, same_study, CaseRunner,
 };
 use super::simulation::STOPPED;
-use crate::config::SweepPlan;
+use case::SweepPlan;
 use files::write_json_atomic;
 use files::CaseSummary;
 

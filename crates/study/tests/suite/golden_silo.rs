@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
-use study::config::{parse_case, Case};
+use case::{parse_case, Case};
 use study::run::{run_case, RunOptions, RunOutcome};
 
 /// 1800 spheres of 2 and 4 mm, half the mass each, in a cylinder of R = 16 mm over a 45°

@@ -4,13 +4,6 @@
 mod study_fake;
 mod tiny_hopper;
 
-mod config_bad_cases;
-mod config_case;
-mod config_fuzz;
-mod config_kinds;
-mod config_materials;
-mod config_shipped;
-mod config_sweep;
 mod golden;
 mod golden_silo;
 mod report_build;

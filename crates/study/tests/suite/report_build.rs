@@ -7,7 +7,7 @@ use crate::study_fake;
 use std::path::Path;
 
 use serde_json::Value;
-use study::config::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
+use case::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
 use report::{analyse_study, build_report, load_study};
 use study::sweep::{run_study, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::tiny_hopper;
 
-use study::config::parse_sweep;
+use case::parse_sweep;
 use study::run::{check_run_dir, run_case, RunError, RunOptions, RunOutcome};
 use files::CHECKPOINT_FILE;
 use study::sweep::{check_study_dir, StudyError};
@@ -31,7 +31,7 @@ fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
 }
 
 /// Runs the tiny case for a few protocol chunks, leaving a checkpoint in the fill.
-fn interrupted(case: &study::config::Case, dir: &Path) {
+fn interrupted(case: &case::Case, dir: &Path) {
     let options = RunOptions {
         chunk_limit: Some(3),
         resume: false,

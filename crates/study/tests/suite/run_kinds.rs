@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use glam::DVec3;
-use study::config::{load_case, parse_case, Case};
+use case::{load_case, parse_case, Case};
 use study::hopper::case_simulation;
 use study::run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};

@@ -9,7 +9,7 @@ use std::path::Path;
 use dem::{DVec3, MaterialId};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use study::config::{load_case, Case, Geometry};
+use case::{load_case, Case, Geometry};
 use study::hopper::silo_fill::insert_silo_batch;
 use study::hopper::{case_simulation_by_component, ParticleDraws};
 use study::run::{run_case, RunOptions, RunOutcome};
@@ -353,7 +353,7 @@ time_limit = 0.5
 plots = false
 checkpoint_interval = 0.0
 "#;
-    study::config::parse_case(text, "two-materials.toml", &[]).expect("a valid case")
+    case::parse_case(text, "two-materials.toml", &[]).expect("a valid case")
 }
 
 #[test]

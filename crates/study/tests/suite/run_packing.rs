@@ -12,7 +12,7 @@ use proptest::prelude::*;
 
 use crate::tiny_hopper;
 
-use study::config::parse_case;
+use case::parse_case;
 use study::hopper::{read_packing, PackedParticle, Packing};
 use files::{write_particles_vtu, ParticleFields};
 use study::run::{run_case_from, RunOptions, RunOutcome, Start};
@@ -670,7 +670,7 @@ fn benchmark_materials() -> String {
 /// A small cylindrical silo (R = 16 mm, a 45° cone to a 16 mm orifice, 50 mm tall) holding
 /// `count` spheres of two components: `big`, 4 mm spheres of M1 (2500 kg/m³), and `fine`,
 /// 2 mm spheres of M2 (2000 kg/m³), in steel walls.
-fn mixture_case(count: usize) -> study::config::Case {
+fn mixture_case(count: usize) -> case::Case {
     let text = format!(
         r#"version = 1
 seed = 3

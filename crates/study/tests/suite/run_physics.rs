@@ -7,7 +7,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use study::config::{parse_case, Case};
+use case::{parse_case, Case};
 use study::run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
 

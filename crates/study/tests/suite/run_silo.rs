@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use study::config::{parse_case, Case};
+use case::{parse_case, Case};
 use study::run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
 

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use study::config::{parse_case, Case};
+use case::{parse_case, Case};
 use study::run::{run_case, RunOptions, RunOutcome};
 
 /// A flat-bottomed cylinder of radius 12 mm (6 diameters) holding 400 spheres of 4 mm, about

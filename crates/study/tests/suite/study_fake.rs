@@ -24,7 +24,7 @@ use analysis::beverloo3d::beverloo_3d_rate;
 use analysis::flowrate::brown_ratio;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use study::config::{CylinderSilo, SweepCase};
+use case::{CylinderSilo, SweepCase};
 use measure::{RadialBin, RadialBins};
 use files::{write_csv_table, Cell};
 use study::run::{fit_radial, write_radial_profiles};

@@ -4,7 +4,7 @@ use crate::study_fake;
 
 use std::sync::atomic::Ordering;
 
-use study::config::{parse_sweep, SweepPlan};
+use case::{parse_sweep, SweepPlan};
 use study::sweep::{run_study, StudyError, StudyEvent, StudyOptions};
 use files::{read_results_table, CaseStatus};
 use study_fake::FakeRunner;

@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use study::config::{parse_case, Case};
+use case::{parse_case, Case};
 
 const TINY_CASE: &str = r#"
 version = 1

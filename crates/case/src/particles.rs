@@ -44,19 +44,33 @@ impl Material {
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum SizeDistribution {
     /// Every particle has the same diameter [m] (the paper: 3 mm).
-    Monodisperse { diameter: f64 },
+    Monodisperse {
+        /// The diameter [m].
+        diameter: f64,
+    },
     /// Diameters uniform by number on [min, max] [m].
-    Uniform { min: f64, max: f64 },
+    Uniform {
+        /// Smallest diameter [m].
+        min: f64,
+        /// Largest diameter [m].
+        max: f64,
+    },
     /// Normal by number with mean and standard deviation [m], truncated to [min, max] [m].
     Normal {
+        /// Mean diameter [m] before truncation.
         mean: f64,
+        /// Standard deviation [m] before truncation.
         std_dev: f64,
+        /// Smallest diameter kept [m].
         min: f64,
+        /// Largest diameter kept [m].
         max: f64,
     },
     /// A finite set of diameters [m] with number fractions (summing to 1).
     Discrete {
+        /// The diameters [m].
         diameters: Vec<f64>,
+        /// The number fraction of each diameter (summing to 1).
         fractions: Vec<f64>,
     },
 }

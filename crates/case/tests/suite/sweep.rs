@@ -3,13 +3,13 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use study::config::{
+use case::{
     builtin_sweep, load_case, load_sweep, parse_sweep, Case, FAN2023_QUICK_SWEEP,
     FAN2023_SENSITIVITY_SWEEP, FAN2023_SWEEP,
 };
 
 /// The paper's programme and the sensitivity series, as one plan.
-fn fan2023() -> study::config::SweepPlan {
+fn fan2023() -> case::SweepPlan {
     let mut plan = parse_sweep(FAN2023_SWEEP, "fan2023", None, &[]).expect("fan2023 must expand");
     let extra = parse_sweep(FAN2023_SENSITIVITY_SWEEP, "fan2023-sensitivity", None, &[])
         .expect("fan2023-sensitivity must expand");
@@ -225,7 +225,7 @@ fn shipped_case_files_match_the_built_ins_and_are_valid() {
     assert_eq!(read("fan2023.toml"), FAN2023_SWEEP);
     assert_eq!(read("fan2023-sensitivity.toml"), FAN2023_SENSITIVITY_SWEEP);
     assert_eq!(read("fan2023-quick.toml"), FAN2023_QUICK_SWEEP);
-    assert_eq!(read("base.toml"), study::config::CASE_TEMPLATE);
+    assert_eq!(read("base.toml"), case::CASE_TEMPLATE);
     assert_eq!(
         load_case(&cases.join("base.toml"), &[]).unwrap(),
         Case::paper_base()

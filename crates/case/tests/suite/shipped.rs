@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use study::config::{
+use case::{
     builtin_sweep, load_case, load_sweep, parse_sweep, template, template_files,
     BUILTIN_SWEEP_NAMES,
 };

@@ -5,7 +5,7 @@
 //! tables) exercises every validation branch. A panic fails the property.
 
 use proptest::prelude::*;
-use study::config::{default_case, load_case, parse_case, parse_sweep};
+use case::{default_case, load_case, parse_case, parse_sweep};
 
 const KEYS: &[&str] = &[
     "version",

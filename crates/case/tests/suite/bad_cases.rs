@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use study::config::{load_case, ConfigErrors, ErrorKind};
+use case::{load_case, ConfigErrors, ErrorKind};
 
 fn bad_case_files() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bad_cases");

@@ -67,7 +67,7 @@ pub struct SweepPlan {
     /// Grid points that were skipped.
     pub skipped: Vec<SkippedCase>,
     /// What every case starts from instead of its own fill: a saved bed
-    /// (`hopperflow study --from-bed`, [`crate::sweep::plan_from_bed`]); `None`: each case
+    /// (`hopperflow study --from-bed`, `study::plan_from_bed`); `None`: each case
     /// fills its container.
     pub start: Option<files::StartRecord>,
 }

@@ -196,16 +196,22 @@ pub struct Case {
     /// by `particles.material` and coefficients given by `[contact]` and `[wall]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub materials: Option<MaterialTable>,
+    /// The particles: count, sizes, material or components (`[particles]`).
     pub particles: ParticleSpec,
+    /// The walls' material and friction (`[wall]`).
     pub wall: WallSpec,
+    /// The contact laws and their coefficients (`[contact]`).
     pub contact: ContactSpec,
     /// Integration time step Δt [s] (physics spec §6.1: 2.5e-6 s = 0.097 t_R).
     pub time_step: f64,
     /// Gravitational acceleration g [m/s²], along −z (the top-level key `gravity`).
     #[serde(default = "default_gravity")]
     pub gravity: f64,
+    /// The run's phases: fill, settle, discharge and their limits (`[protocol]`).
     pub protocol: Protocol,
+    /// What the run measures and where (`[measure]`).
     pub measure: MeasureSpec,
+    /// What the run writes (`[output]`).
     pub output: OutputSpec,
 }
 

@@ -2,7 +2,7 @@
 //! `particles.material`, `wall.material` naming a material, `[[particles.components]]` and
 //! `particles.fraction_by` (docs/physics.md §1.2, cases/README.md).
 
-use study::config::{
+use case::{
     default_case, mass_fractions_from_number, number_fractions_from_mass, parse_case,
     FractionBasis, SizeDistribution, WallMaterial,
 };
@@ -359,7 +359,7 @@ fn cases_without_the_new_keys_resolve_to_the_text_they_always_did() {
     // SHA-256 of the resolved text (what the summary's config hash covers) as the code
     // before material tables and mixtures wrote it: the base case, a polydisperse one, one
     // with a wall material table, and the benchmark silo preset.
-    let hash = |case: &study::config::Case| -> String {
+    let hash = |case: &case::Case| -> String {
         use sha2::Digest;
         sha2::Sha256::digest(case.to_toml_string().as_bytes())
             .iter()
@@ -390,7 +390,7 @@ fn cases_without_the_new_keys_resolve_to_the_text_they_always_did() {
         (
             // The preset gives the benchmark's g since `gravity` exists; at the default g it
             // is the text it was before.
-            study::config::load_case(&preset, &sets(&["gravity=9.81"])).unwrap(),
+            case::load_case(&preset, &sets(&["gravity=9.81"])).unwrap(),
             "706062968275990c5838ab99edd360733079030a0994fcd137dcf94cdeb5b01d",
         ),
     ];

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use glam::DVec3;
-use study::config::{
+use case::{
     load_case, parse_case, template, template_files, BoxOutlet, Case, ErrorKind, Geometry,
     MeshOutlet, WallSurface, BOX_TEMPLATE, MESH_TEMPLATE,
 };

@@ -1,6 +1,6 @@
 //! Case files: defaults, template, round trip, overrides and derived geometry.
 
-use study::config::{
+use case::{
     default_case, parse_case, Case, ErrorKind, HopperGeometry, SizeDistribution, TangentialLaw,
     WallMaterial, CASE_TEMPLATE,
 };
@@ -64,7 +64,7 @@ fn paper_base_case_matches_table_one() {
 fn resolved_case_round_trips_through_its_toml_text() {
     let mut case = Case::paper_base();
     case.seed = 987_654_321;
-    case.geometry = study::config::Geometry::Slab(HopperGeometry {
+    case.geometry = case::Geometry::Slab(HopperGeometry {
         hopper_angle_deg: 30.0,
         outlet_gap: 0.006,
         ..HopperGeometry::paper()
@@ -75,7 +75,7 @@ fn resolved_case_round_trips_through_its_toml_text() {
         min: 2.7e-3,
         max: 3.0e-3,
     };
-    case.wall.material = WallMaterial::Custom(study::config::Material {
+    case.wall.material = WallMaterial::Custom(case::Material {
         density: 7800.0,
         shear_modulus: 7.9e10,
         poisson_ratio: 0.3,
@@ -310,7 +310,7 @@ fn an_outlet_of_exactly_three_diameters_is_accepted_and_less_is_not() {
 /// holds, and that text reads back to the same case (so a run folder's case.toml is exact).
 #[test]
 fn cylinder_template_is_complete_and_round_trips() {
-    let case = parse_case(study::config::CYLINDER_TEMPLATE, "cylinder.toml", &[])
+    let case = parse_case(case::CYLINDER_TEMPLATE, "cylinder.toml", &[])
         .expect("template must be valid");
     let silo = case.geometry.cylinder().expect("a cylinder case");
     assert_eq!(
@@ -336,7 +336,7 @@ fn cylinder_template_is_complete_and_round_trips() {
             key
         };
         assert!(
-            study::config::CYLINDER_TEMPLATE.contains(&format!("{key} =")),
+            case::CYLINDER_TEMPLATE.contains(&format!("{key} =")),
             "template lacks key `{key}`"
         );
     }

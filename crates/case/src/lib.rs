@@ -7,6 +7,8 @@
 //! its file, key, line and value. Keys are plain SI names (`outlet_width` in metres); the
 //! only non-SI unit is the degree, used for angles and marked by a `_deg` suffix.
 
+#![warn(missing_docs)]
+
 mod box_silo;
 mod builtin;
 mod case;

@@ -1,0 +1,10 @@
+//! Every integration test of `case` in one test binary: one link instead of one per
+//! file keeps the test command's build short. Each module is one file's tests.
+
+mod bad_cases;
+mod case_file;
+mod fuzz;
+mod kinds;
+mod materials;
+mod shipped;
+mod sweep;
