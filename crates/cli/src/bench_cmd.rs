@@ -3,7 +3,7 @@
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
-use study::bench::{
+use run::bench::{
     bidisperse_benchmark, combine, hopper_benchmark, mesh_floor_benchmark, scaling_benchmark,
     settled_bed, silo_benchmark, time_steps, BenchResult, BidisperseBed, SiloBench, SiloInputError,
     SiloRequest, SiloSource, SiloStart,

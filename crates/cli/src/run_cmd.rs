@@ -8,9 +8,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use case::{
     default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE,
 };
-use study::hopper::read_packing;
+use run::hopper::read_packing;
 use files::write_atomic;
-use study::run::{check_bed, check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
+use run::{check_bed, check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
 use files::BED_CASE_FILE;
 
 /// Exit code for bad input (a malformed case file or override).

@@ -437,7 +437,7 @@ pub fn task(
         return EXIT_BAD_INPUT;
     };
     let checkpoint = out.join("cases").join(id).join(files::CHECKPOINT_FILE);
-    if let Ok(header) = study::run::read_checkpoint_header(&checkpoint) {
+    if let Ok(header) = run::read_checkpoint_header(&checkpoint) {
         println!(
             "{id}: continuing from its checkpoint in the {} at t = {:.4} s",
             header.phase, header.time

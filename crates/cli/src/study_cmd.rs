@@ -16,7 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use case::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
-use study::run::Start;
+use run::Start;
 use study::sweep::{run_study, SimulationRunner, StudyError, StudyEvent, StudyOptions};
 use files::CaseStatus;
 

@@ -14,8 +14,8 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use study::hopper::read_packing;
-use study::run::{check_bed, check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
+use run::hopper::read_packing;
+use run::{check_bed, check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
 
 use crate::case::Case;
 use crate::errors::RunError as PyRunError;
@@ -171,7 +171,7 @@ pub fn run_case(
         .name("hopperflow-run".into())
         .spawn(move || {
             let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                study::run::run_case_from(&case, &out, &options, &start)
+                run::run_case_from(&case, &out, &options, &start)
             }));
             let _ = done_tx.send(result);
         })

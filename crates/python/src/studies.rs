@@ -10,7 +10,7 @@ use std::time::Duration;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use case::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
-use study::run::Start;
+use run::Start;
 use study::sweep::{SimulationRunner, StudyEvent, StudyOptions};
 use files::CaseStatus;
 

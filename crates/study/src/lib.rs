@@ -1,12 +1,13 @@
-//! Hopper cases and everything around a run: configuration, measurements and writers.
+//! Studies: many cases of a sweep run to one results table, locally (in parallel, resumably)
+//! or as a Slurm job array.
 //!
-//! The engine (`dem`) knows nothing of hoppers or files; the analysis (`analysis`) knows
-//! nothing of the engine. This crate wires the two for the hopper problem.
+//! - [`run_study`] runs every case of an expanded [`case::SweepPlan`] through a
+//!   [`CaseRunner`] (the simulation, [`SimulationRunner`], or a stand-in in tests) and keeps
+//!   `study.json`, `cases/<id>/…`, `results.csv` and `failures.json` up to date;
+//! - [`prepare_study`], [`run_task`] and [`collect_study`] are the same study cut into the
+//!   tasks of a Slurm array; [`array_script`] and [`report_script`] write its job scripts.
 
-pub mod bench;
+#![warn(missing_docs)]
+
 pub mod cluster;
-
-pub mod hopper;
-
-pub mod run;
 pub mod sweep;

@@ -9,7 +9,7 @@ use std::process::{Child, Command, Output, Stdio};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-use study::run::read_checkpoint_header;
+use run::read_checkpoint_header;
 
 use files::CHECKPOINT_FILE;
 

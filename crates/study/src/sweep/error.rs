@@ -56,7 +56,7 @@ pub enum StudyError {
         id: String,
         /// What is wrong with its folder.
         #[source]
-        source: Box<crate::run::RunError>,
+        source: Box<run::RunError>,
     },
     /// A task names a case that the sweep does not have.
     #[error("the sweep has no case '{id}' (it has {known} cases)")]
@@ -71,7 +71,7 @@ pub enum StudyError {
     DuplicateCase(String),
     /// The bed a study was to start from cannot be read.
     #[error(transparent)]
-    Bed(Box<crate::run::BedError>),
+    Bed(Box<run::BedError>),
     /// A case of a study from a saved bed changes what made the bed.
     #[error("case {id}: {source}")]
     BedDoesNotFit {
@@ -79,7 +79,7 @@ pub enum StudyError {
         id: String,
         /// What the bed refuses.
         #[source]
-        source: Box<crate::run::BedError>,
+        source: Box<run::BedError>,
     },
     /// A study from one bed asked for replicas, which would all be the same run.
     #[error("replicas = {replicas}: a study from one saved bed runs each grid point once (replicas = 1), since the seed draws only the fill and every replica would repeat the same run; for independent replicas, run the sweep from fills, or one study per bed")]

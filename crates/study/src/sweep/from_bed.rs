@@ -2,7 +2,7 @@
 //! the same settled packing discharged through every orifice or outlet position of the
 //! sweep, without a fill per case.
 //!
-//! Every case must fit the bed as a single run from it must ([`crate::run::check_bed`]: only
+//! Every case must fit the bed as a single run from it must ([`run::check_bed`]: only
 //! the outlet, the discharge rules and [measure] and [output] keys may differ). The seed
 //! draws only the fill, so each case takes the bed's, and replicas are refused: they would
 //! repeat one run. The cases are therefore not independent samples of the packing; what
@@ -12,7 +12,7 @@ use std::path::Path;
 
 use super::StudyError;
 use case::SweepPlan;
-use crate::run::{check_bed, read_bed, Bed, Start};
+use run::{check_bed, read_bed, Bed, Start};
 use files::{StartKind, StartRecord};
 
 /// Reads the bed in `dir` and makes `plan` start from it ([`plan_from_bed`]): the plan and

@@ -169,7 +169,7 @@ pub(crate) fn same_study(plan: &SweepPlan, paths: &StudyPaths) -> Result<bool, S
 /// Checks, reading only, that `plan` may run into `root`: its case identifiers are unique,
 /// `study.json` (if any) belongs to the same sweep (name and config hash), and no case
 /// folder holds a summary, checkpoint or case file of other inputs or a damaged one
-/// ([`crate::run::check_run_dir`]). A study refused here has changed nothing.
+/// ([`run::check_run_dir`]). A study refused here has changed nothing.
 pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> {
     let paths = StudyPaths::new(root);
     let mut seen = std::collections::BTreeSet::new();
@@ -185,7 +185,7 @@ pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> 
     same_study(plan, &paths)?;
     for case in &plan.cases {
         let dir = paths.case_dir(&case.id);
-        crate::run::check_run_dir_started(&case.case, &dir, plan.start.as_ref()).map_err(
+        run::check_run_dir_started(&case.case, &dir, plan.start.as_ref()).map_err(
             |source| StudyError::CaseFolder {
                 id: case.id.clone(),
                 source: Box::new(source),

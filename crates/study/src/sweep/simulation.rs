@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::runner::CaseRunner;
 use case::SweepCase;
-use crate::run::{run_case_from, RunOptions, RunOutcome, Start};
+use run::{run_case_from, RunOptions, RunOutcome, Start};
 use files::CaseSummary;
 
 /// What a case stopped by the `stop` flag reports as its error.

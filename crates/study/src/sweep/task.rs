@@ -144,7 +144,7 @@ pub fn run_task(
         });
     }
     let dir = paths.case_dir(id);
-    crate::run::check_run_dir(&case.case, &dir).map_err(|source| StudyError::CaseFolder {
+    run::check_run_dir(&case.case, &dir).map_err(|source| StudyError::CaseFolder {
         id: id.to_string(),
         source: Box::new(source),
     })?;

@@ -27,7 +27,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use case::{CylinderSilo, SweepCase};
 use measure::{RadialBin, RadialBins};
 use files::{write_csv_table, Cell};
-use study::run::{fit_radial, write_radial_profiles};
+use run::{fit_radial, write_radial_profiles};
 use files::CASE_FILE;
 use files::{CaseSummary, StopReason};
 use study::sweep::CaseRunner;
@@ -214,7 +214,7 @@ fn common_summary(
     CaseSummary {
         version: "test".into(),
         seed: case.case.seed,
-        config_hash: study::run::config_hash(&case.case.to_toml_string()),
+        config_hash: run::config_hash(&case.case.to_toml_string()),
         outlet_width: geometry.outlet_size(),
         hopper_angle_deg: geometry.hopper_angle_deg(),
         outlet_gap: f64::NAN,

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use case::{parse_sweep, SweepCase};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 use files::CaseSummary;
 use study::sweep::{run_study, CaseRunner, SimulationRunner, StudyEvent, StudyOptions};
 

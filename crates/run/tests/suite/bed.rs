@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use crate::tiny_hopper;
 
 use case::{parse_case, Case};
-use study::run::{check_bed_case, read_bed, run_case, run_case_from, BedError, RunError, RunOptions, RunOutcome, Start};
+use run::{check_bed_case, read_bed, run_case, run_case_from, BedError, RunError, RunOptions, RunOutcome, Start};
 use files::{StartKind, BED_CASE_FILE, BED_FILE, START_FILE, SUMMARY_FILE};
 use files::CaseSummary;
 use tiny_hopper::{read, tiny_case};

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use case::{parse_case, Case};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
 
 /// A silo of 40 mm radius holding 400 spheres of 4 mm (the paper's soft material, so that

@@ -14,7 +14,7 @@
 use crate::tiny_hopper;
 
 use sha2::{Digest, Sha256};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 
 /// Summary keys and their recorded values, as `summary.json` writes them (shortest
 /// round-trip decimals, so string equality is bit equality).

@@ -10,9 +10,9 @@ use dem::{DVec3, MaterialId};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use case::{load_case, Case, Geometry};
-use study::hopper::silo_fill::insert_silo_batch;
-use study::hopper::{case_simulation_by_component, ParticleDraws};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::hopper::silo_fill::insert_silo_batch;
+use run::hopper::{case_simulation_by_component, ParticleDraws};
+use run::{run_case, RunOptions, RunOutcome};
 
 /// The preset `cases/mixture-1to2.toml` (2 mm and 4 mm spheres, 50/50 by mass) with `sets`.
 fn preset(sets: &[&str]) -> Case {

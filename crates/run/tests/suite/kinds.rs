@@ -7,8 +7,8 @@ use std::path::Path;
 
 use glam::DVec3;
 use case::{load_case, parse_case, Case};
-use study::hopper::case_simulation;
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::hopper::case_simulation;
+use run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
 
 /// The run settings of every case here: 400 spheres of 4 mm (the paper's soft material, so

@@ -305,7 +305,7 @@ pub const HOPPER_WINDOW: f64 = 0.2;
 pub fn hopper_benchmark(
     threads: usize,
     cache: Option<&std::path::Path>,
-) -> Result<BenchResult, crate::run::RunError> {
+) -> Result<BenchResult, crate::RunError> {
     let window = (HOPPER_WINDOW_START, HOPPER_WINDOW);
     discharge_benchmark(&Case::paper_base(), None, "hopper", window, threads, cache)
 }
@@ -326,7 +326,7 @@ pub fn silo_benchmark(
     bench: &SiloBench,
     threads: usize,
     cache: Option<&std::path::Path>,
-) -> Result<BenchResult, crate::run::RunError> {
+) -> Result<BenchResult, crate::RunError> {
     let window = (SILO_WINDOW_START, SILO_WINDOW);
     discharge_benchmark(
         &bench.case,
@@ -350,8 +350,8 @@ pub fn discharge_benchmark(
     (window_start, window_length): (f64, f64),
     threads: usize,
     cache: Option<&std::path::Path>,
-) -> Result<BenchResult, crate::run::RunError> {
-    use crate::run::{CaseRun, Phase, RunState};
+) -> Result<BenchResult, crate::RunError> {
+    use crate::{CaseRun, Phase, RunState};
     let case = case.clone();
     let cached: Option<RunState> = cache
         .and_then(|p| std::fs::read(p).ok())
@@ -382,7 +382,7 @@ pub fn discharge_benchmark(
     let opened = match run.phase() {
         Phase::Discharge { opened, .. } => opened,
         Phase::Done { reason, opened } => {
-            return Err(crate::run::RunError::EndedBeforeWindow {
+            return Err(crate::RunError::EndedBeforeWindow {
                 reason,
                 stopped: run.simulation().time() - opened,
                 start: after.0,
@@ -391,7 +391,7 @@ pub fn discharge_benchmark(
         }
         // The loop above ends only in the discharge or after it.
         Phase::Fill { .. } | Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => {
-            return Err(crate::run::RunError::NotMeasured(
+            return Err(crate::RunError::NotMeasured(
                 "a benchmark window before the gate opened",
             ))
         }
@@ -450,18 +450,18 @@ pub fn discharge_benchmark(
 /// the end of the window `(start, end)` [s after the opening]: a finished run takes no more
 /// steps, so the window could not be timed.
 fn ended_before(
-    run: &crate::run::CaseRun,
+    run: &crate::CaseRun,
     opened: f64,
     (start, end): (f64, f64),
-) -> Result<(), crate::run::RunError> {
-    let crate::run::Phase::Done { reason, .. } = run.phase() else {
+) -> Result<(), crate::RunError> {
+    let crate::Phase::Done { reason, .. } = run.phase() else {
         return Ok(());
     };
     let stopped = run.simulation().time() - opened;
     if stopped >= end - 0.5 * run.simulation().config().time_step {
         return Ok(());
     }
-    Err(crate::run::RunError::EndedBeforeWindow {
+    Err(crate::RunError::EndedBeforeWindow {
         reason,
         stopped,
         start,

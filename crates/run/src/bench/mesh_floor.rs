@@ -9,7 +9,7 @@
 use dem::{DVec3, Interaction, Material, Simulation, Wall, WallId, WallMaterial};
 
 use super::{settled_bidisperse_bed, time_steps, BenchResult, BidisperseBed, SMALL_DIAMETER};
-use crate::run::RunError;
+use crate::RunError;
 
 /// The floor under the particles of `sim`: a square a diameter wider than their footprint,
 /// at z = 0, of at least `triangles` triangles.

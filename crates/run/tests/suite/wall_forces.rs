@@ -7,7 +7,7 @@ use crate::tiny_hopper;
 
 use std::collections::BTreeMap;
 
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 
 /// Gravity of the hopper runs [m/s²] (the engine's default, along −z).
 const G: f64 = 9.81;

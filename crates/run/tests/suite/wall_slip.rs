@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use case::{parse_case, Case};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 
 /// A flat-bottomed cylinder of radius 12 mm (6 diameters) holding 400 spheres of 4 mm, about
 /// 50 mm (four radii) deep, with the benchmark's M1 material and steel walls (Dosta et al.

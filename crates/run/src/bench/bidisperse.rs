@@ -134,7 +134,7 @@ pub fn settled_bidisperse_bed(
     threads: usize,
     settle_steps: u64,
     cache: Option<&std::path::Path>,
-) -> Result<Simulation, crate::run::RunError> {
+) -> Result<Simulation, crate::RunError> {
     let cached: Option<dem::SimulationState> = cache
         .and_then(|p| std::fs::read(p).ok())
         .and_then(|bytes| postcard::from_bytes(&bytes).ok());
@@ -162,7 +162,7 @@ pub fn bidisperse_benchmark(
     settle_steps: u64,
     steps: u64,
     cache: Option<&std::path::Path>,
-) -> Result<BenchResult, crate::run::RunError> {
+) -> Result<BenchResult, crate::RunError> {
     let mut sim = settled_bidisperse_bed(bed, threads, settle_steps, cache)?;
     Ok(time_steps(&mut sim, steps, &bed.name(), threads)?)
 }

@@ -13,9 +13,9 @@ use proptest::prelude::*;
 use crate::tiny_hopper;
 
 use case::parse_case;
-use study::hopper::{read_packing, PackedParticle, Packing};
+use run::hopper::{read_packing, PackedParticle, Packing};
 use files::{write_particles_vtu, ParticleFields};
-use study::run::{run_case_from, RunOptions, RunOutcome, Start};
+use run::{run_case_from, RunOptions, RunOutcome, Start};
 use files::{StartKind, SUMMARY_FILE};
 use files::StopReason;
 use tiny_hopper::{read, tiny_case};

@@ -10,7 +10,7 @@ use crate::tiny_hopper;
 
 use tiny_hopper::read;
 
-use study::run::{run_case, Progress, RunOptions, RunOutcome};
+use run::{run_case, Progress, RunOptions, RunOutcome};
 
 use files::{CHECKPOINT_FILE, SUMMARY_FILE};
 

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 use files::CHECKPOINT_FILE;
 use tiny_hopper::{read, tiny_case};
 
@@ -94,7 +94,7 @@ fn a_resumed_run_counts_the_time_of_every_process() {
         chunks += 40;
         let _ = std::fs::remove_dir_all(&dir);
         assert!(matches!(run(&dir, Some(chunks)), RunOutcome::Interrupted));
-        let header = study::run::read_checkpoint_header(&dir.join(CHECKPOINT_FILE))
+        let header = run::read_checkpoint_header(&dir.join(CHECKPOINT_FILE))
             .expect("the interrupted run left a checkpoint");
         if header.phase == "discharge" {
             break;

@@ -1,8 +1,12 @@
 //! Running one hopper case end to end: protocol, checkpoints, measurements and outputs.
 
+#![warn(missing_docs)]
+
+pub mod bench;
 mod bed;
 mod checkpoint;
 mod composition;
+pub mod hopper;
 mod outputs;
 mod protocol;
 mod remaining;

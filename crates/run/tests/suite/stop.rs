@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 
 use files::SUMMARY_FILE;
 use files::{CaseSummary, StopReason};

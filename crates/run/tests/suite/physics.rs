@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use case::{parse_case, Case};
-use study::run::{run_case, RunOptions, RunOutcome};
+use run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
 
 /// A hopper of 400 spheres of 3 mm, 60 mm wide and 120 mm tall, with an 18 mm (6 d)

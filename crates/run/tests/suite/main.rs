@@ -1,0 +1,19 @@
+//! Every integration test of `run` in one test binary: one link instead of one per
+//! file keeps the test command's build short. Each module is one file's tests.
+
+mod tiny_hopper;
+
+mod bed;
+mod golden;
+mod golden_silo;
+mod guard;
+mod kinds;
+mod mixture;
+mod packing;
+mod physics;
+mod resume;
+mod silo;
+mod stop;
+mod timing;
+mod wall_forces;
+mod wall_slip;
