@@ -1,9 +1,10 @@
-"""The package itself: its public names, the tables of a run as properties, and the one
-progress convention of runs and studies."""
+"""The package itself: its public names, its typing files, the tables of a run as
+properties, and the one progress convention of runs and studies."""
 
 import inspect
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -28,6 +29,16 @@ def test_test_hooks_are_not_public():
     script = "import sys, hopperflow; print(sorted(m for m in sys.modules if m.startswith('hopperflow')))"
     loaded = subprocess.run([sys.executable, "-c", script], check=True, capture_output=True, text=True).stdout
     assert "_testing" not in loaded and "hopperflow._runs" in loaded
+
+
+def test_the_package_ships_its_stubs_and_the_typed_marker():
+    root = Path(hf.__file__).parent
+    assert (root / "py.typed").is_file()
+    stubs = (root / "_native.pyi").read_text()
+    # Every public name of the extension has a stub.
+    for name in dir(_native):
+        if not name.startswith("__") or name == "__version__":
+            assert f"{name}" in stubs, name
 
 
 def test_each_table_of_a_run_is_a_documented_property():

@@ -103,7 +103,7 @@ def test_bad_thread_counts(threads, error, tmp_path):
 
 def test_bad_case_argument(tmp_path):
     with pytest.raises(TypeError, match="case"):
-        hf.run(42, out=tmp_path / "x", progress=False)
+        hf.run(42, out=tmp_path / "x", progress=False)  # type: ignore[arg-type]  # the misuse tested
 
 
 def test_an_interrupt_leaves_a_checkpoint_that_resumes_to_the_same_bits(cli_run, tmp_path):
@@ -155,6 +155,7 @@ def test_ctrl_c_stops_a_run_with_a_checkpoint(tmp_path):
         """
     )
     proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert proc.stdout is not None
     try:
         assert proc.stdout.readline().strip() == "running"
         sent = time.monotonic()

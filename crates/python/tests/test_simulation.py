@@ -114,7 +114,7 @@ def test_add_and_remove_particles_and_walls():
         (lambda s: s.add_polygon([[0, 0, 0], [1, 0, 0]]), ValueError, "polygon"),
         (lambda s: s.remove_below(float("nan")), ValueError, "z"),
         (lambda s: hf.Simulation.from_case(hf.Case.paper(), threads=0), ValueError, "threads"),
-        (lambda s: hf.Simulation.from_case("case.toml"), TypeError, None),
+        (lambda s: hf.Simulation.from_case("case.toml"), TypeError, None),  # type: ignore[arg-type]
     ],
 )
 def test_misuse_raises_python_exceptions(call, error, words):
