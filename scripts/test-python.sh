@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The Python part of the project's test command (scripts/test.sh runs it): a fresh virtual
 # environment under target/, the abi3 wheel of crates/python built by maturin and
-# installed in it, the CLI that the tests compare against, then pytest.
+# installed in it, the CLI that the tests compare against, the type check (mypy), then
+# pytest.
 #
 # Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
-# pandas, matplotlib and pytest.
+# pandas, matplotlib, pytest and mypy.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -13,7 +14,7 @@ venv=target/python-test-venv
 wheels=target/python-wheels
 python3 -m venv --clear "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest
+"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
 
 rm -rf "$wheels"
 "$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels"
@@ -27,6 +28,14 @@ if [ -z "${HOPPERFLOW_CLI:-}" ]; then
     HOPPERFLOW_CLI="$PWD/target/release/hopperflow"
 fi
 export HOPPERFLOW_CLI
+
+# The type check: the package's source against the stubs of its extension
+# (_native.pyi), and the tests and the example as code that uses it; the settings are in
+# crates/python/pyproject.toml. The wheel ships the same files, with py.typed.
+checked=$(date +%s)
+"$venv/bin/python" -m mypy --config-file crates/python/pyproject.toml --cache-dir target/mypy-cache \
+    crates/python/python/hopperflow crates/python/tests examples/quickstart.py
+echo "Type check: $(($(date +%s) - checked)) s"
 
 # Run from outside the source tree, so that `import hopperflow` finds the installed wheel.
 (cd target && "../$venv/bin/python" -m pytest ../crates/python/tests -q -p no:cacheprovider)

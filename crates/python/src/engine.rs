@@ -677,9 +677,10 @@ impl Simulation {
 
 /// The reference for the bit-identity test of `Simulation`: the same set-up stepped by the
 /// engine in one uninterrupted `run`, without the Python class in between. Returns the
-/// positions, velocities and angular velocities as read-only N×3 arrays.
+/// positions, velocities and angular velocities as read-only N×3 arrays. A test hook, so
+/// its Python name is private (`hopperflow._testing` gives it to the tests).
 #[pyfunction]
-#[pyo3(signature = (case, positions, radii, velocities, steps, threads = 1, open_gate = true))]
+#[pyo3(name = "_engine_reference", signature = (case, positions, radii, velocities, steps, threads = 1, open_gate = true))]
 #[allow(clippy::too_many_arguments)]
 pub fn engine_reference<'py>(
     py: Python<'py>,

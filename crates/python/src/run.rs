@@ -117,7 +117,7 @@ pub fn bed_case_text(dir: PathBuf) -> PyResult<String> {
 /// called with the latest progress a few times a second. `from_bed`, `packing` and
 /// `save_bed` are `hopperflow run`'s `--from-bed`, `--packing` and `--save-bed`.
 #[pyfunction]
-#[pyo3(signature = (case, out, threads = 1, resume = false, restart = false, pictures = true, progress = None, chunk_limit = None, from_bed = None, packing = None, save_bed = None))]
+#[pyo3(signature = (case, out, threads = 1, resume = false, restart = false, pictures = true, progress = None, from_bed = None, packing = None, save_bed = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_case(
     py: Python<'_>,
@@ -128,7 +128,6 @@ pub fn run_case(
     restart: bool,
     pictures: bool,
     progress: Option<Py<PyAny>>,
-    chunk_limit: Option<u64>,
     from_bed: Option<PathBuf>,
     packing: Option<PathBuf>,
     save_bed: Option<PathBuf>,
@@ -160,7 +159,7 @@ pub fn run_case(
             *sink_latest.lock().unwrap_or_else(|e| e.into_inner()) = Some(*p);
         })),
         pictures,
-        chunk_limit,
+        chunk_limit: None,
         stop: Some(Arc::clone(&stop)),
         save_bed,
     };

@@ -174,7 +174,7 @@ def test_from_dict_errors_name_the_key():
         hf.Case.from_dict({"geometry": {"outlet_width": math.nan}})
     assert info.value.key == "geometry.outlet_width"
     with pytest.raises(TypeError):
-        hf.Case.from_dict("geometry.outlet_width=0.04")
+        hf.Case.from_dict("geometry.outlet_width=0.04")  # type: ignore[arg-type]  # the misuse tested
 
 
 def test_missing_file_and_wrong_key_types():
@@ -182,7 +182,7 @@ def test_missing_file_and_wrong_key_types():
         hf.Case.load("/nonexistent/case.toml")
     case = hf.Case.paper()
     with pytest.raises(TypeError):
-        case[3] = 1.0
+        case[3] = 1.0  # type: ignore[index]  # the misuse tested
     with pytest.raises(KeyError):
         case["geometry.nope"]
     with pytest.raises(KeyError):

@@ -18,7 +18,9 @@ def test_quickstart_runs_and_writes_its_figures(tmp_path):
     for name in ["base.png", "beverloo.png"]:
         # A PNG file, not an empty one.
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    k = float(re.search(r"k = (-?[0-9.]+)", proc.stdout).group(1))
+    fit = re.search(r"k = (-?[0-9.]+)", proc.stdout)
+    assert fit is not None, proc.stdout
+    k = float(fit.group(1))
     # Beverloo's k is of order one to two particle diameters for spheres of this size;
     # 0.5..4 only refuses a fit gone wrong (a sign error, a mixed-up unit), not the physics.
     assert 0.5 < k < 4, proc.stdout

@@ -390,7 +390,7 @@ def test_bad_kinds_and_beds_raise_value_errors(tmp_path):
     with pytest.raises(ValueError, match="threads"):
         hf.Simulation.from_bed(tmp_path, threads=0)
     with pytest.raises(TypeError):
-        hf.Simulation.from_bed(42)
+        hf.Simulation.from_bed(42)  # type: ignore[arg-type]  # the misuse tested
     # A file that is not a bed.
     (tmp_path / "bed.bin").write_bytes(b"not a bed")
     with pytest.raises(ValueError, match="bed.bin"):

@@ -13,6 +13,7 @@ import pytest
 
 import hopperflow as hf
 from conftest import TINY
+from hopperflow._testing import numpy_tables
 
 
 def test_summary_is_byte_identical_to_the_cli(cli_run, py_run):
@@ -39,9 +40,9 @@ def test_summary_and_tables(py_run):
     assert len(py_run.profiles) > 0 and len(py_run.field) > 0
 
 
-def test_tables_are_numpy_dicts_without_pandas(py_run, monkeypatch):
-    monkeypatch.setenv("HOPPERFLOW_NO_PANDAS", "1")
-    flow = py_run.flow
+def test_tables_are_numpy_dicts_without_pandas(py_run):
+    with numpy_tables():
+        flow = py_run.flow
     assert isinstance(flow, dict) and flow["time"].dtype == np.float64
     # The same bits as the CSV text: Python's float() reads the writer's shortest digits.
     first = (py_run.path / "flow.csv").read_text().splitlines()[1].split(",")
@@ -102,7 +103,7 @@ def test_bad_thread_counts(threads, error, tmp_path):
 
 def test_bad_case_argument(tmp_path):
     with pytest.raises(TypeError, match="case"):
-        hf.run(42, out=tmp_path / "x", progress=False)
+        hf.run(42, out=tmp_path / "x", progress=False)  # type: ignore[arg-type]  # the misuse tested
 
 
 def test_an_interrupt_leaves_a_checkpoint_that_resumes_to_the_same_bits(cli_run, tmp_path):
@@ -112,14 +113,19 @@ def test_an_interrupt_leaves_a_checkpoint_that_resumes_to_the_same_bits(cli_run,
     out = tmp_path / "stopped"
     calls = []
 
-    def stop_soon(phase, t, particles, fraction, rate):
-        calls.append(phase)
+    def stop_soon(progress: hf.RunProgress) -> None:
+        calls.append(progress)
         if len(calls) == 3:
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
         hf.run(str(TINY), out=out, progress=stop_soon)
     assert (out / "checkpoint.bin").is_file() and not (out / "summary.json").exists()
+    # The callable got one RunProgress per report, fields and line alike.
+    first = calls[0]
+    assert isinstance(first, hf.RunProgress) and first.phase in {"fill", "settle", "discharge"}
+    assert 0 <= first.fraction <= 1 and first.time > 0 and first.particles >= 0
+    assert first.message.startswith(f"{first.phase} t = ")
     hf.run(str(TINY), out=out, progress=False, resume=True)
     assert (out / "summary.json").read_bytes() == (cli_run / "summary.json").read_bytes()
 
@@ -136,7 +142,7 @@ def test_ctrl_c_stops_a_run_with_a_checkpoint(tmp_path):
         import signal, sys, hopperflow as hf
         signal.signal(signal.SIGINT, signal.default_int_handler)
         started = []
-        def progress(*args):
+        def progress(p):
             if not started:
                 started.append(1)
                 print("running", flush=True)
@@ -149,6 +155,7 @@ def test_ctrl_c_stops_a_run_with_a_checkpoint(tmp_path):
         """
     )
     proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert proc.stdout is not None
     try:
         assert proc.stdout.readline().strip() == "running"
         sent = time.monotonic()
@@ -237,9 +244,9 @@ def test_wall_forces_before_the_opening_carry_the_settled_bed(py_run):
     assert abs(x) < case["geometry.outlet_width"] / 2
 
 
-def test_wall_forces_without_pandas_and_from_load_run(py_run, monkeypatch):
-    monkeypatch.setenv("HOPPERFLOW_NO_PANDAS", "1")
-    forces = hf.load_run(py_run.path).wall_forces
+def test_wall_forces_without_pandas_and_from_load_run(py_run):
+    with numpy_tables():
+        forces = hf.load_run(py_run.path).wall_forces
     assert isinstance(forces, dict) and list(forces) == WALL_FORCE_COLUMNS
     # Names as text, loads as the float64 bits of the CSV text.
     assert forces["wall"].dtype.kind == "U" and forces["fx"].dtype == np.float64

@@ -22,8 +22,16 @@ def test_a_study_runs_every_case(tiny_study):
 
 
 def test_a_study_resumes_instead_of_rerunning(tiny_study):
-    again = hf.study(str(TINY_SWEEP), out=tiny_study.path, jobs=1, progress=False)
+    reports: list[hf.Progress] = []
+    again = hf.study(str(TINY_SWEEP), out=tiny_study.path, jobs=1, progress=reports.append)
+    assert again.outcome is not None
     assert again.outcome["ran"] == 0 and again.outcome["reused"] == 3
+    # The progress callable hears of the cases already done, as one StudyProgress.
+    assert reports and all(isinstance(p, hf.StudyProgress) for p in reports)
+    last = reports[-1]
+    assert isinstance(last, hf.StudyProgress)
+    assert (last.done, last.total, last.fraction) == (3, 3, 1.0)
+    assert last.message == "3/3 cases; 3 of 3 cases already finished"
     loaded = hf.load_study(tiny_study.path)
     assert list(loaded.results["id"]) == list(tiny_study.results["id"])
 
@@ -77,6 +85,7 @@ def test_a_study_from_one_bed_matches_single_runs_from_it(tmp_path):
     bed = tmp_path / "bed"
     hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
     study = hf.study(str(TINY_SWEEP), out=tmp_path / "study", jobs=2, progress=False, from_bed=bed)
+    assert study.outcome is not None
     assert study.outcome["ran"] == 3 and study.outcome["failed"] == []
     # Each case is the single run of its outlet from the same bed, to the byte.
     for run in study.cases.values():
