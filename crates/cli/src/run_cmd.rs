@@ -8,9 +8,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use case::{
     default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE,
 };
-use run::hopper::read_packing;
 use files::write_atomic;
-use run::{check_bed, check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
+use run::{check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
 use files::BED_CASE_FILE;
 
 /// Exit code for bad input (a malformed case file or override).
@@ -175,18 +174,11 @@ fn case_and_start(args: &RunArgs) -> Result<(Case, Start), i32> {
         }
         _ => load(args.case.as_ref(), &args.sets)?,
     };
-    if let Some(bed) = bed {
-        check_bed(&bed, &case).map_err(|e| refuse(&e))?;
-        if args.case.is_none() {
-            note_uncentred(args, &bed, &case);
-        }
-        return Ok((case, Start::Bed(Box::new(bed))));
+    let start = Start::choose(&case, bed, args.packing.as_deref()).map_err(|e| refuse(&e))?;
+    if let (Start::Bed(bed), None) = (&start, &args.case) {
+        note_uncentred(args, bed, &case);
     }
-    if let Some(file) = &args.packing {
-        let packing = read_packing(file, &case).map_err(|e| refuse(&e))?;
-        return Ok((case, Start::Packing(Box::new(packing))));
-    }
-    Ok((case, Start::Fill))
+    Ok((case, start))
 }
 
 /// What the run's case came from, in words: the case file, the bed's case, or the base case.

@@ -14,8 +14,7 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use run::hopper::read_packing;
-use run::{check_bed, check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
+use run::{check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start, StartError};
 
 use crate::case::Case;
 use crate::errors::RunError as PyRunError;
@@ -85,22 +84,13 @@ fn start_of(
     packing: Option<PathBuf>,
 ) -> PyResult<Start> {
     let refuse = |e: &dyn std::fmt::Display| PyValueError::new_err(e.to_string());
-    match (from_bed, packing) {
-        (Some(_), Some(_)) => Err(PyValueError::new_err(
-            "from_bed and packing exclude each other: a run starts from a saved bed, from a \
-             packing file, or from its own fill",
-        )),
-        (Some(dir), None) => {
-            let bed = read_bed(&dir).map_err(|e| refuse(&e))?;
-            check_bed(&bed, case).map_err(|e| refuse(&e))?;
-            Ok(Start::Bed(Box::new(bed)))
-        }
-        (None, Some(file)) => {
-            let packing = read_packing(&file, case).map_err(|e| refuse(&e))?;
-            Ok(Start::Packing(Box::new(packing)))
-        }
-        (None, None) => Ok(Start::Fill),
+    if from_bed.is_some() && packing.is_some() {
+        return Err(refuse(&StartError::BedAndPacking));
     }
+    let bed = from_bed
+        .map(|dir| read_bed(&dir).map_err(|e| refuse(&e)))
+        .transpose()?;
+    Start::choose(case, bed, packing.as_deref()).map_err(|e| refuse(&e))
 }
 
 /// The resolved case text of the bed in `dir` (`bed.bin` in it, or the file), for a run from

@@ -36,7 +36,7 @@ pub use checkpoint::{
 };
 pub use outputs::{fit_radial, write_radial_profiles};
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
-pub use start::Start;
+pub use start::{Start, StartError};
 pub use time_spent::{ProtocolTime, TimeSpent};
 
 /// Why a run failed.
