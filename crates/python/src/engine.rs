@@ -1,7 +1,7 @@
 //! `Simulation`: the engine of a case, stepped from Python, its state read as numpy arrays.
 //!
 //! The simulation starts as a run does, for every container kind (slab, cylinder, box,
-//! mesh): `run::hopper::case_simulation_by_component`, the function a run builds its
+//! mesh): `run::case_simulation_by_component`, the function a run builds its
 //! engine with, gives the container's walls with the gate closed and the material of each
 //! mixture component, but no particles; the caller adds them. A simulation may also start
 //! from a bed a run saved (`from_bed`), its settled state as the run kept it. Arrays are
@@ -15,7 +15,7 @@ use dem::{DVec3, DemError, Interaction, MaterialId, ParticleInit, Wall, WallId, 
 use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use run::hopper::{case_simulation, case_simulation_by_component, ContainerWalls};
+use run::{case_simulation, case_simulation_by_component, ContainerWalls};
 use run::read_bed;
 
 use crate::case::Case;

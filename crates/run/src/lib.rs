@@ -6,10 +6,13 @@ pub mod bench;
 mod bed;
 mod checkpoint;
 mod composition;
-pub mod hopper;
+mod container;
+mod fill;
 mod outputs;
+mod packing;
 mod protocol;
 mod remaining;
+mod simulation;
 mod start;
 mod time_spent;
 mod wall_forces;
@@ -21,7 +24,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use case::Case;
-use crate::hopper::PackingError;
+
 use files::{StartRecord, CASE_FILE, CHECKPOINT_FILE, START_FILE, SUMMARY_FILE};
 use files::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
 use files::CaseSummary;
@@ -34,9 +37,28 @@ pub use checkpoint::{
     case_changes, config_hash, read_checkpoint_header, CheckpointError, CheckpointHeader,
     KeyChange, MAGIC as CHECKPOINT_MAGIC,
 };
+pub use container::{
+    adopt_walls, build_container_walls, build_cuboid_walls, build_cylinder_walls,
+    build_mesh_walls, build_slab_walls, cuboid_outline, cuboid_wall_polygons, cylinder_outline,
+    cylinder_wall_polygons, gate_outline, mesh_outline, mesh_wall_polygons, slab_outline,
+    vertical_cut, wall_names, ContainerWalls, CuboidWalls, CylinderWalls, MeshWalls, SlabWalls,
+    MESH_WALL_INDEX, WALL_NAMES,
+};
+pub use fill::{
+    insert_silo_batch, insert_slab_batch, inside_slab, Draw, FillRegion, Inserted, ParticleDraws,
+};
 pub use outputs::{fit_radial, write_radial_profiles};
+pub use packing::{
+    packing_count, read_packing, PackedParticle, Packing, PackingError, PackingPlace,
+    PackingProblem, PACKING_COLUMNS, PACKING_OVERLAP_FRACTION, RADIUS_TOLERANCE,
+    REQUIRED_PACKING_COLUMNS,
+};
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
 pub use start::{Start, StartError};
+pub use simulation::{
+    case_simulation, case_simulation_by_component, contact_laws, lattice_bed, sample_radius,
+    slab_simulation,
+};
 pub use time_spent::{ProtocolTime, TimeSpent};
 
 /// Why a run failed.

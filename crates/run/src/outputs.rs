@@ -18,9 +18,9 @@ use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
 use super::RunError;
 use case::{Case, Geometry};
-use crate::hopper::{
-    box_outline, box_wall_polygons, mesh_outline, mesh_wall_polygons, outline, silo_outline,
-    silo_wall_polygons, wall_names,
+use crate::{
+    cuboid_outline, cuboid_wall_polygons, mesh_outline, mesh_wall_polygons, slab_outline, cylinder_outline,
+    cylinder_wall_polygons, wall_names,
 };
 use measure::{
     radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
@@ -98,7 +98,7 @@ impl Pictures {
                 source,
             })?;
             let polygons: Vec<Vec<[f64; 3]>> = match &case.geometry {
-                Geometry::Slab(g) => outline(g)
+                Geometry::Slab(g) => slab_outline(g)
                     .iter()
                     .map(|s| {
                         let (a, b) = (s[0], s[1]);
@@ -111,8 +111,8 @@ impl Pictures {
                         ]
                     })
                     .collect(),
-                Geometry::Cylinder(g) => silo_wall_polygons(g),
-                Geometry::Box(g) => box_wall_polygons(g),
+                Geometry::Cylinder(g) => cylinder_wall_polygons(g),
+                Geometry::Box(g) => cuboid_wall_polygons(g),
                 Geometry::Mesh(g) => mesh_wall_polygons(g),
             };
             write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
@@ -120,15 +120,15 @@ impl Pictures {
         // A cut two mean diameters thick: one layer of spheres about the plane.
         let layer = case.particles.mean_diameter();
         let (segments, x_range, cut, top) = match &case.geometry {
-            Geometry::Slab(g) => (outline(g), (-0.5 * g.width, 0.5 * g.width), None, g.height),
+            Geometry::Slab(g) => (slab_outline(g), (-0.5 * g.width, 0.5 * g.width), None, g.height),
             Geometry::Cylinder(g) => (
-                silo_outline(g),
+                cylinder_outline(g),
                 (-g.radius, g.radius),
                 Some((0.0, layer)),
                 g.height,
             ),
             Geometry::Box(g) => (
-                box_outline(g),
+                cuboid_outline(g),
                 (-0.5 * g.width, 0.5 * g.width),
                 Some((0.0, layer)),
                 g.height,

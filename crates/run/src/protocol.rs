@@ -9,9 +9,9 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
 use case::{Case, Geometry, MeshOutlet};
-use crate::hopper::silo_fill::{insert_silo_batch, FillRegion};
-use crate::hopper::{
-    adopt_walls, case_simulation_by_component, fill::insert_batch, ContainerWalls, Draw, Packing,
+use crate::{insert_silo_batch, FillRegion};
+use crate::{
+    adopt_walls, case_simulation_by_component, insert_slab_batch, ContainerWalls, Draw, Packing,
     ParticleDraws,
 };
 use measure::{
@@ -262,7 +262,7 @@ fn fill_region(geometry: &Geometry) -> &dyn FillRegion {
         Geometry::Cylinder(g) => g,
         Geometry::Box(g) => g,
         Geometry::Mesh(g) => g,
-        Geometry::Slab(_) => unreachable!("the slab fills through `insert_batch`"),
+        Geometry::Slab(_) => unreachable!("the slab fills through `insert_slab_batch`"),
     }
 }
 
@@ -543,7 +543,7 @@ impl CaseRun {
             let attempts = 20 * want + 1000;
             let state = &mut self.state;
             let placed = match &self.case.geometry {
-                Geometry::Slab(g) => insert_batch(
+                Geometry::Slab(g) => insert_slab_batch(
                     &mut self.sim,
                     g,
                     &mut state.rng,

@@ -9,7 +9,7 @@ use case::Case;
 use files::{StartKind, StartRecord};
 
 use super::bed::{check_bed, Bed, BedError};
-use crate::hopper::{read_packing, Packing, PackingError};
+use crate::{read_packing, Packing, PackingError};
 
 /// What a run starts from.
 #[derive(Debug, Clone, Default)]

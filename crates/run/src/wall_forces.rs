@@ -18,7 +18,7 @@
 use dem::{WallId, WallLoad, Watched};
 use serde::{Deserialize, Serialize};
 
-use crate::hopper::ContainerWalls;
+use crate::ContainerWalls;
 use files::Cell;
 
 /// Columns of `wall_forces.csv`; units in the module's and the docs' description.
@@ -30,7 +30,7 @@ pub(crate) const WALL_FORCE_COLUMNS: [&str; 8] =
 struct WallForceRow {
     /// Middle of the window [s from the start of the run].
     time: f64,
-    /// Index into the case's wall names (`crate::hopper::wall_names`).
+    /// Index into the case's wall names (`crate::wall_names`).
     wall: u8,
     /// Mean force [N] then mean torque about the origin [N m] over the window's steps.
     load: [f64; 6],
@@ -126,7 +126,7 @@ impl WallForceRecorder {
     }
 
     /// The table of `wall_forces.csv`: the finished windows and the open one, each wall
-    /// under its name in `names` (`crate::hopper::wall_names`).
+    /// under its name in `names` (`crate::wall_names`).
     pub(crate) fn table(&self, names: &[String]) -> Vec<Vec<Cell>> {
         self.rows
             .iter()

@@ -12,7 +12,7 @@ use analysis::janssen::{fit_janssen, JanssenSilo};
 use dem::{Simulation, WallId, WallShape};
 use serde::{Deserialize, Serialize};
 
-use crate::hopper::WALL_NAMES;
+use crate::WALL_NAMES;
 use files::Cell;
 
 /// Columns of `wall_pressure.csv`: the window's middle [s from the opening; the settled

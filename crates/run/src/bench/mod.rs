@@ -8,7 +8,7 @@ use rand::SeedableRng;
 use serde::Serialize;
 
 use case::Case;
-use crate::hopper::{hopper_simulation, lattice_bed};
+use crate::{slab_simulation, lattice_bed};
 
 mod bidisperse;
 mod mesh_floor;
@@ -286,7 +286,7 @@ pub fn settled_bed(
     settle_steps: u64,
 ) -> Result<Simulation, DemError> {
     let case = Case::paper_base();
-    let (mut sim, _walls, material) = hopper_simulation(&case, threads)?;
+    let (mut sim, _walls, material) = slab_simulation(&case, threads)?;
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
     lattice_bed(&mut sim, &case, material, count, &mut rng)?;
     sim.run(settle_steps)?;
@@ -345,7 +345,7 @@ pub fn silo_benchmark(
 /// inputs: a cached state is taken as it is.
 pub fn discharge_benchmark(
     case: &Case,
-    packing: Option<&crate::hopper::Packing>,
+    packing: Option<&crate::Packing>,
     label: &str,
     (window_start, window_length): (f64, f64),
     threads: usize,

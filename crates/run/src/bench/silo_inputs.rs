@@ -15,7 +15,7 @@ use sha2::{Digest, Sha256};
 use case::{
     load_case, parse_case, Case, ConfigErrors, Geometry, WallSurface, CYLINDER_TEMPLATE,
 };
-use crate::hopper::{packing_count, read_packing, Packing, PackingError};
+use crate::{packing_count, read_packing, Packing, PackingError};
 
 /// Spheres of the built-in benchmark silo when nothing else sets their count.
 pub const SILO_PARTICLES: usize = 20_000;

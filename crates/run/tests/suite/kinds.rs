@@ -7,7 +7,7 @@ use std::path::Path;
 
 use glam::DVec3;
 use case::{load_case, parse_case, Case};
-use run::hopper::case_simulation;
+use run::case_simulation;
 use run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
 

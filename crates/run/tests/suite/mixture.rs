@@ -10,8 +10,8 @@ use dem::{DVec3, MaterialId};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use case::{load_case, Case, Geometry};
-use run::hopper::silo_fill::insert_silo_batch;
-use run::hopper::{case_simulation_by_component, ParticleDraws};
+use run::insert_silo_batch;
+use run::{case_simulation_by_component, ParticleDraws};
 use run::{run_case, RunOptions, RunOutcome};
 
 /// The preset `cases/mixture-1to2.toml` (2 mm and 4 mm spheres, 50/50 by mass) with `sets`.

@@ -13,7 +13,7 @@ use proptest::prelude::*;
 use crate::tiny_hopper;
 
 use case::parse_case;
-use run::hopper::{read_packing, PackedParticle, Packing};
+use run::{read_packing, PackedParticle, Packing};
 use files::{write_particles_vtu, ParticleFields};
 use run::{run_case_from, RunOptions, RunOutcome, Start};
 use files::{StartKind, SUMMARY_FILE};

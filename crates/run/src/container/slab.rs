@@ -7,7 +7,7 @@ use case::HopperGeometry;
 
 /// Handles of the hopper's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct HopperWalls {
+pub struct SlabWalls {
     /// Left and right side walls (x = ∓L/2).
     pub sides: [WallId; 2],
     /// Front (y = 0) and back (y = Z) walls.
@@ -33,7 +33,7 @@ fn slab_rectangle(a: (f64, f64), b: (f64, f64), thickness: f64) -> Vec<DVec3> {
 }
 
 /// In-plane (x, z) segments of the hopper outline: side walls and bottom plates [m].
-pub fn outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
+pub fn slab_outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
     let half = 0.5 * geometry.width;
     let (xl, xr) = geometry.outlet_edges();
     let (run_l, run_r) = geometry.plate_runs();
@@ -59,17 +59,17 @@ pub fn outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
 }
 
 /// Adds the hopper's walls, gate closed, to `sim`.
-pub fn build_walls(
+pub fn build_slab_walls(
     sim: &mut Simulation,
     geometry: &HopperGeometry,
     material: WallMaterial,
     interaction: Interaction,
-) -> Result<HopperWalls, DemError> {
+) -> Result<SlabWalls, DemError> {
     let z = geometry.thickness;
     let wall = |v: Vec<DVec3>| {
         Wall::polygon(v, material, interaction).map_err(|e| DemError::InvalidInput(e.to_string()))
     };
-    let segs = outline(geometry);
+    let segs = slab_outline(geometry);
     let left = sim.add_wall(wall(slab_rectangle(segs[0][0], segs[0][1], z))?)?;
     let right = sim.add_wall(wall(slab_rectangle(segs[1][0], segs[1][1], z))?)?;
     let plane = |p: DVec3, n: DVec3| {
@@ -99,7 +99,7 @@ pub fn build_walls(
     // give particles resting on the overlap two floor contacts.
     let (xl, xr) = geometry.outlet_edges();
     let gate = sim.add_wall(wall(slab_rectangle((xl, 0.0), (xr, 0.0), z))?)?;
-    Ok(HopperWalls {
+    Ok(SlabWalls {
         sides: [left, right],
         faces: [front, back],
         plates,

@@ -6,8 +6,8 @@ use dem::{
 };
 use rand::Rng;
 
-use super::builder::HopperWalls;
-use super::container::{build_container_walls, ContainerWalls};
+use crate::container::SlabWalls;
+use crate::container::{build_container_walls, ContainerWalls};
 use case::{Case, SizeDistribution};
 
 /// EPSD viscous damping ratio η_r: Ai et al. (2011) suggest 0.3 (docs/physics.md §4.1).
@@ -161,10 +161,10 @@ fn no_table(name: &str) -> DemError {
 
 /// A simulation holding the slab hopper's walls (gate closed) and the particle material;
 /// refused for a case of another kind.
-pub fn hopper_simulation(
+pub fn slab_simulation(
     case: &Case,
     threads: usize,
-) -> Result<(Simulation, HopperWalls, MaterialId), DemError> {
+) -> Result<(Simulation, SlabWalls, MaterialId), DemError> {
     match case_simulation(case, threads)? {
         (sim, ContainerWalls::Slab(walls), id) => Ok((sim, walls, id)),
         _ => Err(not_a_slab(case)),
@@ -249,7 +249,7 @@ pub fn lattice_bed(
         let mut x = -half + r * 1.05 + shift;
         while x + r < half && placed < count {
             let jitter = 0.002 * r * (rng.gen::<f64>() - 0.5);
-            if super::fill::inside_hopper(g, x, z, r, 1e-5) {
+            if crate::fill::inside_slab(g, x, z, r, 1e-5) {
                 sim.add_particle(dem::ParticleInit::at_rest(
                     DVec3::new(x + jitter, 0.5 * g.thickness, z),
                     r,

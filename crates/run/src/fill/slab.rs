@@ -12,7 +12,7 @@ pub type Inserted = (ParticleTag, u8);
 
 /// Whether a disc of radius `r` [m] centred at (x, z) lies inside the hopper's in-plane
 /// outline with clearance `gap` [m].
-pub fn inside_hopper(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64) -> bool {
+pub fn inside_slab(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64) -> bool {
     let half = 0.5 * geometry.width;
     let c = r + gap;
     if x - c < -half || x + c > half || z - c < 0.0 || z + c > geometry.height {
@@ -39,7 +39,7 @@ pub fn inside_hopper(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64
 /// A draw that does not fit is kept for the next attempt, and left in `pending` for the next
 /// batch when the attempts run out (see [`ParticleDraws`]).
 #[allow(clippy::too_many_arguments)]
-pub fn insert_batch(
+pub fn insert_slab_batch(
     sim: &mut Simulation,
     geometry: &HopperGeometry,
     rng: &mut impl Rng,
@@ -77,7 +77,7 @@ pub fn insert_batch(
         } else {
             y_mid
         };
-        if !inside_hopper(geometry, x, z, r, gap) {
+        if !inside_slab(geometry, x, z, r, gap) {
             continue;
         }
         let c = DVec3::new(x, y, z);

@@ -9,7 +9,7 @@ use dem::{DVec3, ParticleInit, Simulation};
 use rand::Rng;
 
 use super::draw::{Draw, ParticleDraws};
-use super::fill::Inserted;
+use super::slab::Inserted;
 use case::{BoxSilo, CylinderSilo, MeshContainer};
 
 /// Where spheres may be inserted: a box of candidate centres and the test that keeps a sphere
@@ -108,7 +108,7 @@ impl Placed {
 /// z ∈ [`band.0`, `band.1`] [m] of the region (narrowed to its own z range), avoiding every
 /// particle already in `sim`; each starts with velocity `v0` [m/s]. Returns the particles
 /// inserted. A draw that does not fit is kept until it is placed, as in
-/// [`super::fill::insert_batch`].
+/// [`super::fill::insert_slab_batch`].
 #[allow(clippy::too_many_arguments)]
 pub fn insert_silo_batch(
     sim: &mut Simulation,

@@ -5,7 +5,7 @@
 //! tags, and their attributes and text read directly. Binary (base64), appended or
 //! compressed data are refused with a message that says how to save the file as ASCII.
 
-use super::packing::{PackingPlace, Problems, RawParticle};
+use super::read::{PackingPlace, Problems, RawParticle};
 
 /// An element's start tag: its attributes, and the text up to its end tag.
 struct Element<'a> {

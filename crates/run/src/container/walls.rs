@@ -4,10 +4,10 @@
 use dem::{DemError, Interaction, Simulation, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
-use super::box_walls::{build_box_walls, BoxWalls};
-use super::builder::{build_walls, HopperWalls};
-use super::mesh_walls::{build_mesh_walls, MeshWalls};
-use super::silo_walls::{build_silo_walls, SiloWalls};
+use super::cuboid::{build_cuboid_walls, CuboidWalls};
+use super::slab::{build_slab_walls, SlabWalls};
+use super::mesh::{build_mesh_walls, MeshWalls};
+use super::cylinder::{build_cylinder_walls, CylinderWalls};
 use case::Geometry;
 
 /// The names of walls in `wall_forces.csv`, indexed by [`ContainerWalls::named`]; a mesh
@@ -34,11 +34,11 @@ pub const MESH_WALL_INDEX: u8 = WALL_NAMES.len() as u8;
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContainerWalls {
     /// The slab hopper's walls.
-    Slab(HopperWalls),
+    Slab(SlabWalls),
     /// A cylindrical silo's walls.
-    Silo(SiloWalls),
+    Silo(CylinderWalls),
     /// A rectangular silo's walls.
-    Box(BoxWalls),
+    Box(CuboidWalls),
     /// The STL walls of a mesh container.
     Mesh(MeshWalls),
 }
@@ -159,11 +159,11 @@ pub fn build_container_walls(
     interaction: Interaction,
 ) -> Result<ContainerWalls, DemError> {
     Ok(match geometry {
-        Geometry::Slab(g) => ContainerWalls::Slab(build_walls(sim, g, material, interaction)?),
+        Geometry::Slab(g) => ContainerWalls::Slab(build_slab_walls(sim, g, material, interaction)?),
         Geometry::Cylinder(g) => {
-            ContainerWalls::Silo(build_silo_walls(sim, g, material, interaction)?)
+            ContainerWalls::Silo(build_cylinder_walls(sim, g, material, interaction)?)
         }
-        Geometry::Box(g) => ContainerWalls::Box(build_box_walls(sim, g, material, interaction)?),
+        Geometry::Box(g) => ContainerWalls::Box(build_cuboid_walls(sim, g, material, interaction)?),
         Geometry::Mesh(g) => ContainerWalls::Mesh(build_mesh_walls(sim, g, material, interaction)?),
     })
 }

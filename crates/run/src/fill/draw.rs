@@ -6,7 +6,7 @@ use dem::MaterialId;
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-use super::setup::sample_radius;
+use crate::simulation::sample_radius;
 use case::{ParticleSpec, SizeDistribution};
 
 /// One drawn particle, not yet placed.

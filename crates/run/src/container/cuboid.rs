@@ -10,7 +10,7 @@ use case::{BoxFace, BoxSilo, WallSurface};
 
 /// Handles of a rectangular silo's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct BoxWalls {
+pub struct CuboidWalls {
     /// The side walls x = −W/2, x = +W/2, y = −B/2, y = +B/2 (left, right, front, back).
     pub sides: [WallId; 4],
     /// The plates rising from the orifice's edges toward the same walls; absent where there
@@ -63,7 +63,7 @@ fn flat_bottom(silo: &BoxSilo) -> Vec<stl::Triangle> {
 }
 
 /// The wall polygons of the silo as (face, polygon): every face of the polyhedron but its top
-/// and its bottom (the orifice plane, which [`build_box_walls`] covers with the gate and, for a
+/// and its bottom (the orifice plane, which [`build_cuboid_walls`] covers with the gate and, for a
 /// flat bottom, the bottom mesh).
 fn wall_faces(silo: &BoxSilo) -> Vec<(BoxFace, Vec<DVec3>)> {
     silo.faces(silo.height)
@@ -72,7 +72,7 @@ fn wall_faces(silo: &BoxSilo) -> Vec<(BoxFace, Vec<DVec3>)> {
         .collect()
 }
 
-/// Index of a side wall or plate in [`BoxWalls`]' arrays.
+/// Index of a side wall or plate in [`CuboidWalls`]' arrays.
 fn slot_of(face: BoxFace) -> (bool, usize) {
     match face {
         BoxFace::Left => (true, 0),
@@ -93,12 +93,12 @@ fn slot_of(face: BoxFace) -> (bool, usize) {
 /// The faces meet only at concave edges (plate against wall, plate against plate), where a
 /// sphere touching both needs both contacts, so one wall per face is right (§5). With
 /// `walls = "meshed"` each face is the fan of its polygon's triangles instead.
-pub fn build_box_walls(
+pub fn build_cuboid_walls(
     sim: &mut Simulation,
     silo: &BoxSilo,
     material: WallMaterial,
     interaction: Interaction,
-) -> Result<BoxWalls, DemError> {
+) -> Result<CuboidWalls, DemError> {
     let mut sides = [None; 4];
     let mut plates = [None; 4];
     for (face, polygon) in wall_faces(silo) {
@@ -124,7 +124,7 @@ pub fn build_box_walls(
     let side = |k: usize| {
         sides[k].ok_or_else(|| invalid(format!("the box's side wall {k} has no area below H")))
     };
-    Ok(BoxWalls {
+    Ok(CuboidWalls {
         sides: [side(0)?, side(1)?, side(2)?, side(3)?],
         plates,
         bottom,
@@ -134,7 +134,7 @@ pub fn build_box_walls(
 
 /// The silo's walls as polygons [m] for the VTU output: the faces and, for a flat bottom, the
 /// bottom's triangles (the gate is not drawn).
-pub fn box_wall_polygons(silo: &BoxSilo) -> Vec<Vec<[f64; 3]>> {
+pub fn cuboid_wall_polygons(silo: &BoxSilo) -> Vec<Vec<[f64; 3]>> {
     let mut polygons: Vec<Vec<[f64; 3]>> = wall_faces(silo)
         .into_iter()
         .map(|(_, p)| p.iter().map(|v| v.to_array()).collect())
@@ -151,6 +151,6 @@ pub fn box_wall_polygons(silo: &BoxSilo) -> Vec<Vec<[f64; 3]>> {
 
 /// Segments (x, z) [m] of the silo's outline in the vertical plane y = 0: what a frame of a
 /// vertical cut draws.
-pub fn box_outline(silo: &BoxSilo) -> Vec<[(f64, f64); 2]> {
-    vertical_cut(&box_wall_polygons(silo), 0.0)
+pub fn cuboid_outline(silo: &BoxSilo) -> Vec<[(f64, f64); 2]> {
+    vertical_cut(&cuboid_wall_polygons(silo), 0.0)
 }

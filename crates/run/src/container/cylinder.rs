@@ -10,7 +10,7 @@ use case::{CylinderSilo, WallSurface};
 
 /// Handles of a cylindrical silo's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct SiloWalls {
+pub struct CylinderWalls {
     /// The cylinder, from the top of the cone (or the bottom) up to H.
     pub cylinder: WallId,
     /// The conical hopper, or the flat bottom around the orifice.
@@ -36,12 +36,12 @@ fn invalid(e: impl std::fmt::Display) -> DemError {
 /// its faces are exact planes). The gate is a polygon in the orifice plane: for a flat bottom
 /// the ring's own hole polygon, so that the two tile the plane without overlap; under a cone,
 /// the polygon circumscribing the orifice, whose corners lie under the cone, outside the silo.
-pub fn build_silo_walls(
+pub fn build_cylinder_walls(
     sim: &mut Simulation,
     silo: &CylinderSilo,
     material: WallMaterial,
     interaction: Interaction,
-) -> Result<SiloWalls, DemError> {
+) -> Result<CylinderWalls, DemError> {
     let (r, h, ro) = (silo.radius, silo.height, silo.outlet_radius());
     let hc = silo.cone_height();
     let k = silo.mesh_segments;
@@ -100,7 +100,7 @@ pub fn build_silo_walls(
         stl::shapes::ring_hole(0.0, [silo.outlet_offset, 0.0], ro, k)
     };
     let gate = sim.add_wall(Wall::polygon(outline, material, interaction).map_err(invalid)?)?;
-    Ok(SiloWalls {
+    Ok(CylinderWalls {
         cylinder,
         bottom,
         conical,
@@ -111,7 +111,7 @@ pub fn build_silo_walls(
 /// Segments (x, z) [m] of the silo's outline in the vertical plane y = 0 through its axis:
 /// the cylinder's two sides and the cone's or the flat bottom's two halves beside the
 /// orifice. What a frame of a vertical cut draws.
-pub fn silo_outline(silo: &CylinderSilo) -> Vec<[(f64, f64); 2]> {
+pub fn cylinder_outline(silo: &CylinderSilo) -> Vec<[(f64, f64); 2]> {
     let (r, h, hc) = (silo.radius, silo.height, silo.cone_height());
     let (left, right) = (
         silo.outlet_offset - silo.outlet_radius(),
@@ -127,7 +127,7 @@ pub fn silo_outline(silo: &CylinderSilo) -> Vec<[(f64, f64); 2]> {
 
 /// The silo's walls as polygons [m] for the VTU output: `segments` quadrilaterals around
 /// the cylinder, around the cone, and between the bottom's outer edge and the orifice.
-pub fn silo_wall_polygons(silo: &CylinderSilo) -> Vec<Vec<[f64; 3]>> {
+pub fn cylinder_wall_polygons(silo: &CylinderSilo) -> Vec<Vec<[f64; 3]>> {
     let k = silo.mesh_segments;
     let (r, h, hc, ro) = (
         silo.radius,

@@ -23,7 +23,7 @@
 //! line (CSV) or the array and index (VTU), the value and what is allowed: numbers that are
 //! missing or not finite, radii ≤ 0 or outside the case's size distribution by more than
 //! [`RADIUS_TOLERANCE`], particles outside the container (the fill's own tests,
-//! [`inside_hopper`] and [`CylinderSilo::holds`], allowing a particle to press into a wall
+//! [`inside_slab`] and [`CylinderSilo::holds`], allowing a particle to press into a wall
 //! by [`PACKING_OVERLAP_FRACTION`] of its radius), overlaps of two particles beyond the same
 //! fraction of the smaller radius, and a count other than `particles.count`.
 
@@ -34,8 +34,8 @@ use std::path::{Path, PathBuf};
 use dem::DVec3;
 use sha2::{Digest, Sha256};
 
-use super::fill::inside_hopper;
-use super::packing_vtu::parse_vtu;
+use crate::fill::inside_slab;
+use super::vtu::parse_vtu;
 use case::{BoxSilo, Case, CylinderSilo, Geometry, HopperGeometry};
 
 /// The columns of a packing CSV, in the order hopperflow writes them. The first
@@ -751,7 +751,7 @@ fn check_container(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
         let why = match &case.geometry {
             Geometry::Slab(g) => {
                 let across = y - r >= -slack && y + r <= g.thickness + slack;
-                if inside_hopper(g, x, z, r, -slack) && across {
+                if inside_slab(g, x, z, r, -slack) && across {
                     continue;
                 }
                 slab_violation(g, [x, y, z], r, slack)
