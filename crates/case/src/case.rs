@@ -4,9 +4,9 @@
 use dem::MaterialTable;
 use serde::{Deserialize, Serialize};
 
-use super::geometry::HopperGeometry;
-use super::particles::{Material, ParticleSpec};
-use super::silo::Geometry;
+use super::geometry::Geometry;
+use super::particles::{MaterialSpec, ParticleSpec};
+use super::slab::SlabGeometry;
 use files::DEFAULT_GRAVITY;
 
 /// Version of the case-file format this code reads and writes.
@@ -31,7 +31,7 @@ pub const THICK_SLAB_DIAMETERS: f64 = 2.0;
 
 /// Sliding friction, rolling friction and restitution of one pair type.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Interaction {
+pub struct InteractionSpec {
     /// Sliding friction coefficient μ_s [-].
     pub friction: f64,
     /// Rolling friction coefficient μ_r [-].
@@ -40,7 +40,7 @@ pub struct Interaction {
     pub restitution: f64,
 }
 
-impl Interaction {
+impl InteractionSpec {
     /// Table 1, both particle–particle and particle–wall: μ = 0.5, μ_r = 0.01, e = 0.2.
     pub fn paper() -> Self {
         Self {
@@ -54,13 +54,13 @@ impl Interaction {
 /// Wall material (the paper does not give it; physics spec §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum WallMaterial {
+pub enum WallMaterialSpec {
     /// Walls of the particle material (default): E*_pw = E*_pp.
     SameAsParticle,
     /// Rigid walls: infinite stiffness, so only the particle's compliance counts.
     Rigid,
     /// Walls of a given material.
-    Custom(Material),
+    Custom(MaterialSpec),
     /// Walls of the case's `[materials]` entry of this name; each particle material meets
     /// them with its pair's coefficients from `[[pairs]]` (docs/physics.md §1.2), and
     /// [`WallSpec::interaction`] is not used.
@@ -71,16 +71,16 @@ pub enum WallMaterial {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WallSpec {
     /// Wall material.
-    pub material: WallMaterial,
+    pub material: WallMaterialSpec,
     /// Particle–wall friction, rolling friction and restitution (walls not of a named
     /// material).
-    pub interaction: Interaction,
+    pub interaction: InteractionSpec,
 }
 
 /// Tangential contact law (physics spec §3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum TangentialLaw {
+pub enum TangentialLawSpec {
     /// EDEM/LIGGGHTS Hertz–Mindlin (no slip): linear spring on the accumulated
     /// displacement, Coulomb-capped (default, §3.1).
     MindlinNoSlip,
@@ -91,7 +91,7 @@ pub enum TangentialLaw {
 /// Rolling resistance law (physics spec §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum RollingLaw {
+pub enum RollingLawSpec {
     /// Constant directional torque, the paper's Eq. 8 (EDEM type A, LIGGGHTS cdt).
     ConstantTorque,
     /// Elastic–plastic spring–dashpot (EDEM type C, LIGGGHTS epsd).
@@ -103,11 +103,11 @@ pub enum RollingLaw {
 pub struct ContactSpec {
     /// Particle–particle friction, rolling friction and restitution (cases without a
     /// `[materials]` table; with one, the pairs come from its `[[pairs]]`).
-    pub particle: Interaction,
+    pub particle: InteractionSpec,
     /// Tangential law.
-    pub tangential: TangentialLaw,
+    pub tangential: TangentialLawSpec,
     /// Rolling law.
-    pub rolling: RollingLaw,
+    pub rolling: RollingLawSpec,
     /// Clamp the normal force to F_n ≥ 0 (off: the paper's Eq. 6 has no clamp, §2).
     pub normal_clamp: bool,
 }
@@ -219,7 +219,7 @@ impl Case {
     /// The paper's base case: Table 1, α = 90°, D = 30 mm, centred outlet, 3000 spheres.
     pub fn paper_base() -> Self {
         let d = 3.0e-3;
-        let slab = HopperGeometry::paper();
+        let slab = SlabGeometry::paper();
         Self {
             seed: 1,
             protocol: Protocol {
@@ -240,13 +240,13 @@ impl Case {
             materials: None,
             particles: ParticleSpec::paper(),
             wall: WallSpec {
-                material: WallMaterial::SameAsParticle,
-                interaction: Interaction::paper(),
+                material: WallMaterialSpec::SameAsParticle,
+                interaction: InteractionSpec::paper(),
             },
             contact: ContactSpec {
-                particle: Interaction::paper(),
-                tangential: TangentialLaw::MindlinNoSlip,
-                rolling: RollingLaw::ConstantTorque,
+                particle: InteractionSpec::paper(),
+                tangential: TangentialLawSpec::MindlinNoSlip,
+                rolling: RollingLawSpec::ConstantTorque,
                 normal_clamp: false,
             },
             time_step: 2.5e-6,
@@ -275,7 +275,7 @@ impl Case {
     }
 
     /// The slab hopper of a slab case.
-    pub fn slab(&self) -> Option<&HopperGeometry> {
+    pub fn slab(&self) -> Option<&SlabGeometry> {
         self.geometry.slab()
     }
 
@@ -314,7 +314,7 @@ impl Case {
         match &self.geometry {
             Geometry::Slab(g) => g.height_holding(self.packed_area()),
             Geometry::Cylinder(g) => g.height_holding(self.packed_volume()),
-            Geometry::Box(g) => g.height_holding(self.packed_volume()),
+            Geometry::Cuboid(g) => g.height_holding(self.packed_volume()),
             Geometry::Mesh(_) => None,
         }
     }

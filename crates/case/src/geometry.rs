@@ -1,151 +1,147 @@
-//! Hopper geometry of a case and the lengths and areas derived from it.
+//! The container of a case: the paper's slab hopper, a cylindrical silo with a flat or
+//! conical bottom and a circular orifice (docs/physics.md §5.6), a rectangular silo
+//! ([`CuboidGeometry`], §5.7) or the user's own STL walls ([`MeshGeometry`], §5.8).
 //!
-//! Conventions (physics spec §5 and §7): x is horizontal, measured from the hopper axis;
-//! z is vertical, measured up from the outlet plane z_o = 0; y runs across the slab,
-//! from the front wall at y = 0 to the back wall at y = Z. The side walls stand at
-//! x = ±L/2 and reach up to z = H, so H is the height of the container above the outlet
-//! plane. The two bottom plates make the angle α with the vertical and run from the
-//! outlet edges up to the side walls; α = 90° is a flat bottom.
+//! Conventions shared by every kind: z is vertical, measured up from the orifice plane
+//! z = 0; the silo's axis is the z axis (x = y = 0) for the cylinder and the box; the slab
+//! keeps its own x–z conventions (see [`SlabGeometry`]).
 
 use serde::{Deserialize, Serialize};
 
-/// Validated hopper geometry. Lengths in metres.
+use super::cuboid::CuboidGeometry;
+use super::cylinder::CylinderGeometry;
+use super::mesh::MeshGeometry;
+use super::slab::SlabGeometry;
+
+/// Default number of segments around the axis of a meshed cylinder or cone, and of the
+/// orifice's polygon: 96 segments put the chord's midpoint 0.05 % of the radius inside the
+/// circle, far below a particle radius for any silo a few diameters wide.
+pub const DEFAULT_MESH_SEGMENTS: usize = 96;
+
+/// Fewest and most segments around a circle (a triangle must stay a reasonable fraction of
+/// the silo; more than a few thousand only costs memory).
+pub const MESH_SEGMENTS_RANGE: (i64, i64) = (12, 4096);
+
+/// How curved walls are represented in the engine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallSurface {
+    /// Exact cylinder and cone (the engine's frustum shape, docs/physics.md §5.2).
+    Smooth,
+    /// Triangle meshes of `mesh_segments` strips around the axis (§5.3).
+    Meshed,
+}
+/// Height [m] below which a container of height `height` [m] whose volume below z is
+/// `volume_below(z)` [m³] holds `volume` [m³], or `None` if it cannot. `volume_below` is
+/// continuous and increasing: bisection to 2^-60 of the height.
+pub(super) fn height_holding(
+    height: f64,
+    volume: f64,
+    volume_below: impl Fn(f64) -> f64,
+) -> Option<f64> {
+    if volume > volume_below(height) {
+        return None;
+    }
+    let (mut low, mut high) = (0.0, height);
+    for _ in 0..60 {
+        let mid = 0.5 * (low + high);
+        if volume_below(mid) < volume {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    Some(high)
+}
+/// The container of a case.
+///
+/// Serialised without a tag, so that the slab writes exactly the fields it always wrote.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct HopperGeometry {
-    /// Hopper width L between the side walls [m] (paper: 100 mm).
-    pub width: f64,
-    /// Height H of the side walls above the outlet plane [m] (paper: 400 mm).
-    pub height: f64,
-    /// Slab thickness Z between front and back walls [m] (paper: 1.01 d = 3.03 mm).
-    /// A slab several diameters thick makes a 3D rectangular hopper.
-    pub thickness: f64,
-    /// Outlet width D [m] (paper: 18, 30, 45, 60 mm).
-    pub outlet_width: f64,
-    /// Hopper angle α from the vertical [°] (paper: 15–90°, 90° = flat bottom).
-    /// Kept in degrees so that a resolved case writes back exactly what was read.
-    pub hopper_angle_deg: f64,
-    /// Gap s between the left wall and the outlet's left edge [m];
-    /// s = (L − D)/2 for a centred outlet (paper Fig. 1b).
-    pub outlet_gap: f64,
+#[serde(untagged)]
+pub enum Geometry {
+    /// The paper's rectangular slab hopper (quasi-2D or thick).
+    Slab(SlabGeometry),
+    /// A cylindrical silo with a flat or conical bottom and a circular orifice.
+    Cylinder(CylinderGeometry),
+    /// A rectangular silo with a wedge, a pyramid or a flat bottom.
+    Cuboid(CuboidGeometry),
+    /// The user's STL walls, an orifice at z = 0 and a fill box.
+    Mesh(MeshGeometry),
 }
 
-impl HopperGeometry {
-    /// The paper's base case: L = 100 mm, H = 400 mm, Z = 3.03 mm, D = 30 mm, flat
-    /// bottom, centred outlet.
-    pub fn paper() -> Self {
-        Self::centred(0.100, 0.400, 3.03e-3, 0.030, 90.0)
-    }
-
-    /// A hopper whose outlet is centred on the axis (e = 0).
-    pub fn centred(
-        width: f64,
-        height: f64,
-        thickness: f64,
-        outlet_width: f64,
-        hopper_angle_deg: f64,
-    ) -> Self {
-        Self {
-            width,
-            height,
-            thickness,
-            outlet_width,
-            hopper_angle_deg,
-            outlet_gap: 0.5 * (width - outlet_width),
+impl Geometry {
+    /// The slab hopper, when this is one.
+    pub fn slab(&self) -> Option<&SlabGeometry> {
+        match self {
+            Self::Slab(g) => Some(g),
+            _ => None,
         }
     }
 
-    /// Hopper angle α from the vertical [rad].
-    pub fn hopper_angle(&self) -> f64 {
-        self.hopper_angle_deg.to_radians()
-    }
-
-    /// Outlet radius R = D/2 [m].
-    pub fn outlet_radius(&self) -> f64 {
-        0.5 * self.outlet_width
-    }
-
-    /// Offset e of the outlet centre from the axis [m], from e + s = (L − D)/2.
-    /// Positive e means the outlet is shifted toward the left wall.
-    pub fn outlet_offset(&self) -> f64 {
-        0.5 * (self.width - self.outlet_width) - self.outlet_gap
-    }
-
-    /// Horizontal position x_c of the outlet centre [m]: x_c = −e (physics spec §7).
-    pub fn outlet_centre(&self) -> f64 {
-        -self.outlet_offset()
-    }
-
-    /// Left and right outlet edges x_c ∓ R [m].
-    pub fn outlet_edges(&self) -> (f64, f64) {
-        let left = -0.5 * self.width + self.outlet_gap;
-        (left, left + self.outlet_width)
-    }
-
-    /// Dimensionless eccentricity s* = 2s/(L − D): 0 at the wall, 1 when centred.
-    pub fn dimensionless_gap(&self) -> f64 {
-        2.0 * self.outlet_gap / (self.width - self.outlet_width)
-    }
-
-    /// Horizontal runs of the left and right bottom plates [m]: s and L − s − D.
-    pub fn plate_runs(&self) -> (f64, f64) {
-        (
-            self.outlet_gap,
-            self.width - self.outlet_gap - self.outlet_width,
-        )
-    }
-
-    /// Height a plate of horizontal run `run` [m] climbs at the hopper angle [m].
-    fn rise(&self, run: f64) -> f64 {
-        if self.hopper_angle_deg >= 90.0 {
-            0.0
-        } else {
-            run / self.hopper_angle().tan()
+    /// The cylindrical silo, when this is one.
+    pub fn cylinder(&self) -> Option<&CylinderGeometry> {
+        match self {
+            Self::Cylinder(g) => Some(g),
+            _ => None,
         }
     }
 
-    /// Height of the funnel: where the higher bottom plate meets its side wall [m].
-    pub fn funnel_height(&self) -> f64 {
-        let (left, right) = self.plate_runs();
-        self.rise(left).max(self.rise(right))
-    }
-
-    /// In-plane (x–z) area of the container below height `h` above the outlet [m²].
-    ///
-    /// The rectangle L·h minus the two triangles under the bottom plates; a plate of
-    /// run r leaves a dead width r − z tan α at height z below its top.
-    pub fn area_below(&self, h: f64) -> f64 {
-        let h = h.clamp(0.0, self.height);
-        let dead = |run: f64| {
-            if self.hopper_angle_deg >= 90.0 || run <= 0.0 {
-                return 0.0;
-            }
-            let top = self.rise(run).min(h);
-            run * top - 0.5 * self.hopper_angle().tan() * top * top
-        };
-        let (left, right) = self.plate_runs();
-        self.width * h - dead(left) - dead(right)
-    }
-
-    /// In-plane area of the whole container [m²].
-    pub fn cross_section_area(&self) -> f64 {
-        self.area_below(self.height)
-    }
-
-    /// Height [m] below which the container holds `area` [m²], or `None` if it cannot.
-    pub fn height_holding(&self, area: f64) -> Option<f64> {
-        if area > self.cross_section_area() {
-            return None;
+    /// The rectangular silo, when this is one.
+    pub fn cuboid(&self) -> Option<&CuboidGeometry> {
+        match self {
+            Self::Cuboid(g) => Some(g),
+            _ => None,
         }
-        // area_below is continuous and increasing in h: bisection to 1e-9 of H.
-        let (mut low, mut high) = (0.0, self.height);
-        for _ in 0..60 {
-            let mid = 0.5 * (low + high);
-            if self.area_below(mid) < area {
-                low = mid;
-            } else {
-                high = mid;
-            }
+    }
+
+    /// The container of STL walls, when this is one.
+    pub fn mesh(&self) -> Option<&MeshGeometry> {
+        match self {
+            Self::Mesh(g) => Some(g),
+            _ => None,
         }
-        Some(high)
+    }
+
+    /// The kind's name in the case file's `geometry.kind`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Slab(_) => "slab",
+            Self::Cylinder(_) => "cylinder",
+            Self::Cuboid(_) => "box",
+            Self::Mesh(_) => "mesh",
+        }
+    }
+
+    /// Height H of the container's walls above the orifice plane [m]; for STL walls, the top
+    /// of the fill box (the highest place a particle starts from).
+    pub fn height(&self) -> f64 {
+        match self {
+            Self::Slab(g) => g.height,
+            Self::Cylinder(g) => g.height,
+            Self::Cuboid(g) => g.height,
+            Self::Mesh(g) => g.fill_max[2],
+        }
+    }
+
+    /// Outlet size D [m]: the slot's width, the orifice's diameter, the square's side; for
+    /// STL walls the disc's diameter or the rectangle's side along x.
+    pub fn outlet_size(&self) -> f64 {
+        match self {
+            Self::Slab(g) => g.outlet_width,
+            Self::Cylinder(g) => g.outlet_diameter,
+            Self::Cuboid(g) => g.outlet_width,
+            Self::Mesh(g) => g.outlet.size(),
+        }
+    }
+
+    /// Hopper angle from the vertical [°] (90 is a flat bottom); NaN for STL walls, which
+    /// have none.
+    pub fn hopper_angle_deg(&self) -> f64 {
+        match self {
+            Self::Slab(g) => g.hopper_angle_deg,
+            Self::Cylinder(g) => g.hopper_angle_deg,
+            Self::Cuboid(g) => g.hopper_angle_deg,
+            Self::Mesh(_) => f64::NAN,
+        }
     }
 }

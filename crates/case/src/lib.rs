@@ -9,24 +9,25 @@
 
 #![warn(missing_docs)]
 
-mod box_silo;
 mod builtin;
 mod case;
+mod cuboid;
+mod cylinder;
 mod document;
 mod error;
 mod geometry;
-mod mesh_container;
+mod mesh;
 mod overrides;
 mod particles;
 mod reader;
 mod resolve;
-mod resolve_box;
+mod resolve_cuboid;
+mod resolve_cylinder;
 mod resolve_materials;
 mod resolve_mesh;
 mod resolve_particles;
 mod resolve_run;
-mod resolve_silo;
-mod silo;
+mod slab;
 mod sweep;
 mod sweep_file;
 mod template;
@@ -35,24 +36,25 @@ mod write;
 use std::path::Path;
 use std::sync::Arc;
 
-pub use box_silo::{BoxFace, BoxOutlet, BoxSilo, HalfSpace};
 pub use builtin::{
     builtin_sweep, BUILTIN_SWEEP_NAMES, FAN2023_QUICK_SWEEP, FAN2023_SENSITIVITY_SWEEP,
     FAN2023_SWEEP,
 };
 pub use case::{
-    Case, ContactSpec, Interaction, MeasureSpec, OutputSpec, Protocol, RollingLaw, TangentialLaw,
-    WallMaterial, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION,
+    Case, ContactSpec, InteractionSpec, MeasureSpec, OutputSpec, Protocol, RollingLawSpec,
+    TangentialLawSpec, WallMaterialSpec, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION,
     MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION, THICK_SLAB_DIAMETERS,
 };
+pub use cuboid::{CuboidFace, CuboidGeometry, CuboidOutlet, HalfSpace};
+pub use cylinder::CylinderGeometry;
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
-pub use geometry::HopperGeometry;
-pub use mesh_container::{box_meets_triangle, MeshContainer, MeshOutlet, MeshWall, MAX_MESH_WALLS};
+pub use geometry::{Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
+pub use mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 pub use particles::{
-    mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, Material,
+    mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, MaterialSpec,
     ParticleSpec, SizeDistribution,
 };
-pub use silo::{CylinderSilo, Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
+pub use slab::SlabGeometry;
 pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
 pub use template::{
     template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, MESH_TEMPLATE,

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// Elastic material of particles or walls (paper Table 1 for the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Material {
+pub struct MaterialSpec {
     /// Density ρ [kg/m³].
     pub density: f64,
     /// Shear modulus G [Pa].
@@ -16,7 +16,7 @@ pub struct Material {
     pub poisson_ratio: f64,
 }
 
-impl Material {
+impl MaterialSpec {
     /// Table 1: ρ_p = 2500 kg/m³, G = 1e8 Pa, ν = 0.25.
     pub fn paper() -> Self {
         Self {
@@ -205,7 +205,7 @@ pub struct Component {
     /// Diameters.
     pub size: SizeDistribution,
     /// Its material's properties.
-    pub material: Material,
+    pub material: MaterialSpec,
     /// The material's name in the case's `[materials]` table; `None` when the case has no
     /// table (the material is then `particles.material`, and the contact coefficients come
     /// from `[contact]` and `[wall]`).
@@ -245,12 +245,12 @@ impl ParticleSpec {
         Self::single(
             3000,
             SizeDistribution::Monodisperse { diameter: 3.0e-3 },
-            Material::paper(),
+            MaterialSpec::paper(),
         )
     }
 
     /// `count` particles of one size distribution and material.
-    pub fn single(count: usize, size: SizeDistribution, material: Material) -> Self {
+    pub fn single(count: usize, size: SizeDistribution, material: MaterialSpec) -> Self {
         Self {
             count,
             components: vec![Component {

@@ -8,21 +8,21 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::case::{
-    Case, ContactSpec, Interaction, RollingLaw, TangentialLaw, WallMaterial, WallSpec,
-    CASE_FORMAT_VERSION, MAX_GRAVITY,
+    Case, ContactSpec, InteractionSpec, RollingLawSpec, TangentialLawSpec, WallMaterialSpec,
+    WallSpec, CASE_FORMAT_VERSION, MAX_GRAVITY,
 };
 use files::DEFAULT_GRAVITY;
 
 use super::document::{NodeValue, Table};
 use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
-use super::geometry::HopperGeometry;
-use super::mesh_container::MeshOutlet;
-use super::particles::Material;
+use super::geometry::Geometry;
+use super::mesh::MeshOutlet;
+use super::particles::MaterialSpec;
 use super::reader::Section;
 use super::resolve_materials::{read_materials, NamedMaterials};
 use super::resolve_particles::{read_material, read_particles, source};
 use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
-use super::silo::Geometry;
+use super::slab::SlabGeometry;
 
 /// Pairs of keys that are alternatives: giving one through `--set` or a sweep axis
 /// removes the other, and giving both in a file is an error.
@@ -163,7 +163,7 @@ pub(crate) fn resolve_case(
             }
         }
         if let Some(WallSpec {
-            material: WallMaterial::Named(wall),
+            material: WallMaterialSpec::Named(wall),
             ..
         }) = &wall
         {
@@ -186,7 +186,7 @@ pub(crate) fn resolve_case(
             particles.as_ref().map_or(3.0e-3, |(p, _)| p.min_diameter()),
             geometry
                 .as_ref()
-                .map(|g| matches!(g, Geometry::Cylinder(_) | Geometry::Box(_))),
+                .map(|g| matches!(g, Geometry::Cylinder(_) | Geometry::Cuboid(_))),
         ),
         &mut errors,
     );
@@ -249,8 +249,8 @@ pub(crate) fn resolve_case(
 fn read_interaction(
     section: &mut Section<'_>,
     errors: &mut Vec<ConfigError>,
-) -> Option<Interaction> {
-    let paper = Interaction::paper();
+) -> Option<InteractionSpec> {
+    let paper = InteractionSpec::paper();
     let friction = section.float_or("friction", "", paper.friction, errors);
     let rolling = section.float_or("rolling_friction", "", paper.rolling_friction, errors);
     let restitution = section.float_or("restitution", "", paper.restitution, errors);
@@ -260,7 +260,7 @@ fn read_interaction(
         errors.push(restitution.error(ErrorKind::Invalid, "must lie in (0, 1]"));
         ok = false;
     }
-    ok.then_some(Interaction {
+    ok.then_some(InteractionSpec {
         friction: friction.value,
         rolling_friction: rolling.value,
         restitution: restitution.value,
@@ -275,7 +275,7 @@ pub(crate) fn outlet_key(geometry: &Geometry) -> &'static str {
     match geometry {
         Geometry::Slab(_) => "geometry.outlet_width",
         Geometry::Cylinder(_) => "geometry.outlet_diameter",
-        Geometry::Box(_) => "geometry.outlet_width",
+        Geometry::Cuboid(_) => "geometry.outlet_width",
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Disc { .. } => "the disc's diameter, 2 × geometry.outlet.radius",
             MeshOutlet::Rectangle { .. } => "the rectangle's side along x, geometry.outlet.size[0]",
@@ -296,9 +296,11 @@ fn read_container(
     match kind.as_ref().map(|k| k.value.as_str()) {
         None | Some("slab") => read_geometry(section, d_max, errors).map(Geometry::Slab),
         Some("cylinder") => {
-            super::resolve_silo::read_cylinder(section, d_max, errors).map(Geometry::Cylinder)
+            super::resolve_cylinder::read_cylinder(section, d_max, errors).map(Geometry::Cylinder)
         }
-        Some("box") => super::resolve_box::read_box(section, d_max, errors).map(Geometry::Box),
+        Some("box") => {
+            super::resolve_cuboid::read_cuboid(section, d_max, errors).map(Geometry::Cuboid)
+        }
         Some("mesh") => {
             super::resolve_mesh::read_mesh(section, d_max, dir, errors).map(Geometry::Mesh)
         }
@@ -326,8 +328,8 @@ fn read_geometry(
     section: &mut Section<'_>,
     d_max: Option<(f64, &str)>,
     errors: &mut Vec<ConfigError>,
-) -> Option<HopperGeometry> {
-    let paper = HopperGeometry::paper();
+) -> Option<SlabGeometry> {
+    let paper = SlabGeometry::paper();
     let width = section.float_or("width", "m", paper.width, errors);
     let height = section.float_or("height", "m", paper.height, errors);
     let thickness = section.float_or("thickness", "m", paper.thickness, errors);
@@ -449,7 +451,7 @@ fn read_geometry(
     if !angle_ok {
         return None;
     }
-    let geometry = HopperGeometry {
+    let geometry = SlabGeometry {
         width: l,
         height: height.value,
         thickness: thickness.value,
@@ -540,7 +542,7 @@ fn check_particles_fit(
         Geometry::Slab(g) => g,
         // `Case::particles_fit` holds for STL walls.
         Geometry::Mesh(_) => return,
-        Geometry::Box(silo) => {
+        Geometry::Cuboid(silo) => {
             let keys = [
                 key("width", "m", silo.width),
                 key("depth", "m", silo.depth),
@@ -645,19 +647,19 @@ fn read_wall(
     let material = if is_table {
         read_material(
             &mut section.section("material", errors),
-            Material::paper(),
+            MaterialSpec::paper(),
             errors,
         )
-        .map(|(material, _)| WallMaterial::Custom(material))
+        .map(|(material, _)| WallMaterialSpec::Custom(material))
     } else {
         let word = section.string("material", errors);
         match word.as_ref().map(|w| w.value.as_str()) {
             None if section.has("material") => None,
             None | Some("same") => match (named, particle_materials) {
-                (None, _) => Some(WallMaterial::SameAsParticle),
+                (None, _) => Some(WallMaterialSpec::SameAsParticle),
                 // With a table, "same" is the particles' one material, named.
                 (Some(_), Some([first, rest @ ..])) if rest.iter().all(|n| n == first) => {
-                    Some(WallMaterial::Named(first.clone()))
+                    Some(WallMaterialSpec::Named(first.clone()))
                 }
                 (Some(_), Some(_)) => {
                     let location = word
@@ -675,13 +677,13 @@ fn read_wall(
                 }
                 (Some(_), None) => None,
             },
-            Some("rigid") => Some(WallMaterial::Rigid),
+            Some("rigid") => Some(WallMaterialSpec::Rigid),
             Some(_) => {
                 let word = word.as_ref().expect("a word was given");
                 match named {
                     Some(named) => named
                         .require_known(word, errors)
-                        .then(|| WallMaterial::Named(word.value.clone())),
+                        .then(|| WallMaterialSpec::Named(word.value.clone())),
                     None => {
                         errors.push(word.error(
                             ErrorKind::Invalid,
@@ -696,7 +698,7 @@ fn read_wall(
         }
     };
     let interaction = read_interaction(section, errors);
-    if matches!(material, Some(WallMaterial::Named(_))) {
+    if matches!(material, Some(WallMaterialSpec::Named(_))) {
         refuse_pair_keys(
             section,
             "the walls are of a named material: each particle material meets them with its \
@@ -749,19 +751,19 @@ fn read_contact(
     let tangential = section.choice(
         "tangential",
         &[
-            ("mindlin_no_slip", TangentialLaw::MindlinNoSlip),
-            ("mindlin_deresiewicz", TangentialLaw::MindlinDeresiewicz),
+            ("mindlin_no_slip", TangentialLawSpec::MindlinNoSlip),
+            ("mindlin_deresiewicz", TangentialLawSpec::MindlinDeresiewicz),
         ],
-        TangentialLaw::MindlinNoSlip,
+        TangentialLawSpec::MindlinNoSlip,
         errors,
     );
     let rolling = section.choice(
         "rolling",
         &[
-            ("constant_torque", RollingLaw::ConstantTorque),
-            ("epsd", RollingLaw::Epsd),
+            ("constant_torque", RollingLawSpec::ConstantTorque),
+            ("epsd", RollingLawSpec::Epsd),
         ],
-        RollingLaw::ConstantTorque,
+        RollingLawSpec::ConstantTorque,
         errors,
     );
     let normal_clamp = section.boolean_or("normal_clamp", false, errors);

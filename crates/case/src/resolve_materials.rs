@@ -12,7 +12,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use dem::{MaterialEntry, MaterialTable, MaterialTableError, PairEntry};
 
 use super::error::{number, ConfigError, ErrorKind, Location};
-use super::particles::Material;
+use super::particles::MaterialSpec;
 use super::reader::{Located, Section};
 use super::resolve_particles::{source, MaterialSources};
 
@@ -37,7 +37,7 @@ pub(crate) struct NamedMaterials {
     pub table: MaterialTable,
     /// Every usable material's properties for the checks of the case (G from E where only
     /// E is given) and where they were set, by name.
-    pub materials: BTreeMap<String, (Material, MaterialSources)>,
+    pub materials: BTreeMap<String, (MaterialSpec, MaterialSources)>,
     /// Whether the engine's checks accepted the table.
     pub valid: bool,
     /// Where the `[[pairs]]` list is written, else the `[materials]` table.
@@ -297,7 +297,7 @@ pub(crate) fn read_materials(
             Some((
                 name.clone(),
                 (
-                    Material {
+                    MaterialSpec {
                         density: usable.density,
                         shear_modulus: shear,
                         poisson_ratio: usable.poisson_ratio,

@@ -13,9 +13,7 @@ use std::sync::Arc;
 use sha2::{Digest, Sha256};
 
 use super::error::{number, rounded, ConfigError, ErrorKind, Location};
-use super::mesh_container::{
-    box_meets_triangle, MeshContainer, MeshOutlet, MeshWall, MAX_MESH_WALLS,
-};
+use super::mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 use super::reader::{Located, Section};
 use super::resolve::outlet_too_small;
 
@@ -43,7 +41,7 @@ pub(crate) fn read_mesh(
     d_max: Option<(f64, &str)>,
     dir: Option<&Path>,
     errors: &mut Vec<ConfigError>,
-) -> Option<MeshContainer> {
+) -> Option<MeshGeometry> {
     let before = errors.len();
     let entries = section.tables("walls", errors).unwrap_or_default();
     let walls_mistyped = errors.len() > before;
@@ -121,7 +119,7 @@ pub(crate) fn read_mesh(
     let (Some(outlet), Some((fill_min, fill_max)), true) = (outlet, fill, ok) else {
         return None;
     };
-    let container = MeshContainer {
+    let container = MeshGeometry {
         walls,
         outlet,
         fill_min: fill_min.0,

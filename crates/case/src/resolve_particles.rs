@@ -4,7 +4,7 @@
 
 use super::document::NodeValue;
 use super::error::{number, rounded, ConfigError, ErrorKind};
-use super::particles::{Component, FractionBasis, Material, ParticleSpec, SizeDistribution};
+use super::particles::{Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
 use super::resolve::MAX_PARTICLE_COUNT;
 use super::resolve_materials::NamedMaterials;
@@ -38,9 +38,9 @@ pub(crate) struct ParticleSources {
 /// Reads a material table (density, shear modulus, Poisson's ratio).
 pub(crate) fn read_material(
     section: &mut Section<'_>,
-    default: Material,
+    default: MaterialSpec,
     errors: &mut Vec<ConfigError>,
-) -> Option<(Material, MaterialSources)> {
+) -> Option<(MaterialSpec, MaterialSources)> {
     let density = section.float_or("density", "kg/m³", default.density, errors);
     let poisson = section.float_or("poisson_ratio", "", default.poisson_ratio, errors);
     // G or E: the benchmark tables give Young's modulus, the paper gives G.
@@ -83,7 +83,7 @@ pub(crate) fn read_material(
     );
     ok.then(|| {
         (
-            Material {
+            MaterialSpec {
                 density: density.value,
                 shear_modulus: shear.value,
                 poisson_ratio: poisson.value,
@@ -99,7 +99,7 @@ pub(crate) fn read_material(
 
 /// The material of the particles (or a component): its properties, where they were set,
 /// and its name in the case's `[materials]` table when it has one.
-type MaterialChoice = (Material, MaterialSources, Option<String>);
+type MaterialChoice = (MaterialSpec, MaterialSources, Option<String>);
 
 /// Most components a case may have: a component's index is kept in one byte per particle.
 pub(crate) const MAX_COMPONENTS: usize = 255;
@@ -122,7 +122,7 @@ fn read_particle_material(
         }
         None => read_material(
             &mut section.section("material", errors),
-            Material::paper(),
+            MaterialSpec::paper(),
             errors,
         )
         .map(|(material, sources)| (material, sources, None)),

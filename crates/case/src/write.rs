@@ -4,14 +4,12 @@ use std::fmt::Write;
 
 use dem::MaterialTable;
 
-use super::case::{
-    Case, RollingLaw, TangentialLaw, WallMaterial, CASE_FORMAT_VERSION,
-};
+use super::case::{Case, RollingLawSpec, TangentialLawSpec, WallMaterialSpec, CASE_FORMAT_VERSION};
 use super::error::rounded;
+use super::geometry::{Geometry, WallSurface};
+use super::mesh::MeshOutlet;
+use super::particles::{FractionBasis, MaterialSpec, SizeDistribution};
 use files::DEFAULT_GRAVITY;
-use super::mesh_container::MeshOutlet;
-use super::particles::{FractionBasis, Material, SizeDistribution};
-use super::silo::{Geometry, WallSurface};
 
 /// A float in TOML syntax that parses back to the same bits: Rust prints the shortest
 /// representation that round-trips, `{:?}` always with a `.` or an exponent; large
@@ -58,7 +56,7 @@ fn floats(xs: &[f64]) -> String {
     format!("[{}]", items.join(", "))
 }
 
-fn material_lines(out: &mut String, material: &Material) {
+fn material_lines(out: &mut String, material: &MaterialSpec) {
     let _ = writeln!(out, "density = {}  # [kg/m³]", float(material.density));
     let _ = writeln!(
         out,
@@ -189,7 +187,7 @@ fn geometry_lines(out: &mut String, geometry: &Geometry) {
             let _ = writeln!(out, "walls = \"{}\"", walls_word(g.walls));
             let _ = writeln!(out, "mesh_segments = {}", g.mesh_segments);
         }
-        Geometry::Box(g) => {
+        Geometry::Cuboid(g) => {
             let _ = writeln!(out, "\n[geometry]");
             let _ = writeln!(out, "kind = \"box\"");
             let _ = writeln!(out, "width = {}  # W [m]", float(g.width));
@@ -317,18 +315,18 @@ impl Case {
         let w = &self.wall;
         let _ = writeln!(out, "\n[wall]");
         match &w.material {
-            WallMaterial::SameAsParticle => {
+            WallMaterialSpec::SameAsParticle => {
                 let _ = writeln!(out, "material = \"same\"");
             }
-            WallMaterial::Rigid => {
+            WallMaterialSpec::Rigid => {
                 let _ = writeln!(out, "material = \"rigid\"");
             }
-            WallMaterial::Named(name) => {
+            WallMaterialSpec::Named(name) => {
                 let _ = writeln!(out, "material = \"{name}\"  # coefficients from [[pairs]]");
             }
-            WallMaterial::Custom(_) => {}
+            WallMaterialSpec::Custom(_) => {}
         }
-        if !matches!(w.material, WallMaterial::Named(_)) {
+        if !matches!(w.material, WallMaterialSpec::Named(_)) {
             let _ = writeln!(out, "friction = {}", float(w.interaction.friction));
             let _ = writeln!(
                 out,
@@ -337,7 +335,7 @@ impl Case {
             );
             let _ = writeln!(out, "restitution = {}", float(w.interaction.restitution));
         }
-        if let WallMaterial::Custom(material) = &w.material {
+        if let WallMaterialSpec::Custom(material) = &w.material {
             let _ = writeln!(out, "\n[wall.material]");
             material_lines(&mut out, material);
         }
@@ -354,12 +352,12 @@ impl Case {
             let _ = writeln!(out, "restitution = {}", float(c.particle.restitution));
         }
         let tangential = match c.tangential {
-            TangentialLaw::MindlinNoSlip => "mindlin_no_slip",
-            TangentialLaw::MindlinDeresiewicz => "mindlin_deresiewicz",
+            TangentialLawSpec::MindlinNoSlip => "mindlin_no_slip",
+            TangentialLawSpec::MindlinDeresiewicz => "mindlin_deresiewicz",
         };
         let rolling = match c.rolling {
-            RollingLaw::ConstantTorque => "constant_torque",
-            RollingLaw::Epsd => "epsd",
+            RollingLawSpec::ConstantTorque => "constant_torque",
+            RollingLawSpec::Epsd => "epsd",
         };
         let _ = writeln!(out, "tangential = \"{tangential}\"");
         let _ = writeln!(out, "rolling = \"{rolling}\"");

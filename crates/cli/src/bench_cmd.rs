@@ -151,7 +151,7 @@ fn silo_options(args: &BenchArgs) -> Vec<&'static str> {
 
 /// The silo's inputs read and checked, or the exit code of the refusal (its message printed):
 /// each error names the option and the file it came from.
-fn resolve_silo(args: &BenchArgs) -> Result<SiloBench, i32> {
+fn resolve_cylinder(args: &BenchArgs) -> Result<SiloBench, i32> {
     args.silo_request().resolve().map_err(|e| {
         match &e {
             SiloInputError::Case {
@@ -307,7 +307,7 @@ pub fn run(args: BenchArgs) -> i32 {
         return EXIT_BAD_INPUT;
     }
     let silo = if case == BenchCase::Silo {
-        match resolve_silo(&args) {
+        match resolve_cylinder(&args) {
             Ok(silo) => Some(silo),
             Err(code) => return code,
         }

@@ -3,14 +3,15 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use case::{default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
-use case::{
-    default_case, load_case, parse_case, template, template_files, Case, CASE_TEMPLATE,
-};
 use files::write_atomic;
-use run::{check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start};
 use files::BED_CASE_FILE;
+use indicatif::{ProgressBar, ProgressStyle};
+use run::{
+    check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError,
+    RunOptions, RunOutcome, Start,
+};
 
 /// Exit code for bad input (a malformed case file or override).
 pub const EXIT_BAD_INPUT: i32 = 2;

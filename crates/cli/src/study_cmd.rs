@@ -12,13 +12,13 @@ use std::sync::{Arc, Mutex};
 use clap::Args;
 
 use crate::slurm_cmd::SlurmArgs;
-use indicatif::{ProgressBar, ProgressStyle};
 use case::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
+use files::CaseStatus;
+use indicatif::{ProgressBar, ProgressStyle};
 use run::Start;
 use study::sweep::{run_study, SimulationRunner, StudyError, StudyEvent, StudyOptions};
-use files::CaseStatus;
 
 #[derive(Args)]
 pub struct StudyArgs {

@@ -7,10 +7,10 @@
 
 use std::path::PathBuf;
 
+use case::{default_case, load_case, parse_case, parse_case_in};
 use pyo3::exceptions::{PyKeyError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
-use case::{default_case, load_case, parse_case, parse_case_in};
 
 use crate::errors::{case_error, key_error};
 
@@ -42,10 +42,7 @@ pub struct Case {
 }
 
 impl Case {
-    fn resolve(
-        origin: &Origin,
-        sets: &[String],
-    ) -> Result<case::Case, case::ConfigErrors> {
+    fn resolve(origin: &Origin, sets: &[String]) -> Result<case::Case, case::ConfigErrors> {
         match origin {
             Origin::Paper => default_case(sets),
             Origin::Text { text, name, dir } => parse_case_in(text, name, dir.as_deref(), sets),
@@ -250,7 +247,7 @@ impl Case {
         let size = match g {
             case::Geometry::Slab(s) => format!("L={} m", s.width),
             case::Geometry::Cylinder(s) => format!("kind=cylinder, R={} m", s.radius),
-            case::Geometry::Box(s) => {
+            case::Geometry::Cuboid(s) => {
                 format!("kind=box, W={} m, B={} m", s.width, s.depth)
             }
             case::Geometry::Mesh(s) => format!("kind=mesh, {} STL walls", s.walls.len()),

@@ -15,8 +15,8 @@ use dem::{DVec3, DemError, Interaction, MaterialId, ParticleInit, Wall, WallId, 
 use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use run::{case_simulation, case_simulation_by_component, ContainerWalls};
 use run::read_bed;
+use run::{case_simulation, case_simulation_by_component, ContainerWalls};
 
 use crate::case::Case;
 use crate::errors::{case_error, RunError};
@@ -304,8 +304,7 @@ impl Simulation {
         let threads = checked_threads(threads)?;
         let bed = read_bed(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
         let name = format!("{} (its case)", bed.path().display());
-        let case = case::parse_case(bed.case_text(), &name, &[])
-            .map_err(|e| case_error(py, &e))?;
+        let case = case::parse_case(bed.case_text(), &name, &[]).map_err(|e| case_error(py, &e))?;
         let state = bed.state();
         let sim = dem::Simulation::from_state(state.simulation().clone(), threads)
             .map_err(|e| engine_error(&e))?;

@@ -1,10 +1,10 @@
 //! The exceptions of the module and how Rust errors become them.
 
+use case::{ConfigError, ConfigErrors};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use case::{ConfigError, ConfigErrors};
 
 create_exception!(
     _native,

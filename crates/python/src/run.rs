@@ -14,7 +14,10 @@ use std::time::Duration;
 
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use run::{check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome, Start, StartError};
+use run::{
+    check_save_bed, occupant, read_bed, Occupant, Progress, RunError, RunOptions, RunOutcome,
+    Start, StartError,
+};
 
 use crate::case::Case;
 use crate::errors::RunError as PyRunError;

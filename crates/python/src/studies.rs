@@ -7,12 +7,12 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use case::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
+use files::CaseStatus;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use case::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
 use run::Start;
 use study::sweep::{SimulationRunner, StudyEvent, StudyOptions};
-use files::CaseStatus;
 
 use crate::errors::{case_error, RunError};
 use crate::run::{checked_threads, panic_text};

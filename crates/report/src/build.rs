@@ -8,8 +8,8 @@ use super::data::load_study;
 use super::document::{Block, Document};
 use super::figures::report_figures;
 use super::{analyse_study, tables};
-use files::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
 use files::StudyFileError;
+use files::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
 use files::{CaseStatus, StudyPaths};
 
 /// Figure size [px]: wide enough for legends beside six series.

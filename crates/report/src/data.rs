@@ -7,9 +7,9 @@ use std::path::Path;
 use analysis::profile::BinnedProfile;
 use analysis::Estimate;
 
-use files::DEFAULT_GRAVITY;
 use files::ProfileRow;
 use files::StudyFileError;
+use files::DEFAULT_GRAVITY;
 use files::{read_results_table, CaseStatus, ResultRow, StudyManifest, StudyPaths, SUMMARY_FILE};
 
 /// Tolerance on s* for "the outlet is centred" (s* = 1); grid values are exact decimals.

@@ -350,7 +350,7 @@ pub fn check_bed_case(path: &Path, bed_case_text: &str, case: &Case) -> Result<B
     let flat = match &case.geometry {
         Geometry::Slab(g) => g.hopper_angle_deg >= 90.0,
         Geometry::Cylinder(g) => g.is_flat(),
-        Geometry::Box(g) => g.is_flat(),
+        Geometry::Cuboid(g) => g.is_flat(),
         // A mesh's outlet keys (`geometry.outlet.*`) may not differ at all.
         Geometry::Mesh(_) => false,
     };

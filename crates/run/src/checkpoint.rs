@@ -25,8 +25,8 @@ use sha2::{Digest, Sha256};
 
 use super::outputs::PictureSchedule;
 use super::protocol::RunState;
-use files::StartRecord;
 use super::time_spent::TimeSpent;
+use files::StartRecord;
 use files::{write_atomic, OutputError};
 
 /// The first eight bytes of every checkpoint: a name and the layout's version (8: the

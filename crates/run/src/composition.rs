@@ -4,8 +4,8 @@
 //! component (`RunState::components`), so the table is derived after the run from what a
 //! checkpoint holds.
 
-use measure::CrossingEvent;
 use files::Cell;
+use measure::CrossingEvent;
 
 /// A component index no particle has: an id the run never recorded (not expected).
 const UNKNOWN: u8 = u8::MAX;

@@ -2,8 +2,8 @@
 
 #![warn(missing_docs)]
 
-pub mod bench;
 mod bed;
+pub mod bench;
 mod checkpoint;
 mod composition;
 mod container;
@@ -25,9 +25,9 @@ use std::time::Instant;
 
 use case::Case;
 
-use files::{StartRecord, CASE_FILE, CHECKPOINT_FILE, START_FILE, SUMMARY_FILE};
-use files::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
 use files::CaseSummary;
+use files::{remove_stale_temporaries, write_atomic, write_json_atomic, OutputError};
+use files::{StartRecord, CASE_FILE, CHECKPOINT_FILE, START_FILE, SUMMARY_FILE};
 
 pub use bed::{
     bed_header, check_bed, check_bed_case, check_save_bed, read_bed, Bed, BedError, BedHeader,
@@ -38,8 +38,8 @@ pub use checkpoint::{
     KeyChange, MAGIC as CHECKPOINT_MAGIC,
 };
 pub use container::{
-    adopt_walls, build_container_walls, build_cuboid_walls, build_cylinder_walls,
-    build_mesh_walls, build_slab_walls, cuboid_outline, cuboid_wall_polygons, cylinder_outline,
+    adopt_walls, build_container_walls, build_cuboid_walls, build_cylinder_walls, build_mesh_walls,
+    build_slab_walls, cuboid_outline, cuboid_wall_polygons, cylinder_outline,
     cylinder_wall_polygons, gate_outline, mesh_outline, mesh_wall_polygons, slab_outline,
     vertical_cut, wall_names, ContainerWalls, CuboidWalls, CylinderWalls, MeshWalls, SlabWalls,
     MESH_WALL_INDEX, WALL_NAMES,
@@ -54,11 +54,11 @@ pub use packing::{
     REQUIRED_PACKING_COLUMNS,
 };
 pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
-pub use start::{Start, StartError};
 pub use simulation::{
     case_simulation, case_simulation_by_component, contact_laws, lattice_bed, sample_radius,
     slab_simulation,
 };
+pub use start::{Start, StartError};
 pub use time_spent::{ProtocolTime, TimeSpent};
 
 /// Why a run failed.

@@ -17,15 +17,11 @@ use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
 use super::RunError;
-use case::{Case, Geometry};
 use crate::{
-    cuboid_outline, cuboid_wall_polygons, mesh_outline, mesh_wall_polygons, slab_outline, cylinder_outline,
-    cylinder_wall_polygons, wall_names,
+    cuboid_outline, cuboid_wall_polygons, cylinder_outline, cylinder_wall_polygons, mesh_outline,
+    mesh_wall_polygons, slab_outline, wall_names,
 };
-use measure::{
-    radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
-    XProfileBin,
-};
+use case::{Case, Geometry};
 use files::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, wall_pressure_figure, write_csv_table, write_frame_png,
@@ -33,6 +29,10 @@ use files::{
     ParticleFields, Profile, PvdCollection, PvdEntry, WallSegment,
 };
 use files::{CaseSummary, ProfileRow, RadialFit, StopReason};
+use measure::{
+    radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
+    XProfileBin,
+};
 
 /// The results a finished run writes beside its summary, besides the snapshot folder.
 pub(crate) const RESULT_FILES: &[&str] = &[
@@ -112,7 +112,7 @@ impl Pictures {
                     })
                     .collect(),
                 Geometry::Cylinder(g) => cylinder_wall_polygons(g),
-                Geometry::Box(g) => cuboid_wall_polygons(g),
+                Geometry::Cuboid(g) => cuboid_wall_polygons(g),
                 Geometry::Mesh(g) => mesh_wall_polygons(g),
             };
             write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
@@ -120,14 +120,19 @@ impl Pictures {
         // A cut two mean diameters thick: one layer of spheres about the plane.
         let layer = case.particles.mean_diameter();
         let (segments, x_range, cut, top) = match &case.geometry {
-            Geometry::Slab(g) => (slab_outline(g), (-0.5 * g.width, 0.5 * g.width), None, g.height),
+            Geometry::Slab(g) => (
+                slab_outline(g),
+                (-0.5 * g.width, 0.5 * g.width),
+                None,
+                g.height,
+            ),
             Geometry::Cylinder(g) => (
                 cylinder_outline(g),
                 (-g.radius, g.radius),
                 Some((0.0, layer)),
                 g.height,
             ),
-            Geometry::Box(g) => (
+            Geometry::Cuboid(g) => (
                 cuboid_outline(g),
                 (-0.5 * g.width, 0.5 * g.width),
                 Some((0.0, layer)),
@@ -574,7 +579,7 @@ pub fn finish(
     let bulk = state.bulk.as_ref();
     // A silo has no slab width, thickness or gap: NaN, written as null.
     let slab = case.slab();
-    let of_slab = |f: fn(&case::HopperGeometry) -> f64| slab.map_or(f64::NAN, f);
+    let of_slab = |f: fn(&case::SlabGeometry) -> f64| slab.map_or(f64::NAN, f);
     // Janssen's law on a silo's settled bed (docs/physics.md §7.7), or why there is none.
     let (janssen, janssen_not_fitted) = match (&state.pressure, case.geometry.cylinder()) {
         (Some(p), Some(silo)) => {

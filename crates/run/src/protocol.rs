@@ -8,18 +8,18 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use case::{Case, Geometry, MeshOutlet};
-use crate::{insert_silo_batch, FillRegion};
 use crate::{
     adopt_walls, case_simulation_by_component, insert_slab_batch, ContainerWalls, Draw, Packing,
     ParticleDraws,
 };
+use crate::{insert_silo_batch, FillRegion};
+use case::{Case, Geometry, MeshOutlet};
+use files::StopReason;
 use measure::{
     bed_bulk, silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid,
     FrameView, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
     StripConfig, StripProbe, VelocityFieldProbe,
 };
-use files::StopReason;
 
 use super::remaining::RemainingRecorder;
 use super::wall_forces::WallForceRecorder;
@@ -219,14 +219,14 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
             particle_diameter,
             shape: OutletShape::Circle { centre_y: 0.0 },
         },
-        Geometry::Box(g) => OutletGeometry {
+        Geometry::Cuboid(g) => OutletGeometry {
             outlet_height: 0.0,
             centre: g.outlet_offset,
             half_width: g.outlet_radius(),
             particle_diameter,
             shape: match g.outlet {
-                case::BoxOutlet::Slot => OutletShape::Slot,
-                case::BoxOutlet::Square => OutletShape::Rectangle {
+                case::CuboidOutlet::Slot => OutletShape::Slot,
+                case::CuboidOutlet::Square => OutletShape::Rectangle {
                     centre_y: 0.0,
                     half_depth: g.outlet_radius(),
                 },
@@ -260,7 +260,7 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
 fn fill_region(geometry: &Geometry) -> &dyn FillRegion {
     match geometry {
         Geometry::Cylinder(g) => g,
-        Geometry::Box(g) => g,
+        Geometry::Cuboid(g) => g,
         Geometry::Mesh(g) => g,
         Geometry::Slab(_) => unreachable!("the slab fills through `insert_slab_batch`"),
     }
@@ -271,7 +271,7 @@ fn fill_region(geometry: &Geometry) -> &dyn FillRegion {
 /// are per unit of its thickness) and for circular orifices.
 pub fn outlet_depth(case: &Case) -> Option<f64> {
     match &case.geometry {
-        Geometry::Box(g) => Some(g.outlet_depth()),
+        Geometry::Cuboid(g) => Some(g.outlet_depth()),
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Rectangle { size, .. } => Some(size[1]),
             MeshOutlet::Disc { .. } => None,
@@ -307,7 +307,7 @@ impl CaseRun {
                     )?),
                 )
             }
-            Geometry::Cylinder(_) | Geometry::Box(_) | Geometry::Mesh(_) => (None, None),
+            Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::Mesh(_) => (None, None),
         };
         let radial = match outlet.shape {
             OutletShape::Circle { centre_y } => Some(RadialPackingProbe::new(
@@ -554,17 +554,19 @@ impl CaseRun {
                     v0,
                     attempts,
                 )?,
-                Geometry::Cylinder(_) | Geometry::Box(_) | Geometry::Mesh(_) => insert_silo_batch(
-                    &mut self.sim,
-                    fill_region(&self.case.geometry),
-                    &mut state.rng,
-                    want,
-                    &draws,
-                    &mut state.pending,
-                    band,
-                    v0,
-                    attempts,
-                )?,
+                Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::Mesh(_) => {
+                    insert_silo_batch(
+                        &mut self.sim,
+                        fill_region(&self.case.geometry),
+                        &mut state.rng,
+                        want,
+                        &draws,
+                        &mut state.pending,
+                        band,
+                        v0,
+                        attempts,
+                    )?
+                }
             };
             if draws.is_mixture() {
                 for &(tag, component) in &placed {
@@ -723,7 +725,7 @@ impl CaseRun {
                     silo.volume_below(h)
                 })?);
             }
-            Geometry::Box(silo) => {
+            Geometry::Cuboid(silo) => {
                 // Columns over the floor plan less a diameter along every wall, as for the
                 // cylinder (docs/physics.md §7.6).
                 let (hw, hb) = (0.5 * silo.width - d, 0.5 * silo.depth - d);

@@ -17,11 +17,11 @@ const EPSD_DAMPING: f64 = 0.3;
 /// actual contacts while particles at 1–2 m/s cross half of it in about 60 steps.
 const SKIN_DIAMETERS: f64 = 0.1;
 
-fn engine_material(m: &case::Material) -> dem::Material {
+fn engine_material(m: &case::MaterialSpec) -> dem::Material {
     dem::Material::from_shear_modulus(m.density, m.shear_modulus, m.poisson_ratio)
 }
 
-fn engine_interaction(i: &case::Interaction) -> dem::Interaction {
+fn engine_interaction(i: &case::InteractionSpec) -> dem::Interaction {
     dem::Interaction {
         friction: i.friction,
         rolling_friction: i.rolling_friction,
@@ -34,12 +34,12 @@ pub fn contact_laws(case: &Case) -> ContactLaws {
     ContactLaws {
         normal_clamp: case.contact.normal_clamp,
         tangential: match case.contact.tangential {
-            case::TangentialLaw::MindlinNoSlip => TangentialLaw::MindlinNoSlip,
-            case::TangentialLaw::MindlinDeresiewicz => TangentialLaw::MindlinDeresiewicz,
+            case::TangentialLawSpec::MindlinNoSlip => TangentialLaw::MindlinNoSlip,
+            case::TangentialLawSpec::MindlinDeresiewicz => TangentialLaw::MindlinDeresiewicz,
         },
         rolling: match case.contact.rolling {
-            case::RollingLaw::ConstantTorque => RollingLaw::ConstantTorque { limiter: false },
-            case::RollingLaw::Epsd => RollingLaw::Epsd {
+            case::RollingLawSpec::ConstantTorque => RollingLaw::ConstantTorque { limiter: false },
+            case::RollingLawSpec::Epsd => RollingLaw::Epsd {
                 viscous_damping: EPSD_DAMPING,
             },
         },
@@ -79,10 +79,10 @@ pub fn case_simulation_by_component(
         let material = engine_material(&components[0].material);
         let id = sim.add_material(material, engine_interaction(&case.contact.particle))?;
         let wall_material = match &case.wall.material {
-            case::WallMaterial::SameAsParticle => dem::WallMaterial::Elastic(material),
-            case::WallMaterial::Rigid => dem::WallMaterial::Rigid,
-            case::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
-            case::WallMaterial::Named(name) => return Err(no_table(name)),
+            case::WallMaterialSpec::SameAsParticle => dem::WallMaterial::Elastic(material),
+            case::WallMaterialSpec::Rigid => dem::WallMaterial::Rigid,
+            case::WallMaterialSpec::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
+            case::WallMaterialSpec::Named(name) => return Err(no_table(name)),
         };
         let walls = build_container_walls(
             &mut sim,
@@ -114,7 +114,7 @@ pub fn case_simulation_by_component(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let walls = match &case.wall.material {
-        case::WallMaterial::Named(name) => {
+        case::WallMaterialSpec::Named(name) => {
             // Built with the first particle material's pair; then each particle material
             // gets its own pair on every wall.
             let walls = build_container_walls(
@@ -130,8 +130,8 @@ pub fn case_simulation_by_component(
         }
         other => {
             let material = match other {
-                case::WallMaterial::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
-                case::WallMaterial::Rigid => dem::WallMaterial::Rigid,
+                case::WallMaterialSpec::Custom(m) => dem::WallMaterial::Elastic(engine_material(m)),
+                case::WallMaterialSpec::Rigid => dem::WallMaterial::Rigid,
                 // Validation names the one particle material instead.
                 _ => {
                     return Err(DemError::InvalidInput(

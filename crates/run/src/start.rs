@@ -46,7 +46,11 @@ impl Start {
     /// file takes the bed's case as its base) once it is checked against `case`, from the
     /// packing file `packing` once it is read and checked against `case`, or from the fill.
     /// The command line and the Python module both decide a run's start here.
-    pub fn choose(case: &Case, bed: Option<Bed>, packing: Option<&Path>) -> Result<Self, StartError> {
+    pub fn choose(
+        case: &Case,
+        bed: Option<Bed>,
+        packing: Option<&Path>,
+    ) -> Result<Self, StartError> {
         match (bed, packing) {
             (Some(_), Some(_)) => Err(StartError::BedAndPacking),
             (Some(bed), None) => {
@@ -73,4 +77,3 @@ impl Start {
         }
     }
 }
-

@@ -1,8 +1,8 @@
 //! Case files: defaults, template, round trip, overrides and derived geometry.
 
 use case::{
-    default_case, parse_case, Case, ErrorKind, HopperGeometry, SizeDistribution, TangentialLaw,
-    WallMaterial, CASE_TEMPLATE,
+    default_case, parse_case, Case, ErrorKind, SizeDistribution, SlabGeometry, TangentialLawSpec,
+    WallMaterialSpec, CASE_TEMPLATE,
 };
 
 #[test]
@@ -64,10 +64,10 @@ fn paper_base_case_matches_table_one() {
 fn resolved_case_round_trips_through_its_toml_text() {
     let mut case = Case::paper_base();
     case.seed = 987_654_321;
-    case.geometry = case::Geometry::Slab(HopperGeometry {
+    case.geometry = case::Geometry::Slab(SlabGeometry {
         hopper_angle_deg: 30.0,
         outlet_gap: 0.006,
-        ..HopperGeometry::paper()
+        ..SlabGeometry::paper()
     });
     case.particles.components[0].size = SizeDistribution::Normal {
         mean: 2.9e-3,
@@ -75,12 +75,12 @@ fn resolved_case_round_trips_through_its_toml_text() {
         min: 2.7e-3,
         max: 3.0e-3,
     };
-    case.wall.material = WallMaterial::Custom(case::Material {
+    case.wall.material = WallMaterialSpec::Custom(case::MaterialSpec {
         density: 7800.0,
         shear_modulus: 7.9e10,
         poisson_ratio: 0.3,
     });
-    case.contact.tangential = TangentialLaw::MindlinDeresiewicz;
+    case.contact.tangential = TangentialLawSpec::MindlinDeresiewicz;
     case.time_step = 1.0e-6 / 3.0;
     let text = case.to_toml_string();
     let back = parse_case(&text, "resolved.toml", &[]).expect("resolved text must be valid");
@@ -91,7 +91,7 @@ fn resolved_case_round_trips_through_its_toml_text() {
         diameters: vec![2.5e-3, 2.75e-3, 3.0e-3],
         fractions: vec![0.25, 0.5, 0.25],
     };
-    case.wall.material = WallMaterial::Rigid;
+    case.wall.material = WallMaterialSpec::Rigid;
     let back = parse_case(&case.to_toml_string(), "resolved.toml", &[]).unwrap();
     assert_eq!(back, case);
 }
@@ -152,7 +152,10 @@ fn set_overrides_replace_file_values_and_their_alternatives() {
     let case = parse_case(text, "case.toml", &sets).unwrap();
     // Setting the gap must drop the file's offset instead of reporting a conflict.
     assert_eq!(case.geometry.slab().unwrap().outlet_gap, 0.0);
-    assert_eq!(case.contact.tangential, TangentialLaw::MindlinDeresiewicz);
+    assert_eq!(
+        case.contact.tangential,
+        TangentialLawSpec::MindlinDeresiewicz
+    );
     assert_eq!(case.particles.count, 1500);
 }
 
@@ -211,7 +214,7 @@ fn every_error_of_a_file_is_reported_at_once() {
 
 #[test]
 fn flat_bottom_hopper_area_is_the_rectangle() {
-    let g = HopperGeometry::paper();
+    let g = SlabGeometry::paper();
     // L·H = 0.1 × 0.4 m²; relative tolerance 1e-12 for rounding only.
     assert!((g.cross_section_area() - 0.04).abs() < 0.04e-12);
     assert_eq!(g.funnel_height(), 0.0);
@@ -220,7 +223,7 @@ fn flat_bottom_hopper_area_is_the_rectangle() {
 #[test]
 fn inclined_plates_remove_the_triangles_below_them() {
     // α = 45°: a plate of run r rises r, so each dead triangle is r²/2.
-    let g = HopperGeometry::centred(0.1, 0.4, 3.03e-3, 0.03, 45.0);
+    let g = SlabGeometry::centred(0.1, 0.4, 3.03e-3, 0.03, 45.0);
     let run: f64 = 0.035;
     let expected = 0.04 - run * run;
     assert!((g.cross_section_area() - expected).abs() < 1e-12);
@@ -310,8 +313,8 @@ fn an_outlet_of_exactly_three_diameters_is_accepted_and_less_is_not() {
 /// holds, and that text reads back to the same case (so a run folder's case.toml is exact).
 #[test]
 fn cylinder_template_is_complete_and_round_trips() {
-    let case = parse_case(case::CYLINDER_TEMPLATE, "cylinder.toml", &[])
-        .expect("template must be valid");
+    let case =
+        parse_case(case::CYLINDER_TEMPLATE, "cylinder.toml", &[]).expect("template must be valid");
     let silo = case.geometry.cylinder().expect("a cylinder case");
     assert_eq!(
         (silo.radius, silo.outlet_diameter, silo.hopper_angle_deg),

@@ -4,8 +4,8 @@
 //! real keys and hostile values (NaN, infinities, huge integers, wrong types, nested
 //! tables) exercises every validation branch. A panic fails the property.
 
-use proptest::prelude::*;
 use case::{default_case, load_case, parse_case, parse_sweep};
+use proptest::prelude::*;
 
 const KEYS: &[&str] = &[
     "version",

@@ -4,11 +4,11 @@
 
 use std::path::Path;
 
-use glam::DVec3;
 use case::{
-    load_case, parse_case, template, template_files, BoxOutlet, Case, ErrorKind, Geometry,
+    load_case, parse_case, template, template_files, Case, CuboidOutlet, ErrorKind, Geometry,
     MeshOutlet, WallSurface, BOX_TEMPLATE, MESH_TEMPLATE,
 };
+use glam::DVec3;
 
 /// Every key of `case`'s resolved text appears in `template` (live or commented out).
 fn template_documents_every_key(case: &Case, template: &str) {
@@ -45,10 +45,10 @@ fn write_stl(path: &Path, triangles: &[stl::Triangle]) {
 fn box_template_is_valid_complete_and_round_trips() {
     let case = parse_case(BOX_TEMPLATE, "box.toml", &[]).expect("template must be valid");
     assert_eq!(template("box"), Some(BOX_TEMPLATE));
-    let silo = case.geometry.box_silo().expect("a box case");
+    let silo = case.geometry.cuboid().expect("a box case");
     assert_eq!(
         (silo.width, silo.depth, silo.outlet, silo.hopper_angle_deg),
-        (0.1, 0.05, BoxOutlet::Slot, 60.0)
+        (0.1, 0.05, CuboidOutlet::Slot, 60.0)
     );
     template_documents_every_key(&case, BOX_TEMPLATE);
     round_trips(&case);
@@ -77,10 +77,7 @@ fn box_variants_round_trip() {
         &[],
     )
     .unwrap();
-    assert_eq!(
-        meshed.geometry.box_silo().unwrap().walls,
-        WallSurface::Meshed
-    );
+    assert_eq!(meshed.geometry.cuboid().unwrap().walls, WallSurface::Meshed);
 }
 
 #[test]

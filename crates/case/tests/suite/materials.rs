@@ -4,7 +4,7 @@
 
 use case::{
     default_case, mass_fractions_from_number, number_fractions_from_mass, parse_case,
-    FractionBasis, SizeDistribution, WallMaterial,
+    FractionBasis, SizeDistribution, WallMaterialSpec,
 };
 
 /// The benchmark's table as cases/README.md writes it, between its markers.
@@ -44,7 +44,7 @@ fn the_readme_table_is_the_engines_benchmark_table_and_round_trips() {
     assert_eq!(c.material.density, 2500.0);
     // G = E / (2(1 + ν)) for the Rayleigh time.
     assert!((c.material.shear_modulus - 1.0e9 / 2.4).abs() < 1e-3);
-    assert_eq!(case.wall.material, WallMaterial::Named("steel".into()));
+    assert_eq!(case.wall.material, WallMaterialSpec::Named("steel".into()));
     let resolved = case.to_toml_string();
     // The table's coefficients live in [[pairs]] only.
     assert!(!resolved.contains("\n[contact]\nfriction"), "{resolved}");
@@ -60,7 +60,7 @@ fn same_walls_with_a_table_are_the_particles_one_material() {
         readme_table()
     );
     let case = parse_case(&text, "case.toml", &[]).unwrap();
-    assert_eq!(case.wall.material, WallMaterial::Named("M2".into()));
+    assert_eq!(case.wall.material, WallMaterialSpec::Named("M2".into()));
 }
 
 #[test]
@@ -235,7 +235,7 @@ material = \"rigid\"
     assert!((mixed.restitution - 0.2f64.sqrt()).abs() < 1e-15);
     assert!((mixed.friction - 0.24 / 0.7).abs() < 1e-15);
     // Rigid walls keep the [wall] coefficients.
-    assert_eq!(case.wall.material, WallMaterial::Rigid);
+    assert_eq!(case.wall.material, WallMaterialSpec::Rigid);
 }
 
 #[test]

@@ -3,9 +3,9 @@
 use std::io::Write;
 use std::path::Path;
 
+use files::{write_atomic, write_json_atomic, AtomicFile, OutputError};
 use serde::ser::{Error as _, SerializeSeq};
 use serde::{Serialize, Serializer};
-use files::{write_atomic, write_json_atomic, AtomicFile, OutputError};
 
 /// Names of every entry in `directory`, sorted, so a test can assert that no temporary file
 /// survived.

@@ -1,8 +1,6 @@
 //! Behaviour of the VTU and PVD writers: well-formed XML, consistent counts, exact values.
 
-use files::{
-    write_particles_vtu, write_walls_vtu, OutputError, ParticleFields, PvdCollection,
-};
+use files::{write_particles_vtu, write_walls_vtu, OutputError, ParticleFields, PvdCollection};
 
 /// Checks that every tag is closed in the right order and that there is a single root
 /// element. Enough of XML for files we generate ourselves: no comments, no CDATA.

@@ -1,9 +1,9 @@
 //! Bulk volume fraction φ_B, bed height and the container cross-section.
 
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use measure::{
     sphere_volume_below, BulkProbe, ContainerOutline, CrossSection, FrameView, OutletGeometry,
 };
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 const D: f64 = 3.0e-3;
 const RHO: f64 = 2500.0;

@@ -1,9 +1,7 @@
 //! Outlet crossings: interpolation, the velocity profile, tallies and the discharge series.
 
+use measure::{CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry, TimeWindow};
 use std::f64::consts::PI;
-use measure::{
-    CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry, TimeWindow,
-};
 
 const D: f64 = 3.0e-3;
 const RHO: f64 = 2500.0;

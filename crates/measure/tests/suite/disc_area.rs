@@ -1,9 +1,9 @@
 //! Exact disc ∩ rectangle area against closed forms, additivity and Monte-Carlo sampling.
 
+use measure::{overlap_area, section_radius, Disc, Rectangle};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::f64::consts::PI;
-use measure::{overlap_area, section_radius, Disc, Rectangle};
 
 const R: f64 = 1.5e-3;
 // Closed-form comparisons: the routine sums a handful of asin/sqrt terms of size r², so

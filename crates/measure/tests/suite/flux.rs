@@ -1,10 +1,10 @@
 //! Flux check W = (2/3) ρ_p d ∫ φ v dx against the counted crossing rate for uniform flow.
 
-use std::f64::consts::PI;
 use measure::{
     flux_from_profiles, CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry,
     OutletSummary, StripConfig, StripProbe, TimeWindow,
 };
+use std::f64::consts::PI;
 
 /// Owned frame arrays: ids, positions [m], velocities [m/s], radii [m].
 type Arrays = (Vec<u64>, Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>);

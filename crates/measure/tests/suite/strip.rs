@@ -1,9 +1,9 @@
 //! Strip area fraction φ(x), ⟨φ v⟩ and the snapshot speed on synthetic packings with known answers.
 
-use std::f64::consts::PI;
 use measure::{
     FrameView, MeasureError, OutletBins, OutletGeometry, StripConfig, StripProbe, TimeWindow,
 };
+use std::f64::consts::PI;
 
 const D: f64 = 3.0e-3;
 const RHO: f64 = 2500.0;

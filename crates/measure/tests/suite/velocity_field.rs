@@ -1,10 +1,10 @@
 //! Coarse-grained velocity field: uniform flows, mass conservation and window selection.
 
-use std::f64::consts::PI;
 use measure::{
     FieldGrid, FrameView, Kernel, MeasureError, OutletGeometry, TimeWindow, VelocityFieldProbe,
     DEFAULT_BLOCK_DURATION,
 };
+use std::f64::consts::PI;
 
 /// Owned frame arrays: ids, positions [m], velocities [m/s], radii [m].
 type Arrays = (Vec<u64>, Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>);

@@ -7,8 +7,8 @@ use dem::{DemError, PhaseTimes, Simulation};
 use rand::SeedableRng;
 use serde::Serialize;
 
+use crate::{lattice_bed, slab_simulation};
 use case::Case;
-use crate::{slab_simulation, lattice_bed};
 
 mod bidisperse;
 mod mesh_floor;

@@ -12,10 +12,8 @@ use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
-use case::{
-    load_case, parse_case, Case, ConfigErrors, Geometry, WallSurface, CYLINDER_TEMPLATE,
-};
 use crate::{packing_count, read_packing, Packing, PackingError};
+use case::{load_case, parse_case, Case, ConfigErrors, Geometry, WallSurface, CYLINDER_TEMPLATE};
 
 /// Spheres of the built-in benchmark silo when nothing else sets their count.
 pub const SILO_PARTICLES: usize = 20_000;
@@ -179,7 +177,7 @@ fn walls_word(case: &Case) -> &'static str {
     };
     match &case.geometry {
         Geometry::Cylinder(g) => surface(g.walls),
-        Geometry::Box(g) => surface(g.walls),
+        Geometry::Cuboid(g) => surface(g.walls),
         Geometry::Mesh(_) => "stl",
         Geometry::Slab(_) => "slab",
     }

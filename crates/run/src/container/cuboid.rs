@@ -6,7 +6,7 @@ use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
 use super::cut::vertical_cut;
-use case::{BoxFace, BoxSilo, WallSurface};
+use case::{CuboidFace, CuboidGeometry, WallSurface};
 
 /// Handles of a rectangular silo's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -38,19 +38,19 @@ fn fan(polygon: &[DVec3]) -> Vec<stl::Triangle> {
 /// trapezoids, each split into two triangles that share the frame's corners, so that the mesh
 /// has no corner in the middle of another triangle's edge (a T-junction would give a sphere on
 /// the seam a face and an edge contact at once, docs/physics.md §5.3).
-fn flat_bottom(silo: &BoxSilo) -> Vec<stl::Triangle> {
+fn flat_bottom(silo: &CuboidGeometry) -> Vec<stl::Triangle> {
     let (hw, hb) = (0.5 * silo.width, 0.5 * silo.depth);
     let hole = silo.orifice();
     let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);
     let (left, right) = (hole[0].x, hole[1].x);
     let mut triangles = Vec::new();
     match silo.outlet {
-        case::BoxOutlet::Slot => {
+        case::CuboidOutlet::Slot => {
             for (a, b) in [(-hw, left), (right, hw)] {
                 triangles.extend(fan(&[p(a, -hb), p(b, -hb), p(b, hb), p(a, hb)]));
             }
         }
-        case::BoxOutlet::Square => {
+        case::CuboidOutlet::Square => {
             let outer = [p(-hw, -hb), p(hw, -hb), p(hw, hb), p(-hw, hb)];
             for k in 0..4 {
                 let next = (k + 1) % 4;
@@ -65,25 +65,25 @@ fn flat_bottom(silo: &BoxSilo) -> Vec<stl::Triangle> {
 /// The wall polygons of the silo as (face, polygon): every face of the polyhedron but its top
 /// and its bottom (the orifice plane, which [`build_cuboid_walls`] covers with the gate and, for a
 /// flat bottom, the bottom mesh).
-fn wall_faces(silo: &BoxSilo) -> Vec<(BoxFace, Vec<DVec3>)> {
+fn wall_faces(silo: &CuboidGeometry) -> Vec<(CuboidFace, Vec<DVec3>)> {
     silo.faces(silo.height)
         .into_iter()
-        .filter(|(face, _)| !matches!(face, BoxFace::Top | BoxFace::Bottom))
+        .filter(|(face, _)| !matches!(face, CuboidFace::Top | CuboidFace::Bottom))
         .collect()
 }
 
 /// Index of a side wall or plate in [`CuboidWalls`]' arrays.
-fn slot_of(face: BoxFace) -> (bool, usize) {
+fn slot_of(face: CuboidFace) -> (bool, usize) {
     match face {
-        BoxFace::Left => (true, 0),
-        BoxFace::Right => (true, 1),
-        BoxFace::Front => (true, 2),
-        BoxFace::Back => (true, 3),
-        BoxFace::PlateLeft => (false, 0),
-        BoxFace::PlateRight => (false, 1),
-        BoxFace::PlateFront => (false, 2),
-        BoxFace::PlateBack => (false, 3),
-        BoxFace::Bottom | BoxFace::Top => unreachable!("not a wall face"),
+        CuboidFace::Left => (true, 0),
+        CuboidFace::Right => (true, 1),
+        CuboidFace::Front => (true, 2),
+        CuboidFace::Back => (true, 3),
+        CuboidFace::PlateLeft => (false, 0),
+        CuboidFace::PlateRight => (false, 1),
+        CuboidFace::PlateFront => (false, 2),
+        CuboidFace::PlateBack => (false, 3),
+        CuboidFace::Bottom | CuboidFace::Top => unreachable!("not a wall face"),
     }
 }
 
@@ -95,7 +95,7 @@ fn slot_of(face: BoxFace) -> (bool, usize) {
 /// `walls = "meshed"` each face is the fan of its polygon's triangles instead.
 pub fn build_cuboid_walls(
     sim: &mut Simulation,
-    silo: &BoxSilo,
+    silo: &CuboidGeometry,
     material: WallMaterial,
     interaction: Interaction,
 ) -> Result<CuboidWalls, DemError> {
@@ -134,7 +134,7 @@ pub fn build_cuboid_walls(
 
 /// The silo's walls as polygons [m] for the VTU output: the faces and, for a flat bottom, the
 /// bottom's triangles (the gate is not drawn).
-pub fn cuboid_wall_polygons(silo: &BoxSilo) -> Vec<Vec<[f64; 3]>> {
+pub fn cuboid_wall_polygons(silo: &CuboidGeometry) -> Vec<Vec<[f64; 3]>> {
     let mut polygons: Vec<Vec<[f64; 3]>> = wall_faces(silo)
         .into_iter()
         .map(|(_, p)| p.iter().map(|v| v.to_array()).collect())
@@ -151,6 +151,6 @@ pub fn cuboid_wall_polygons(silo: &BoxSilo) -> Vec<Vec<[f64; 3]>> {
 
 /// Segments (x, z) [m] of the silo's outline in the vertical plane y = 0: what a frame of a
 /// vertical cut draws.
-pub fn cuboid_outline(silo: &BoxSilo) -> Vec<[(f64, f64); 2]> {
+pub fn cuboid_outline(silo: &CuboidGeometry) -> Vec<[(f64, f64); 2]> {
     vertical_cut(&cuboid_wall_polygons(silo), 0.0)
 }

@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
-use case::{CylinderSilo, WallSurface};
+use case::{CylinderGeometry, WallSurface};
 
 /// Handles of a cylindrical silo's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -38,7 +38,7 @@ fn invalid(e: impl std::fmt::Display) -> DemError {
 /// the polygon circumscribing the orifice, whose corners lie under the cone, outside the silo.
 pub fn build_cylinder_walls(
     sim: &mut Simulation,
-    silo: &CylinderSilo,
+    silo: &CylinderGeometry,
     material: WallMaterial,
     interaction: Interaction,
 ) -> Result<CylinderWalls, DemError> {
@@ -111,7 +111,7 @@ pub fn build_cylinder_walls(
 /// Segments (x, z) [m] of the silo's outline in the vertical plane y = 0 through its axis:
 /// the cylinder's two sides and the cone's or the flat bottom's two halves beside the
 /// orifice. What a frame of a vertical cut draws.
-pub fn cylinder_outline(silo: &CylinderSilo) -> Vec<[(f64, f64); 2]> {
+pub fn cylinder_outline(silo: &CylinderGeometry) -> Vec<[(f64, f64); 2]> {
     let (r, h, hc) = (silo.radius, silo.height, silo.cone_height());
     let (left, right) = (
         silo.outlet_offset - silo.outlet_radius(),
@@ -127,7 +127,7 @@ pub fn cylinder_outline(silo: &CylinderSilo) -> Vec<[(f64, f64); 2]> {
 
 /// The silo's walls as polygons [m] for the VTU output: `segments` quadrilaterals around
 /// the cylinder, around the cone, and between the bottom's outer edge and the orifice.
-pub fn cylinder_wall_polygons(silo: &CylinderSilo) -> Vec<Vec<[f64; 3]>> {
+pub fn cylinder_wall_polygons(silo: &CylinderGeometry) -> Vec<Vec<[f64; 3]>> {
     let k = silo.mesh_segments;
     let (r, h, hc, ro) = (
         silo.radius,

@@ -7,7 +7,7 @@ use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
 use super::cut::vertical_cut;
-use case::{MeshContainer, MeshOutlet};
+use case::{MeshGeometry, MeshOutlet};
 
 /// Handles of a mesh container's walls in the simulation.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -54,7 +54,7 @@ pub fn gate_outline(outlet: &MeshOutlet) -> Vec<DVec3> {
 /// the case read them (the same triangles give the same walls, bit for bit), then the gate.
 pub fn build_mesh_walls(
     sim: &mut Simulation,
-    container: &MeshContainer,
+    container: &MeshGeometry,
     material: WallMaterial,
     interaction: Interaction,
 ) -> Result<MeshWalls, DemError> {
@@ -72,7 +72,7 @@ pub fn build_mesh_walls(
 }
 
 /// Every triangle of the container's walls [m], for the VTU output.
-pub fn mesh_wall_polygons(container: &MeshContainer) -> Vec<Vec<[f64; 3]>> {
+pub fn mesh_wall_polygons(container: &MeshGeometry) -> Vec<Vec<[f64; 3]>> {
     container
         .walls
         .iter()
@@ -83,6 +83,6 @@ pub fn mesh_wall_polygons(container: &MeshContainer) -> Vec<Vec<[f64; 3]>> {
 
 /// Segments (x, z) [m] of the walls in the vertical plane through the orifice's centre,
 /// y = y_c: what a frame of a vertical cut draws.
-pub fn mesh_outline(container: &MeshContainer) -> Vec<[(f64, f64); 2]> {
+pub fn mesh_outline(container: &MeshGeometry) -> Vec<[(f64, f64); 2]> {
     vertical_cut(&mesh_wall_polygons(container), container.outlet.centre()[1])
 }

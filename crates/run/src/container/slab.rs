@@ -3,7 +3,7 @@
 
 use dem::{DVec3, DemError, Interaction, Simulation, Wall, WallId, WallMaterial};
 
-use case::HopperGeometry;
+use case::SlabGeometry;
 
 /// Handles of the hopper's walls in the simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -33,7 +33,7 @@ fn slab_rectangle(a: (f64, f64), b: (f64, f64), thickness: f64) -> Vec<DVec3> {
 }
 
 /// In-plane (x, z) segments of the hopper outline: side walls and bottom plates [m].
-pub fn slab_outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
+pub fn slab_outline(geometry: &SlabGeometry) -> Vec<[(f64, f64); 2]> {
     let half = 0.5 * geometry.width;
     let (xl, xr) = geometry.outlet_edges();
     let (run_l, run_r) = geometry.plate_runs();
@@ -61,7 +61,7 @@ pub fn slab_outline(geometry: &HopperGeometry) -> Vec<[(f64, f64); 2]> {
 /// Adds the hopper's walls, gate closed, to `sim`.
 pub fn build_slab_walls(
     sim: &mut Simulation,
-    geometry: &HopperGeometry,
+    geometry: &SlabGeometry,
     material: WallMaterial,
     interaction: Interaction,
 ) -> Result<SlabWalls, DemError> {

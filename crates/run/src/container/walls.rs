@@ -5,9 +5,9 @@ use dem::{DemError, Interaction, Simulation, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
 use super::cuboid::{build_cuboid_walls, CuboidWalls};
-use super::slab::{build_slab_walls, SlabWalls};
-use super::mesh::{build_mesh_walls, MeshWalls};
 use super::cylinder::{build_cylinder_walls, CylinderWalls};
+use super::mesh::{build_mesh_walls, MeshWalls};
+use super::slab::{build_slab_walls, SlabWalls};
 use case::Geometry;
 
 /// The names of walls in `wall_forces.csv`, indexed by [`ContainerWalls::named`]; a mesh
@@ -163,7 +163,9 @@ pub fn build_container_walls(
         Geometry::Cylinder(g) => {
             ContainerWalls::Silo(build_cylinder_walls(sim, g, material, interaction)?)
         }
-        Geometry::Box(g) => ContainerWalls::Box(build_cuboid_walls(sim, g, material, interaction)?),
+        Geometry::Cuboid(g) => {
+            ContainerWalls::Box(build_cuboid_walls(sim, g, material, interaction)?)
+        }
         Geometry::Mesh(g) => ContainerWalls::Mesh(build_mesh_walls(sim, g, material, interaction)?),
     })
 }

@@ -10,7 +10,7 @@ use rand::Rng;
 
 use super::draw::{Draw, ParticleDraws};
 use super::slab::Inserted;
-use case::{BoxSilo, CylinderSilo, MeshContainer};
+use case::{CuboidGeometry, CylinderGeometry, MeshGeometry};
 
 /// Where spheres may be inserted: a box of candidate centres and the test that keeps a sphere
 /// inside the container.
@@ -22,36 +22,36 @@ pub trait FillRegion {
     fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool;
 }
 
-impl FillRegion for CylinderSilo {
+impl FillRegion for CylinderGeometry {
     fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
         let reach = self.radius;
         ([-reach, reach], [-reach, reach], [0.0, self.height])
     }
 
     fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
-        CylinderSilo::holds(self, x, y, z, r, gap)
+        CylinderGeometry::holds(self, x, y, z, r, gap)
     }
 }
 
-impl FillRegion for BoxSilo {
+impl FillRegion for CuboidGeometry {
     fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
         let (hw, hb) = (0.5 * self.width, 0.5 * self.depth);
         ([-hw, hw], [-hb, hb], [0.0, self.height])
     }
 
     fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
-        BoxSilo::holds(self, x, y, z, r, gap)
+        CuboidGeometry::holds(self, x, y, z, r, gap)
     }
 }
 
-impl FillRegion for MeshContainer {
+impl FillRegion for MeshGeometry {
     fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
         let (lo, hi) = (self.fill_min, self.fill_max);
         ([lo[0], hi[0]], [lo[1], hi[1]], [lo[2], hi[2]])
     }
 
     fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
-        MeshContainer::holds(self, x, y, z, r, gap)
+        MeshGeometry::holds(self, x, y, z, r, gap)
     }
 }
 

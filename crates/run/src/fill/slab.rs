@@ -5,14 +5,14 @@ use dem::{DVec3, ParticleInit, ParticleTag, Simulation};
 use rand::Rng;
 
 use super::draw::{Draw, ParticleDraws};
-use case::HopperGeometry;
+use case::SlabGeometry;
 
 /// A particle a batch placed: its tag and its component (index into `particles.components`).
 pub type Inserted = (ParticleTag, u8);
 
 /// Whether a disc of radius `r` [m] centred at (x, z) lies inside the hopper's in-plane
 /// outline with clearance `gap` [m].
-pub fn inside_slab(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64) -> bool {
+pub fn inside_slab(geometry: &SlabGeometry, x: f64, z: f64, r: f64, gap: f64) -> bool {
     let half = 0.5 * geometry.width;
     let c = r + gap;
     if x - c < -half || x + c > half || z - c < 0.0 || z + c > geometry.height {
@@ -41,7 +41,7 @@ pub fn inside_slab(geometry: &HopperGeometry, x: f64, z: f64, r: f64, gap: f64) 
 #[allow(clippy::too_many_arguments)]
 pub fn insert_slab_batch(
     sim: &mut Simulation,
-    geometry: &HopperGeometry,
+    geometry: &SlabGeometry,
     rng: &mut impl Rng,
     count: usize,
     draws: &ParticleDraws,

@@ -23,7 +23,7 @@
 //! line (CSV) or the array and index (VTU), the value and what is allowed: numbers that are
 //! missing or not finite, radii ≤ 0 or outside the case's size distribution by more than
 //! [`RADIUS_TOLERANCE`], particles outside the container (the fill's own tests,
-//! [`inside_slab`] and [`CylinderSilo::holds`], allowing a particle to press into a wall
+//! [`inside_slab`] and [`CylinderGeometry::holds`], allowing a particle to press into a wall
 //! by [`PACKING_OVERLAP_FRACTION`] of its radius), overlaps of two particles beyond the same
 //! fraction of the smaller radius, and a count other than `particles.count`.
 
@@ -34,9 +34,9 @@ use std::path::{Path, PathBuf};
 use dem::DVec3;
 use sha2::{Digest, Sha256};
 
-use crate::fill::inside_slab;
 use super::vtu::parse_vtu;
-use case::{BoxSilo, Case, CylinderSilo, Geometry, HopperGeometry};
+use crate::fill::inside_slab;
+use case::{Case, CuboidGeometry, CylinderGeometry, Geometry, SlabGeometry};
 
 /// The columns of a packing CSV, in the order hopperflow writes them. The first
 /// [`REQUIRED_PACKING_COLUMNS`] are required; `material` only for a mixture.
@@ -762,7 +762,7 @@ fn check_container(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
                 }
                 silo_violation(g, [x, y, z], r, slack)
             }
-            Geometry::Box(g) => {
+            Geometry::Cuboid(g) => {
                 if g.holds(x, y, z, r, -slack) {
                     continue;
                 }
@@ -805,7 +805,7 @@ fn range(low: f64, high: f64) -> String {
 }
 
 /// Which wall of the slab a particle of radius `r` at `x` crosses, in words.
-fn slab_violation(g: &HopperGeometry, x: [f64; 3], r: f64, slack: f64) -> String {
+fn slab_violation(g: &SlabGeometry, x: [f64; 3], r: f64, slack: f64) -> String {
     let c = r - slack;
     let half = 0.5 * g.width;
     if x[0] < -half + c || x[0] > half - c {
@@ -845,7 +845,7 @@ fn slab_violation(g: &HopperGeometry, x: [f64; 3], r: f64, slack: f64) -> String
 }
 
 /// Which wall of the silo a particle of radius `r` at `x` crosses, in words.
-fn silo_violation(g: &CylinderSilo, x: [f64; 3], r: f64, slack: f64) -> String {
+fn silo_violation(g: &CylinderGeometry, x: [f64; 3], r: f64, slack: f64) -> String {
     let c = r - slack;
     if x[2] < c || x[2] > g.height - c {
         return format!(
@@ -875,7 +875,7 @@ fn silo_violation(g: &CylinderSilo, x: [f64; 3], r: f64, slack: f64) -> String {
 
 /// Which bounding plane of a rectangular silo a particle of radius `r` at `x` crosses, in
 /// words.
-fn box_violation(g: &BoxSilo, x: [f64; 3], r: f64, slack: f64) -> String {
+fn box_violation(g: &CuboidGeometry, x: [f64; 3], r: f64, slack: f64) -> String {
     let c = r - slack;
     let p = DVec3::from(x);
     let spaces = g.half_spaces(g.height);

@@ -12,9 +12,12 @@ use std::path::{Path, PathBuf};
 use crate::tiny_hopper;
 
 use case::{parse_case, Case};
-use run::{check_bed_case, read_bed, run_case, run_case_from, BedError, RunError, RunOptions, RunOutcome, Start};
-use files::{StartKind, BED_CASE_FILE, BED_FILE, START_FILE, SUMMARY_FILE};
 use files::CaseSummary;
+use files::{StartKind, BED_CASE_FILE, BED_FILE, START_FILE, SUMMARY_FILE};
+use run::{
+    check_bed_case, read_bed, run_case, run_case_from, BedError, RunError, RunOptions, RunOutcome,
+    Start,
+};
 use tiny_hopper::{read, tiny_case};
 
 /// The outputs that depend on the simulated particles, all compared byte for byte.

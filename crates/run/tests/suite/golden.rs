@@ -13,8 +13,8 @@
 
 use crate::tiny_hopper;
 
-use sha2::{Digest, Sha256};
 use run::{run_case, RunOptions, RunOutcome};
+use sha2::{Digest, Sha256};
 
 /// Summary keys and their recorded values, as `summary.json` writes them (shortest
 /// round-trip decimals, so string equality is bit equality).

@@ -16,9 +16,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use sha2::{Digest, Sha256};
 use case::{parse_case, Case};
 use run::{run_case, RunOptions, RunOutcome};
+use sha2::{Digest, Sha256};
 
 /// 1800 spheres of 2 and 4 mm, half the mass each, in a cylinder of R = 16 mm over a 45°
 /// cone to a 16 mm orifice (4 large, 8 small diameters). The small spheres are of material

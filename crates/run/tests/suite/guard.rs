@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use crate::tiny_hopper;
 
-use run::{check_run_dir, run_case, RunError, RunOptions, RunOutcome};
 use files::CHECKPOINT_FILE;
+use run::{check_run_dir, run_case, RunError, RunOptions, RunOutcome};
 
 /// Every file under `dir` with its bytes.
 fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {

@@ -5,11 +5,11 @@
 
 use std::path::Path;
 
-use glam::DVec3;
 use case::{load_case, parse_case, Case};
+use files::{CaseSummary, StopReason};
+use glam::DVec3;
 use run::case_simulation;
 use run::{run_case, RunOptions, RunOutcome};
-use files::{CaseSummary, StopReason};
 
 /// The run settings of every case here: 400 spheres of 4 mm (the paper's soft material, so
 /// Δt = 5 µs is 0.15 Rayleigh times) poured from `fill_top` [m], a discharge of at most
@@ -212,7 +212,7 @@ fn cylinder_text(segments: usize) -> String {
 /// same orifice and gate, whose fill box lies inside the cylinder above the cone.
 fn mesh_copy_of_cylinder(dir: &Path, segments: usize) -> std::path::PathBuf {
     let (r, h, ro) = (0.04, 0.1, 0.01);
-    // (R − r_o)/tan 45°, as `CylinderSilo::cone_height` computes it.
+    // (R − r_o)/tan 45°, as `CylinderGeometry::cone_height` computes it.
     let hc = (r - ro) / 45f64.to_radians().tan();
     let cylinder = stl::shapes::cylinder_side(
         DVec3::new(0.0, 0.0, hc),

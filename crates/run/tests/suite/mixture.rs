@@ -6,10 +6,10 @@
 
 use std::path::Path;
 
+use case::{load_case, Case, Geometry};
 use dem::{DVec3, MaterialId};
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use case::{load_case, Case, Geometry};
 use run::insert_silo_batch;
 use run::{case_simulation_by_component, ParticleDraws};
 use run::{run_case, RunOptions, RunOutcome};

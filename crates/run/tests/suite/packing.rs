@@ -13,11 +13,11 @@ use proptest::prelude::*;
 use crate::tiny_hopper;
 
 use case::parse_case;
-use run::{read_packing, PackedParticle, Packing};
-use files::{write_particles_vtu, ParticleFields};
-use run::{run_case_from, RunOptions, RunOutcome, Start};
-use files::{StartKind, SUMMARY_FILE};
 use files::StopReason;
+use files::{write_particles_vtu, ParticleFields};
+use files::{StartKind, SUMMARY_FILE};
+use run::{read_packing, PackedParticle, Packing};
+use run::{run_case_from, RunOptions, RunOutcome, Start};
 use tiny_hopper::{read, tiny_case};
 
 /// 250 spheres of the tiny hopper on a square lattice 1 % wider than a diameter, from

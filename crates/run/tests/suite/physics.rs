@@ -8,8 +8,8 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use case::{parse_case, Case};
-use run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
+use run::{run_case, RunOptions, RunOutcome};
 
 /// A hopper of 400 spheres of 3 mm, 60 mm wide and 120 mm tall, with an 18 mm (6 d)
 /// outlet, wide enough that arches are rare. `geometry_lines` adds keys to `[geometry]`.

@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use case::{parse_case, Case};
-use run::{run_case, RunOptions, RunOutcome};
 use files::{CaseSummary, StopReason};
+use run::{run_case, RunOptions, RunOutcome};
 
 /// A silo of 40 mm radius holding 400 spheres of 4 mm (the paper's soft material, so that
 /// Δt = 5 µs is 0.15 Rayleigh times), a 20 mm orifice (5 d: at 4 d arches stop the flow

@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
-use sha2::{Digest, Sha256};
-use run::{run_case, RunOptions, RunOutcome};
 use files::CHECKPOINT_FILE;
+use run::{run_case, RunOptions, RunOutcome};
+use sha2::{Digest, Sha256};
 use tiny_hopper::{read, tiny_case};
 
 use crate::tiny_hopper;

@@ -8,8 +8,7 @@ use case::SweepPlan;
 use files::{write_atomic, write_json_atomic};
 
 use super::queue::{
-    check_partition, on_path, queued_cases, read_submissions, sbatch, Submission,
-    SUBMISSIONS_FILE,
+    check_partition, on_path, queued_cases, read_submissions, sbatch, Submission, SUBMISSIONS_FILE,
 };
 use super::script::{array_script, report_script, SlurmOptions};
 use crate::sweep::{case_states, prepare_study, CaseState, StudyError};
@@ -146,19 +145,19 @@ pub fn write_jobs(
     if !submit {
         return Ok(jobs);
     }
-    let array_job = sbatch(&[array_path.to_string_lossy().as_ref()]).map_err(|reason| {
-        JobsError::Submit {
+    let array_job =
+        sbatch(&[array_path.to_string_lossy().as_ref()]).map_err(|reason| JobsError::Submit {
             submitted: None,
             reason,
-        }
-    })?;
+        })?;
     let dependency = format!("--dependency=afterany:{array_job}");
-    let report_job = sbatch(&[&dependency, report_path.to_string_lossy().as_ref()]).map_err(
-        |reason| JobsError::Submit {
-            submitted: Some(array_job.clone()),
-            reason,
-        },
-    )?;
+    let report_job =
+        sbatch(&[&dependency, report_path.to_string_lossy().as_ref()]).map_err(|reason| {
+            JobsError::Submit {
+                submitted: Some(array_job.clone()),
+                reason,
+            }
+        })?;
     let mut submissions = read_submissions(&slurm);
     submissions.push(Submission {
         array_job: array_job.clone(),

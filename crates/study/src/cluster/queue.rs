@@ -74,10 +74,7 @@ pub fn check_partition(partition: &str) -> Result<(), String> {
     let Some(known) = known_partitions() else {
         return Ok(());
     };
-    match partition
-        .split(',')
-        .find(|p| !known.iter().any(|k| k == p))
-    {
+    match partition.split(',').find(|p| !known.iter().any(|k| k == p)) {
         None => Ok(()),
         Some(unknown) => Err(format!(
             "--partition '{unknown}': sinfo knows {}",

@@ -12,8 +12,8 @@ use std::path::Path;
 
 use super::StudyError;
 use case::SweepPlan;
-use run::{check_bed, read_bed, Bed, Start};
 use files::{StartKind, StartRecord};
+use run::{check_bed, read_bed, Bed, Start};
 
 /// Reads the bed in `dir` and makes `plan` start from it ([`plan_from_bed`]): the plan and
 /// the start its cases run from.

@@ -17,10 +17,8 @@ pub use from_bed::{plan_from_bed, plan_from_bed_dir};
 pub use rows::{failed_row, manifest_of_plan, measured_row};
 pub use runner::{
     check_study_dir, expected_cost, run_study, CaseRunner, StudyEvent, StudyOptions, StudyOutcome,
-
 };
 pub use simulation::{SimulationRunner, STOPPED};
 pub use task::{
     case_states, collect_study, prepare_study, run_task, CaseState, Collected, TaskOutcome,
-
 };

@@ -1,10 +1,12 @@
 //! The rows and the manifest that a study writes for its plan: `results.csv`'s row of each
 //! case (its inputs from the case, its measurements from the summary) and `study.json`.
 
-use files::{hex_hash, CaseStatus, CaseSummary, ManifestCase, ManifestSkipped, ResultRow, StudyManifest};
+use files::{
+    hex_hash, CaseStatus, CaseSummary, ManifestCase, ManifestSkipped, ResultRow, StudyManifest,
+};
 use sha2::{Digest, Sha256};
 
-use case::{HopperGeometry, SweepCase, SweepPlan};
+use case::{SlabGeometry, SweepCase, SweepPlan};
 
 /// The manifest of a plan.
 pub fn manifest_of_plan(plan: &SweepPlan) -> StudyManifest {
@@ -78,8 +80,7 @@ pub fn measured_row(case: &SweepCase, summary: &CaseSummary) -> ResultRow {
 /// The row of a case that produced no summary: inputs filled in, measurements NaN.
 pub fn failed_row(case: &SweepCase) -> ResultRow {
     let geometry = &case.case.geometry;
-    let of_slab =
-        |f: fn(&HopperGeometry) -> f64| geometry.slab().map_or(f64::NAN, f);
+    let of_slab = |f: fn(&SlabGeometry) -> f64| geometry.slab().map_or(f64::NAN, f);
     let labels = case
         .labels
         .iter()

@@ -17,13 +17,13 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use super::error::StudyError;
+use case::{SweepCase, SweepPlan};
+use files::write_json_atomic;
+use files::CaseSummary;
 use files::{
     write_results_table, CaseFailure, CaseStatus, ResultRow, StudyManifest, StudyPaths,
     SUMMARY_FILE,
 };
-use case::{SweepCase, SweepPlan};
-use files::write_json_atomic;
-use files::CaseSummary;
 
 /// Runs one case into its directory and returns its summary.
 ///
@@ -45,12 +45,12 @@ pub fn expected_cost(case: &case::Case) -> f64 {
     // Outlets of 1.5 d or less clog at once; keep the estimate finite and large.
     let opening = (case.geometry.outlet_size() - 1.5 * d).max(0.1 * d);
     let n = case.particles.count as f64;
-    use case::{BoxOutlet, Geometry, MeshOutlet};
+    use case::{CuboidOutlet, Geometry, MeshOutlet};
     let exponent = match &case.geometry {
         Geometry::Slab(_) => 1.5,
         Geometry::Cylinder(_) => 2.5,
-        Geometry::Box(g) if g.outlet == BoxOutlet::Slot => 1.5,
-        Geometry::Box(_) => 2.5,
+        Geometry::Cuboid(g) if g.outlet == CuboidOutlet::Slot => 1.5,
+        Geometry::Cuboid(_) => 2.5,
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Disc { .. } => 2.5,
             MeshOutlet::Rectangle { .. } => 1.5,
@@ -185,12 +185,12 @@ pub fn check_study_dir(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> 
     same_study(plan, &paths)?;
     for case in &plan.cases {
         let dir = paths.case_dir(&case.id);
-        run::check_run_dir_started(&case.case, &dir, plan.start.as_ref()).map_err(
-            |source| StudyError::CaseFolder {
+        run::check_run_dir_started(&case.case, &dir, plan.start.as_ref()).map_err(|source| {
+            StudyError::CaseFolder {
                 id: case.id.clone(),
                 source: Box::new(source),
-            },
-        )?;
+            }
+        })?;
     }
     Ok(())
 }

@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use super::runner::CaseRunner;
 use case::SweepCase;
-use run::{run_case_from, RunOptions, RunOutcome, Start};
 use files::CaseSummary;
+use run::{run_case_from, RunOptions, RunOutcome, Start};
 
 /// What a case stopped by the `stop` flag reports as its error.
 pub const STOPPED: &str = "stopped by a signal; its checkpoint will be resumed";

@@ -17,10 +17,6 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::error::StudyError;
-use files::{
-    write_results_table, CaseFailure, ResultRow, StudyManifest, StudyPaths, CHECKPOINT_FILE,
-    FAILURE_FILE,
-};
 use super::runner::{
     check_study_dir, finished_summary, keep_summary, panic_message, same_study, CaseRunner,
 };
@@ -28,6 +24,10 @@ use super::simulation::STOPPED;
 use case::SweepPlan;
 use files::write_json_atomic;
 use files::CaseSummary;
+use files::{
+    write_results_table, CaseFailure, ResultRow, StudyManifest, StudyPaths, CHECKPOINT_FILE,
+    FAILURE_FILE,
+};
 
 /// How one task ended.
 #[derive(Debug, Clone, PartialEq)]

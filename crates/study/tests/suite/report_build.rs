@@ -6,9 +6,9 @@ use crate::study_fake;
 
 use std::path::Path;
 
-use serde_json::Value;
 use case::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
 use report::{analyse_study, build_report, load_study};
+use serde_json::Value;
 use study::sweep::{run_study, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
 

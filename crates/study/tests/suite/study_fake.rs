@@ -22,14 +22,14 @@ use std::sync::Mutex;
 
 use analysis::beverloo3d::beverloo_3d_rate;
 use analysis::flowrate::brown_ratio;
+use case::{CylinderGeometry, SweepCase};
+use files::CASE_FILE;
+use files::{write_csv_table, Cell};
+use files::{CaseSummary, StopReason};
+use measure::{RadialBin, RadialBins};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use case::{CylinderSilo, SweepCase};
-use measure::{RadialBin, RadialBins};
-use files::{write_csv_table, Cell};
 use run::{fit_radial, write_radial_profiles};
-use files::CASE_FILE;
-use files::{CaseSummary, StopReason};
 use study::sweep::CaseRunner;
 
 /// Gravitational acceleration used by the fake [m/s²] (the analysis uses the same).
@@ -258,7 +258,7 @@ fn common_summary(
 fn write_silo_case(
     fake: &FakeRunner,
     case: &SweepCase,
-    silo: &CylinderSilo,
+    silo: &CylinderGeometry,
     dir: &Path,
 ) -> CaseSummary {
     let d = case.case.particles.mean_diameter();

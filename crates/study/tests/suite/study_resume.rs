@@ -5,8 +5,8 @@ use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use case::{parse_sweep, SweepCase};
-use run::{run_case, RunOptions, RunOutcome};
 use files::CaseSummary;
+use run::{run_case, RunOptions, RunOutcome};
 use study::sweep::{run_study, CaseRunner, SimulationRunner, StudyEvent, StudyOptions};
 
 /// Two cases of 150 spheres in a 45 mm wide, flat-bottomed hopper, outlet 15 and 18 mm

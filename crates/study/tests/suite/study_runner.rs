@@ -5,8 +5,8 @@ use crate::study_fake;
 use std::sync::atomic::Ordering;
 
 use case::{parse_sweep, SweepPlan};
-use study::sweep::{run_study, StudyError, StudyEvent, StudyOptions};
 use files::{read_results_table, CaseStatus};
+use study::sweep::{run_study, StudyError, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
 
 /// Six cases: two hopper angles × three outlet widths.

@@ -1,42 +1,17 @@
-//! The container of a case: the paper's slab hopper, a cylindrical silo with a flat or
-//! conical bottom and a circular orifice (docs/physics.md §5.6), a rectangular silo
-//! ([`BoxSilo`], §5.7) or the user's own STL walls ([`MeshContainer`], §5.8).
-//!
-//! Conventions shared by every kind: z is vertical, measured up from the orifice plane
-//! z = 0; the silo's axis is the z axis (x = y = 0) for the cylinder and the box; the slab
-//! keeps its own x–z conventions (see [`HopperGeometry`]).
+//! A cylindrical silo (`geometry.kind = "cylinder"`, docs/physics.md §5.6): a vertical
+//! cylinder above a conical hopper or a flat bottom, with a circular orifice at z = 0 on the
+//! z axis.
 
 use std::f64::consts::PI;
 
 use serde::{Deserialize, Serialize};
 
-use super::box_silo::BoxSilo;
-use super::geometry::HopperGeometry;
-use super::mesh_container::MeshContainer;
-
-/// Default number of segments around the axis of a meshed cylinder or cone, and of the
-/// orifice's polygon: 96 segments put the chord's midpoint 0.05 % of the radius inside the
-/// circle, far below a particle radius for any silo a few diameters wide.
-pub const DEFAULT_MESH_SEGMENTS: usize = 96;
-
-/// Fewest and most segments around a circle (a triangle must stay a reasonable fraction of
-/// the silo; more than a few thousand only costs memory).
-pub const MESH_SEGMENTS_RANGE: (i64, i64) = (12, 4096);
-
-/// How curved walls are represented in the engine.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WallSurface {
-    /// Exact cylinder and cone (the engine's frustum shape, docs/physics.md §5.2).
-    Smooth,
-    /// Triangle meshes of `mesh_segments` strips around the axis (§5.3).
-    Meshed,
-}
+use super::geometry::{height_holding, WallSurface, DEFAULT_MESH_SEGMENTS};
 
 /// A cylindrical silo: a vertical cylinder of radius R above a conical hopper of half-angle
 /// θ (or a flat bottom), with a circular orifice of diameter D in the orifice plane z = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CylinderSilo {
+pub struct CylinderGeometry {
     /// Inner radius R of the cylinder [m] (benchmark silo: 0.1 m).
     pub radius: f64,
     /// Height H of the top of the cylinder above the orifice plane [m].
@@ -55,7 +30,7 @@ pub struct CylinderSilo {
     pub mesh_segments: usize,
 }
 
-impl CylinderSilo {
+impl CylinderGeometry {
     /// The benchmark silo of Dosta et al. (2024) with its large orifice, moved so that the
     /// orifice plane is z = 0: R = 0.1 m, a 45° cone from the orifice of radius 0.03 m to the
     /// cylinder at z = 0.07 m, the top of the particle domain at H = 0.2354 m.
@@ -150,122 +125,6 @@ impl CylinderSilo {
     }
 }
 
-/// Height [m] below which a container of height `height` [m] whose volume below z is
-/// `volume_below(z)` [m³] holds `volume` [m³], or `None` if it cannot. `volume_below` is
-/// continuous and increasing: bisection to 2^-60 of the height.
-pub(super) fn height_holding(
-    height: f64,
-    volume: f64,
-    volume_below: impl Fn(f64) -> f64,
-) -> Option<f64> {
-    if volume > volume_below(height) {
-        return None;
-    }
-    let (mut low, mut high) = (0.0, height);
-    for _ in 0..60 {
-        let mid = 0.5 * (low + high);
-        if volume_below(mid) < volume {
-            low = mid;
-        } else {
-            high = mid;
-        }
-    }
-    Some(high)
-}
-
-/// The container of a case.
-///
-/// Serialised without a tag, so that the slab writes exactly the fields it always wrote.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum Geometry {
-    /// The paper's rectangular slab hopper (quasi-2D or thick).
-    Slab(HopperGeometry),
-    /// A cylindrical silo with a flat or conical bottom and a circular orifice.
-    Cylinder(CylinderSilo),
-    /// A rectangular silo with a wedge, a pyramid or a flat bottom.
-    Box(BoxSilo),
-    /// The user's STL walls, an orifice at z = 0 and a fill box.
-    Mesh(MeshContainer),
-}
-
-impl Geometry {
-    /// The slab hopper, when this is one.
-    pub fn slab(&self) -> Option<&HopperGeometry> {
-        match self {
-            Self::Slab(g) => Some(g),
-            _ => None,
-        }
-    }
-
-    /// The cylindrical silo, when this is one.
-    pub fn cylinder(&self) -> Option<&CylinderSilo> {
-        match self {
-            Self::Cylinder(g) => Some(g),
-            _ => None,
-        }
-    }
-
-    /// The rectangular silo, when this is one.
-    pub fn box_silo(&self) -> Option<&BoxSilo> {
-        match self {
-            Self::Box(g) => Some(g),
-            _ => None,
-        }
-    }
-
-    /// The container of STL walls, when this is one.
-    pub fn mesh(&self) -> Option<&MeshContainer> {
-        match self {
-            Self::Mesh(g) => Some(g),
-            _ => None,
-        }
-    }
-
-    /// The kind's name in the case file's `geometry.kind`.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Self::Slab(_) => "slab",
-            Self::Cylinder(_) => "cylinder",
-            Self::Box(_) => "box",
-            Self::Mesh(_) => "mesh",
-        }
-    }
-
-    /// Height H of the container's walls above the orifice plane [m]; for STL walls, the top
-    /// of the fill box (the highest place a particle starts from).
-    pub fn height(&self) -> f64 {
-        match self {
-            Self::Slab(g) => g.height,
-            Self::Cylinder(g) => g.height,
-            Self::Box(g) => g.height,
-            Self::Mesh(g) => g.fill_max[2],
-        }
-    }
-
-    /// Outlet size D [m]: the slot's width, the orifice's diameter, the square's side; for
-    /// STL walls the disc's diameter or the rectangle's side along x.
-    pub fn outlet_size(&self) -> f64 {
-        match self {
-            Self::Slab(g) => g.outlet_width,
-            Self::Cylinder(g) => g.outlet_diameter,
-            Self::Box(g) => g.outlet_width,
-            Self::Mesh(g) => g.outlet.size(),
-        }
-    }
-
-    /// Hopper angle from the vertical [°] (90 is a flat bottom); NaN for STL walls, which
-    /// have none.
-    pub fn hopper_angle_deg(&self) -> f64 {
-        match self {
-            Self::Slab(g) => g.hopper_angle_deg,
-            Self::Cylinder(g) => g.hopper_angle_deg,
-            Self::Box(g) => g.hopper_angle_deg,
-            Self::Mesh(_) => f64::NAN,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -274,10 +133,10 @@ mod tests {
     /// (docs: the orifice plane at −0.0554 m, the junction at 0.0146 m).
     #[test]
     fn benchmark_cone_height_matches_the_driver() {
-        let s = CylinderSilo::dosta2024_large();
+        let s = CylinderGeometry::dosta2024_large();
         // tan 45° rounds to 1 − 1.1e-16: the height is 0.07 to a few ulps.
         assert!((s.cone_height() - 0.070).abs() < 1e-15);
-        let small = CylinderSilo {
+        let small = CylinderGeometry {
             outlet_diameter: 0.04,
             ..s
         };
@@ -288,7 +147,7 @@ mod tests {
     /// metre above it; height_holding inverts it.
     #[test]
     fn volume_below_and_its_inverse() {
-        let s = CylinderSilo::dosta2024_large();
+        let s = CylinderGeometry::dosta2024_large();
         let hc = s.cone_height();
         let frustum = PI * hc * (0.03f64.powi(2) + 0.03 * 0.1 + 0.01) / 3.0;
         assert!((s.volume_below(hc) - frustum).abs() < 1e-15);
@@ -306,7 +165,7 @@ mod tests {
     /// more; the cylinder and the orifice plane bound it too.
     #[test]
     fn holds_respects_every_wall() {
-        let s = CylinderSilo::dosta2024_large();
+        let s = CylinderGeometry::dosta2024_large();
         let r = 0.002;
         let z = 0.03;
         // On the meridian x > 0: the largest ρ whose distance to the cone is exactly r.

@@ -1,11 +1,12 @@
 //! Reads `[geometry]` of a cylindrical silo (`kind = "cylinder"`), collecting every error
 //! with its key, line, value and allowed range.
 
+use super::cylinder::CylinderGeometry;
 use super::error::{number, rounded, ConfigError, ErrorKind};
+use super::geometry::{WallSurface, DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
 use super::reader::Section;
 use super::resolve::outlet_too_small;
 use super::resolve_particles::source;
-use super::silo::{CylinderSilo, WallSurface, DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
 
 /// Keys of a cylindrical silo's `[geometry]`.
 const CYLINDER_KEYS: &[&str] = &[
@@ -25,8 +26,8 @@ pub(crate) fn read_cylinder(
     section: &mut Section<'_>,
     d_max: Option<(f64, &str)>,
     errors: &mut Vec<ConfigError>,
-) -> Option<CylinderSilo> {
-    let base = CylinderSilo::dosta2024_large();
+) -> Option<CylinderGeometry> {
+    let base = CylinderGeometry::dosta2024_large();
     let radius = section.float_or("radius", "m", base.radius, errors);
     let height = section.float_or("height", "m", base.height, errors);
     let outlet = section.float_or("outlet_diameter", "m", base.outlet_diameter, errors);
@@ -103,7 +104,7 @@ pub(crate) fn read_cylinder(
     if !ok {
         return None;
     }
-    let silo = CylinderSilo {
+    let silo = CylinderGeometry {
         radius: r,
         height: height.value,
         outlet_diameter: d,

@@ -11,12 +11,12 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::silo::WallSurface;
+use super::geometry::WallSurface;
 
 /// The orifice of a rectangular silo.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum BoxOutlet {
+pub enum CuboidOutlet {
     /// A slot D wide in x spanning the whole depth B; under a wedge of two plates when the
     /// hopper angle is below 90°.
     Slot,
@@ -24,7 +24,7 @@ pub enum BoxOutlet {
     Square,
 }
 
-impl BoxOutlet {
+impl CuboidOutlet {
     /// The word of the case file's `geometry.outlet`.
     pub fn word(self) -> &'static str {
         match self {
@@ -36,7 +36,7 @@ impl BoxOutlet {
 
 /// One bounding plane of a rectangular silo: which wall it carries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BoxFace {
+pub enum CuboidFace {
     /// The side wall x = −W/2.
     Left,
     /// The side wall x = +W/2.
@@ -63,7 +63,7 @@ pub enum BoxFace {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HalfSpace {
     /// The wall it carries.
-    pub face: BoxFace,
+    pub face: CuboidFace,
     /// Unit outward normal [-].
     pub normal: DVec3,
     /// Offset d [m]: the plane is n·p = d.
@@ -71,7 +71,7 @@ pub struct HalfSpace {
 }
 
 impl HalfSpace {
-    fn new(face: BoxFace, normal: DVec3, offset: f64) -> Self {
+    fn new(face: CuboidFace, normal: DVec3, offset: f64) -> Self {
         Self {
             face,
             normal,
@@ -87,7 +87,7 @@ impl HalfSpace {
 
 /// A rectangular silo; see the module documentation for its conventions.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BoxSilo {
+pub struct CuboidGeometry {
     /// Inner width W along x [m].
     pub width: f64,
     /// Inner depth B along y [m].
@@ -95,7 +95,7 @@ pub struct BoxSilo {
     /// Height H of the top of the walls above the orifice plane [m].
     pub height: f64,
     /// A slot across the depth or a square orifice.
-    pub outlet: BoxOutlet,
+    pub outlet: CuboidOutlet,
     /// D [m]: the slot's width or the square's side.
     pub outlet_width: f64,
     /// Angle α of the plates from the vertical [°], in (0, 90]; 90 is a flat bottom. Kept in
@@ -107,14 +107,14 @@ pub struct BoxSilo {
     pub walls: WallSurface,
 }
 
-impl BoxSilo {
+impl CuboidGeometry {
     /// A box 100 mm × 50 mm × 200 mm with a 60° wedge over a 20 mm slot.
     pub fn example() -> Self {
         Self {
             width: 0.1,
             depth: 0.05,
             height: 0.2,
-            outlet: BoxOutlet::Slot,
+            outlet: CuboidOutlet::Slot,
             outlet_width: 0.02,
             hopper_angle_deg: 60.0,
             outlet_offset: 0.0,
@@ -140,8 +140,8 @@ impl BoxSilo {
     /// Extent of the orifice in y [m]: the whole depth for a slot, D for a square.
     pub fn outlet_depth(&self) -> f64 {
         match self.outlet {
-            BoxOutlet::Slot => self.depth,
-            BoxOutlet::Square => self.outlet_width,
+            CuboidOutlet::Slot => self.depth,
+            CuboidOutlet::Square => self.outlet_width,
         }
     }
 
@@ -154,8 +154,8 @@ impl BoxSilo {
         let cot = 1.0 / self.hopper_angle().tan();
         let zx = 0.5 * (self.width - self.outlet_width) * cot;
         let zy = match self.outlet {
-            BoxOutlet::Slot => 0.0,
-            BoxOutlet::Square => 0.5 * (self.depth - self.outlet_width) * cot,
+            CuboidOutlet::Slot => 0.0,
+            CuboidOutlet::Square => 0.5 * (self.depth - self.outlet_width) * cot,
         };
         (zx, zy)
     }
@@ -170,12 +170,12 @@ impl BoxSilo {
     pub fn half_spaces(&self, top: f64) -> Vec<HalfSpace> {
         let (hw, hb) = (0.5 * self.width, 0.5 * self.depth);
         let mut spaces = vec![
-            HalfSpace::new(BoxFace::Left, DVec3::NEG_X, hw),
-            HalfSpace::new(BoxFace::Right, DVec3::X, hw),
-            HalfSpace::new(BoxFace::Front, DVec3::NEG_Y, hb),
-            HalfSpace::new(BoxFace::Back, DVec3::Y, hb),
-            HalfSpace::new(BoxFace::Bottom, DVec3::NEG_Z, 0.0),
-            HalfSpace::new(BoxFace::Top, DVec3::Z, top),
+            HalfSpace::new(CuboidFace::Left, DVec3::NEG_X, hw),
+            HalfSpace::new(CuboidFace::Right, DVec3::X, hw),
+            HalfSpace::new(CuboidFace::Front, DVec3::NEG_Y, hb),
+            HalfSpace::new(CuboidFace::Back, DVec3::Y, hb),
+            HalfSpace::new(CuboidFace::Bottom, DVec3::NEG_Z, 0.0),
+            HalfSpace::new(CuboidFace::Top, DVec3::Z, top),
         ];
         if !self.is_flat() {
             // A plate through the orifice edge x_c ± D/2 at z = 0, rising outward at α from
@@ -183,23 +183,23 @@ impl BoxSilo {
             let (sin, cos) = self.hopper_angle().sin_cos();
             let (c, r) = (self.outlet_offset, self.outlet_radius());
             spaces.push(HalfSpace::new(
-                BoxFace::PlateLeft,
+                CuboidFace::PlateLeft,
                 DVec3::new(-cos, 0.0, -sin),
                 (r - c) * cos,
             ));
             spaces.push(HalfSpace::new(
-                BoxFace::PlateRight,
+                CuboidFace::PlateRight,
                 DVec3::new(cos, 0.0, -sin),
                 (r + c) * cos,
             ));
-            if self.outlet == BoxOutlet::Square {
+            if self.outlet == CuboidOutlet::Square {
                 spaces.push(HalfSpace::new(
-                    BoxFace::PlateFront,
+                    CuboidFace::PlateFront,
                     DVec3::new(0.0, -cos, -sin),
                     r * cos,
                 ));
                 spaces.push(HalfSpace::new(
-                    BoxFace::PlateBack,
+                    CuboidFace::PlateBack,
                     DVec3::new(0.0, cos, -sin),
                     r * cos,
                 ));
@@ -211,7 +211,7 @@ impl BoxSilo {
     /// The faces of the container below `top` [m]: each bounding plane's polygon, vertices
     /// counter-clockwise seen from outside; planes that touch the container in less than an
     /// area (a plate's plane beyond the other walls) are left out.
-    pub fn faces(&self, top: f64) -> Vec<(BoxFace, Vec<DVec3>)> {
+    pub fn faces(&self, top: f64) -> Vec<(CuboidFace, Vec<DVec3>)> {
         let spaces = self.half_spaces(top);
         let size = 4.0 * (self.width + self.depth + top.max(self.height));
         spaces
@@ -263,7 +263,7 @@ impl BoxSilo {
 
     /// Height [m] below which the container holds `volume` [m³], or `None` if it cannot.
     pub fn height_holding(&self, volume: f64) -> Option<f64> {
-        super::silo::height_holding(self.height, volume, |z| self.volume_below(z))
+        super::geometry::height_holding(self.height, volume, |z| self.volume_below(z))
     }
 
     /// Whether a sphere of radius `r` [m] centred at (x, y, z) lies inside the container with
@@ -345,11 +345,11 @@ pub(crate) fn polygon_area(polygon: &[DVec3]) -> f64 {
 mod tests {
     use super::*;
 
-    fn silo(outlet: BoxOutlet, angle: f64) -> BoxSilo {
-        BoxSilo {
+    fn silo(outlet: CuboidOutlet, angle: f64) -> CuboidGeometry {
+        CuboidGeometry {
             outlet,
             hopper_angle_deg: angle,
-            ..BoxSilo::example()
+            ..CuboidGeometry::example()
         }
     }
 
@@ -357,9 +357,9 @@ mod tests {
     /// full cross-section; height_holding inverts the volume.
     #[test]
     fn volumes_match_closed_forms() {
-        let flat = silo(BoxOutlet::Slot, 90.0);
+        let flat = silo(CuboidOutlet::Slot, 90.0);
         assert!((flat.volume_below(0.07) - 0.1 * 0.05 * 0.07).abs() < 1e-17);
-        let wedge = silo(BoxOutlet::Slot, 60.0);
+        let wedge = silo(CuboidOutlet::Slot, 60.0);
         let t = wedge.hopper_angle().tan();
         let (zx, _) = wedge.plate_heights();
         // (W − D)/2 cot 60° = 0.04/√3.
@@ -381,23 +381,23 @@ mod tests {
     /// h (a² + a b + b²)/3 with a = D and b = D + 2 h tan α.
     #[test]
     fn pyramid_volume_is_a_frustum() {
-        let s = BoxSilo {
+        let s = CuboidGeometry {
             depth: 0.1,
-            ..silo(BoxOutlet::Square, 45.0)
+            ..silo(CuboidOutlet::Square, 45.0)
         };
         let h = 0.03;
         let (a, b) = (0.02, 0.02 + 2.0 * h * s.hopper_angle().tan());
         let exact = h * (a * a + a * b + b * b) / 3.0;
         assert!((s.volume_below(h) - exact).abs() < 1e-17);
         // Four plates, four side walls above them, and the square gate at z = 0.
-        let faces: Vec<BoxFace> = s.faces(s.height).iter().map(|f| f.0).collect();
+        let faces: Vec<CuboidFace> = s.faces(s.height).iter().map(|f| f.0).collect();
         for face in [
-            BoxFace::PlateLeft,
-            BoxFace::PlateRight,
-            BoxFace::PlateFront,
-            BoxFace::PlateBack,
-            BoxFace::Left,
-            BoxFace::Bottom,
+            CuboidFace::PlateLeft,
+            CuboidFace::PlateRight,
+            CuboidFace::PlateFront,
+            CuboidFace::PlateBack,
+            CuboidFace::Left,
+            CuboidFace::Bottom,
         ] {
             assert!(faces.contains(&face), "{face:?} missing from {faces:?}");
         }
@@ -407,9 +407,13 @@ mod tests {
     /// short plates end, then the full depth up to the walls.
     #[test]
     fn long_pyramid_plates_reach_past_the_short_ones() {
-        let s = silo(BoxOutlet::Square, 45.0);
+        let s = silo(CuboidOutlet::Square, 45.0);
         let faces = s.faces(s.height);
-        let plate = &faces.iter().find(|f| f.0 == BoxFace::PlateRight).unwrap().1;
+        let plate = &faces
+            .iter()
+            .find(|f| f.0 == CuboidFace::PlateRight)
+            .unwrap()
+            .1;
         assert_eq!(plate.len(), 6, "{plate:?}");
         let (zx, zy) = s.plate_heights();
         assert!((zx - 0.04).abs() < 1e-15 && (zy - 0.015).abs() < 1e-15);
@@ -420,7 +424,7 @@ mod tests {
     /// A sphere touching a wedge's plate is held with zero clearance and refused with more.
     #[test]
     fn holds_respects_the_plates() {
-        let s = silo(BoxOutlet::Slot, 60.0);
+        let s = silo(CuboidOutlet::Slot, 60.0);
         let (r, z) = (0.002, 0.01);
         let a = s.hopper_angle();
         let x = 0.01 + z * a.tan() - r / a.cos();

@@ -1,12 +1,12 @@
 //! Reads `[geometry]` of a rectangular silo (`kind = "box"`), collecting every error with its
 //! key, line, value and allowed range.
 
-use super::box_silo::{BoxOutlet, BoxSilo};
+use super::cuboid::{CuboidGeometry, CuboidOutlet};
 use super::error::{number, rounded, ConfigError, ErrorKind};
+use super::geometry::WallSurface;
 use super::reader::Section;
 use super::resolve::outlet_too_small;
 use super::resolve_particles::source;
-use super::silo::WallSurface;
 
 /// Keys of a rectangular silo's `[geometry]`.
 pub(crate) const BOX_KEYS: &[&str] = &[
@@ -23,19 +23,22 @@ pub(crate) const BOX_KEYS: &[&str] = &[
 
 /// Reads a rectangular silo; `d_max` is the largest particle diameter [m] with the key that
 /// set it, when the particles are valid.
-pub(crate) fn read_box(
+pub(crate) fn read_cuboid(
     section: &mut Section<'_>,
     d_max: Option<(f64, &str)>,
     errors: &mut Vec<ConfigError>,
-) -> Option<BoxSilo> {
-    let base = BoxSilo::example();
+) -> Option<CuboidGeometry> {
+    let base = CuboidGeometry::example();
     let width = section.float_or("width", "m", base.width, errors);
     let depth = section.float_or("depth", "m", base.depth, errors);
     let height = section.float_or("height", "m", base.height, errors);
     let before = errors.len();
     let outlet = section.choice(
         "outlet",
-        &[("slot", BoxOutlet::Slot), ("square", BoxOutlet::Square)],
+        &[
+            ("slot", CuboidOutlet::Slot),
+            ("square", CuboidOutlet::Square),
+        ],
         base.outlet,
         errors,
     );
@@ -116,7 +119,7 @@ pub(crate) fn read_box(
         ));
         ok = false;
     }
-    if outlet == BoxOutlet::Square && d >= b {
+    if outlet == CuboidOutlet::Square && d >= b {
         errors.push(outlet_width.error(
             ErrorKind::DoesNotFit,
             format!(
@@ -131,7 +134,7 @@ pub(crate) fn read_box(
     if !ok {
         return None;
     }
-    let silo = BoxSilo {
+    let silo = CuboidGeometry {
         width: w,
         depth: b,
         height: height.value,
@@ -143,8 +146,8 @@ pub(crate) fn read_box(
     };
     if silo.hopper_height() >= silo.height {
         let what = match outlet {
-            BoxOutlet::Slot => format!("(W − D)/2 · cot α, from {}", source(&width)),
-            BoxOutlet::Square => format!(
+            CuboidOutlet::Slot => format!("(W − D)/2 · cot α, from {}", source(&width)),
+            CuboidOutlet::Square => format!(
                 "the larger of (W − D)/2 and (B − D)/2 times cot α, from {} and {}",
                 source(&width),
                 source(&depth)

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::silo::{DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
+use super::geometry::{DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
 
 /// Most STL files of one case (each is a wall with a row in `wall_forces.csv`).
 pub const MAX_MESH_WALLS: usize = 64;
@@ -89,7 +89,7 @@ impl MeshOutlet {
 
 /// A container of STL walls; see the module documentation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct MeshContainer {
+pub struct MeshGeometry {
     /// The walls, in the order of the case file.
     pub walls: Vec<MeshWall>,
     /// The orifice in the plane z = 0.
@@ -100,7 +100,7 @@ pub struct MeshContainer {
     pub fill_max: [f64; 3],
 }
 
-impl MeshContainer {
+impl MeshGeometry {
     /// Whether a sphere of radius `r` [m] centred at (x, y, z) lies in the fill box with
     /// clearance `gap` [m] on every side.
     pub fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
