@@ -41,7 +41,7 @@ pub struct WallSegment {
 
 /// What part of the x–z plane to draw, at which scale, with which colour scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrameView {
+pub struct FrameViewport {
     /// Horizontal extent shown (left, right) [m]. Leave a few millimetres around walls on the
     /// boundary: drawing is clipped to this extent.
     pub x_range: (f64, f64),
@@ -53,7 +53,7 @@ pub struct FrameView {
     pub speed_range: (f64, f64),
 }
 
-impl FrameView {
+impl FrameViewport {
     /// A view whose drawn region is `domain_height` px tall, the width following from the
     /// aspect ratio of the ranges (for a 0.1 m × 0.4 m hopper and 1600 px, 400 px wide).
     pub fn fitted(
@@ -154,7 +154,7 @@ pub struct FrameLayout {
     pub colour_bar_height: u32,
     /// Label text size [px].
     pub font_size: u32,
-    view: FrameView,
+    view: FrameViewport,
 }
 
 impl FrameLayout {
@@ -192,7 +192,7 @@ fn colour(rgb: [u8; 3]) -> RGBColor {
 /// Fails on a bad view, non-finite particle or wall data, or a negative radius; errors carry
 /// an empty path, since no file is involved.
 pub fn render_frame(
-    view: &FrameView,
+    view: &FrameViewport,
     particles: &[FrameParticle],
     walls: &[WallSegment],
     time: f64,
@@ -360,7 +360,7 @@ fn tick_text(value: f64, decimals: usize) -> String {
 /// Renders one frame and writes it as PNG at `path` atomically.
 pub fn write_frame_png(
     path: impl AsRef<Path>,
-    view: &FrameView,
+    view: &FrameViewport,
     particles: &[FrameParticle],
     walls: &[WallSegment],
     time: f64,

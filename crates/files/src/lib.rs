@@ -58,7 +58,7 @@ pub use figures::{
     wall_pressure_figure, FittedCurve, Profile,
 };
 pub use frame::{
-    render_frame, write_frame_png, FrameLayout, FrameParticle, FrameView, WallSegment,
+    render_frame, write_frame_png, FrameLayout, FrameParticle, FrameViewport, WallSegment,
 };
 pub use image::RgbImage;
 #[cfg(feature = "parquet")]

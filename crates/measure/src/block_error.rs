@@ -15,7 +15,7 @@
 //! with s_b and n_b the sum and count of block b and G the number of blocks with samples.
 //! For independent samples it reduces to s/√n in expectation.
 
-use super::frame::TimeWindow;
+use super::snapshot::TimeWindow;
 
 /// Number of equal time blocks a window is cut into, the usual batch-means choice: enough
 /// blocks for the variance to be estimated, each as long as the window allows. The paper's

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::disc_area::{overlap_area, Disc, Rectangle};
 use super::error::MeasureError;
-use super::frame::FrameView;
+use super::snapshot::Snapshot;
 use super::geometry::OutletGeometry;
 
 /// The container's inner cross-section in the (x, z) plane.
@@ -250,7 +250,7 @@ impl<C: CrossSection> BulkProbe<C> {
 
     /// Measures the frame. Fails if no particle lies above the floor or the cut falls to or
     /// below the floor.
-    pub fn measure(&self, frame: &FrameView<'_>) -> Result<BulkMeasurement, MeasureError> {
+    pub fn measure(&self, frame: &Snapshot<'_>) -> Result<BulkMeasurement, MeasureError> {
         frame.validate()?;
         let columns = ((self.x_max - self.x_min) / self.column_width)
             .ceil()

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::block_error::{BlockSums, ERROR_BLOCKS};
 use super::error::MeasureError;
-use super::frame::{FrameView, TimeWindow};
+use super::snapshot::{Snapshot, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
 
 /// Default width of the time bins of W(t) [s]: docs/physics.md §7 asks for 0.02–0.05 s bins; the
@@ -399,7 +399,7 @@ impl CrossingProbe {
     }
 
     /// Observes one frame; returns the number of downward crossings found since the last one.
-    pub fn observe(&mut self, frame: &FrameView<'_>) -> Result<usize, MeasureError> {
+    pub fn observe(&mut self, frame: &Snapshot<'_>) -> Result<usize, MeasureError> {
         frame.validate()?;
         if let Some(previous) = self.record.last_time {
             if !(frame.time > previous) {

@@ -1,6 +1,6 @@
 //! Outlet and bulk measurements on particle snapshots (docs/physics.md §7; paper Secs. 2–4).
 //!
-//! Probes observe a plain [`FrameView`] and never touch the engine. Each probe stores a
+//! Probes observe a plain [`Snapshot`] and never touch the engine. Each probe stores a
 //! serialisable record (`*Record`) from which the window-dependent results are derived
 //! after the run, once the steady window is known:
 //!
@@ -23,7 +23,7 @@ mod bulk;
 mod crossing;
 mod disc_area;
 mod error;
-mod frame;
+mod snapshot;
 mod geometry;
 mod radial;
 mod silo_bulk;
@@ -40,7 +40,7 @@ pub use crossing::{
 };
 pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
 pub use error::MeasureError;
-pub use frame::{FrameView, TimeWindow};
+pub use snapshot::{Snapshot, TimeWindow};
 pub use geometry::{OutletBins, OutletGeometry, OutletShape, CENTRE_HALF_WIDTH};
 pub use radial::{radial_profiles, RadialBin, RadialBins, RadialPackingProbe};
 pub use silo_bulk::{bed_bulk, silo_bulk};

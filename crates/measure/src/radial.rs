@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::block_error::BlockSums;
 use super::crossing::CrossingRecord;
 use super::error::MeasureError;
-use super::frame::{FrameView, TimeWindow};
+use super::snapshot::{Snapshot, TimeWindow};
 
 /// Equal-width annuli over the orifice disc.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -137,7 +137,7 @@ impl RadialPackingProbe {
 
     /// Measures one frame: the particles that reach into the slab count with the part of
     /// their volume inside each annulus.
-    pub fn observe(&mut self, frame: &FrameView<'_>) -> Result<(), MeasureError> {
+    pub fn observe(&mut self, frame: &Snapshot<'_>) -> Result<(), MeasureError> {
         frame.validate()?;
         let (lower, upper) = (
             self.outlet_height - 0.5 * self.slab_height,

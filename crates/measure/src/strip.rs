@@ -21,7 +21,7 @@ use super::block_error::BlockSums;
 use super::crossing::mean_of;
 use super::disc_area::{overlap_area, section_radius, Disc, Rectangle};
 use super::error::MeasureError;
-use super::frame::{FrameView, TimeWindow};
+use super::snapshot::{Snapshot, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
 
 /// How the strip is laid out.
@@ -236,7 +236,7 @@ impl StripProbe {
     }
 
     /// Adds one frame's per-bin sums.
-    pub fn observe(&mut self, frame: &FrameView<'_>) -> Result<(), MeasureError> {
+    pub fn observe(&mut self, frame: &Snapshot<'_>) -> Result<(), MeasureError> {
         frame.validate()?;
         if let Some(last) = self.record.frames.last() {
             if !(frame.time > last.time) {

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::crossing::{CrossingRecord, VelocityProfile};
 use super::error::MeasureError;
-use super::frame::TimeWindow;
+use super::snapshot::TimeWindow;
 use super::strip::{AreaFractionProfile, StripRecord};
 
 /// Centre values and the three discharge-rate estimates over one window.

@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::MeasureError;
-use super::frame::{FrameView, TimeWindow};
+use super::snapshot::{Snapshot, TimeWindow};
 use super::geometry::OutletGeometry;
 
 /// Default time-block length [s], matching the W(t) bins.
@@ -275,7 +275,7 @@ impl VelocityFieldProbe {
     }
 
     /// Adds one frame.
-    pub fn observe(&mut self, frame: &FrameView<'_>) -> Result<(), MeasureError> {
+    pub fn observe(&mut self, frame: &Snapshot<'_>) -> Result<(), MeasureError> {
         frame.validate()?;
         if let Some(previous) = self.last_time {
             if !(frame.time > previous) {

@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use super::block_error::{BlockSums, ERROR_BLOCKS};
 use super::crossing::CrossingRecord;
-use super::frame::TimeWindow;
+use super::snapshot::TimeWindow;
 use super::geometry::OutletBins;
 
 /// One x-bin of the profiles of a 3D slot or rectangle.

@@ -53,7 +53,7 @@ pub use packing::{
     PackingProblem, PACKING_COLUMNS, PACKING_OVERLAP_FRACTION, RADIUS_TOLERANCE,
     REQUIRED_PACKING_COLUMNS,
 };
-pub use protocol::{outlet_geometry, CaseRun, Frame, Phase, RunState};
+pub use protocol::{outlet_geometry, CaseRun, OwnedSnapshot, Phase, RunState};
 pub use simulation::{
     case_simulation, case_simulation_by_component, contact_laws, lattice_bed, sample_radius,
     slab_simulation,

@@ -25,7 +25,7 @@ use case::{Case, Geometry};
 use files::{
     area_fraction_profile_figure, discharge_rate_figure, plot_png, plot_svg,
     velocity_profile_figure, wall_pressure_figure, write_csv_table, write_frame_png,
-    write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameView,
+    write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameViewport,
     ParticleFields, Profile, PvdCollection, PvdEntry, WallSegment,
 };
 use files::{CaseSummary, ProfileRow, RadialFit, StopReason};
@@ -244,7 +244,7 @@ impl Pictures {
                         speed: p.velocities()[k].length(),
                     })
                     .collect();
-                let view = FrameView::fitted(
+                let view = FrameViewport::fitted(
                     self.x_range,
                     (-0.02, self.geometry_height),
                     1200,

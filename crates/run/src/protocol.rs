@@ -17,7 +17,7 @@ use case::{Case, Geometry, MeshOutlet};
 use files::StopReason;
 use measure::{
     bed_bulk, silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid,
-    FrameView, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
+    Snapshot, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
     StripConfig, StripProbe, VelocityFieldProbe,
 };
 
@@ -754,7 +754,7 @@ impl CaseRun {
             0.0,
             outlet.particle_diameter,
         )?;
-        let frame = Frame::of(&self.sim.watched(), |_| true);
+        let frame = OwnedSnapshot::of(&self.sim.watched(), |_| true);
         Ok(probe.measure(&frame.view(self.sim.time(), self.case.particles.density()))?)
     }
 
@@ -776,7 +776,7 @@ impl CaseRun {
             taken = (taken + every).min(chunk);
             state.wall_forces.observe(seen, first + taken);
             let t = seen.time();
-            let frame = Frame::of_with_masses(seen, |x| x.z.abs() < band, masses);
+            let frame = OwnedSnapshot::of_with_masses(seen, |x| x.z.abs() < band, masses);
             if state.crossing.observe(&frame.view(t, density))? > 0 {
                 last_crossing = t;
             }
@@ -784,17 +784,17 @@ impl CaseRun {
             if t >= state.next_frame {
                 state.next_frame += case.measure.frame_interval;
                 if let Some(probe) = &mut state.strip {
-                    let strip = Frame::of_with_masses(seen, |x| x.z.abs() < d, masses);
+                    let strip = OwnedSnapshot::of_with_masses(seen, |x| x.z.abs() < d, masses);
                     probe.observe(&strip.view(t, density))?;
                 }
                 if let Some(probe) = &mut state.field {
-                    let all = Frame::of_with_masses(seen, |_| true, masses);
+                    let all = OwnedSnapshot::of_with_masses(seen, |_| true, masses);
                     probe.observe(&all.view(t, density))?;
                 }
                 if let Some(probe) = &mut state.radial {
                     // Spheres reaching into the slab |z| ≤ h/2 have |z| < h/2 + r_max.
                     let reach = 0.5 * case.measure.strip_height + case.particles.max_diameter();
-                    let slab = Frame::of_with_masses(seen, |x| x.z.abs() < reach, masses);
+                    let slab = OwnedSnapshot::of_with_masses(seen, |x| x.z.abs() < reach, masses);
                     probe.observe(&slab.view(t, density))?;
                 }
             }
@@ -898,7 +898,7 @@ impl CaseRun {
 }
 
 /// Particle data copied out of the engine for the probes (they take plain arrays).
-pub struct Frame {
+pub struct OwnedSnapshot {
     ids: Vec<u64>,
     positions: Vec<[f64; 3]>,
     velocities: Vec<[f64; 3]>,
@@ -907,7 +907,7 @@ pub struct Frame {
     masses: Option<Vec<f64>>,
 }
 
-impl Frame {
+impl OwnedSnapshot {
     /// The particles whose position satisfies `keep`.
     pub fn of(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool) -> Self {
         Self::of_with_masses(p, keep, false)
@@ -916,7 +916,7 @@ impl Frame {
     /// The particles whose position satisfies `keep`, with each one's mass from the engine
     /// when `masses` (particles of several materials, whose masses no one density gives).
     pub fn of_with_masses(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool, masses: bool) -> Self {
-        let mut f = Frame {
+        let mut f = OwnedSnapshot {
             ids: Vec::new(),
             positions: Vec::new(),
             velocities: Vec::new(),
@@ -940,8 +940,8 @@ impl Frame {
 
     /// A probe view at time `time` [s] for particle density `density` [kg/m³] (used where
     /// the frame holds no masses of its own).
-    pub fn view(&self, time: f64, density: f64) -> FrameView<'_> {
-        FrameView {
+    pub fn view(&self, time: f64, density: f64) -> Snapshot<'_> {
+        Snapshot {
             time,
             ids: &self.ids,
             positions: &self.positions,

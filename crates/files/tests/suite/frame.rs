@@ -2,15 +2,15 @@
 //! walls, colour bar, time label, clipping, PNG output.
 
 use files::{
-    render_frame, viridis, write_frame_png, FrameParticle, FrameView, OutputError, WallSegment,
+    render_frame, viridis, write_frame_png, FrameParticle, FrameViewport, OutputError, WallSegment,
 };
 
 const WHITE: [u8; 3] = [255, 255, 255];
 
 /// A 0.1 m × 0.4 m hopper at 1000 px/m (100 × 400 px), small enough to render in
 /// milliseconds; speeds 0–1 m/s span the colour map.
-fn small_view() -> FrameView {
-    FrameView {
+fn small_view() -> FrameViewport {
+    FrameViewport {
         x_range: (0.0, 0.1),
         z_range: (0.0, 0.4),
         pixels_per_metre: 1000.0,
@@ -144,7 +144,7 @@ fn time_label_and_tick_labels_are_drawn_as_text() {
 
 #[test]
 fn fitted_view_keeps_the_aspect_ratio_and_maps_corners() {
-    let view = FrameView::fitted((0.0, 0.1), (0.0, 0.4), 1600, (0.0, 1.0));
+    let view = FrameViewport::fitted((0.0, 0.1), (0.0, 0.4), 1600, (0.0, 1.0));
     let layout = view.layout().expect("layout");
     // 0.1 m × 0.4 m at 1600 px for 0.4 m: 4000 px/m, so 400 × 1600 px.
     assert_eq!((layout.domain_width, layout.domain_height), (400, 1600));
@@ -180,7 +180,7 @@ fn discs_outside_the_view_are_clipped_at_its_edge() {
 fn full_size_frame_of_three_thousand_particles_is_written_as_png() {
     let directory = tempfile::tempdir().expect("temporary directory");
     let path = directory.path().join("frame_0001.png");
-    let view = FrameView::fitted((-0.002, 0.102), (-0.02, 0.4), 1600, (0.0, 1.5));
+    let view = FrameViewport::fitted((-0.002, 0.102), (-0.02, 0.4), 1600, (0.0, 1.5));
     let layout = view.layout().expect("layout");
     // A packed block of 3 mm discs: 30 columns × 100 rows.
     let particles: Vec<FrameParticle> = (0..3000)

@@ -1,7 +1,7 @@
 //! Bulk volume fraction φ_B, bed height and the container cross-section.
 
 use measure::{
-    sphere_volume_below, BulkProbe, ContainerOutline, CrossSection, FrameView, OutletGeometry,
+    sphere_volume_below, BulkProbe, ContainerOutline, CrossSection, Snapshot, OutletGeometry,
 };
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -88,7 +88,7 @@ fn square_monolayer_gives_two_thirds_of_the_disc_fraction_as_volume_fraction() {
     let rows = 20;
     let positions = square_packing(rows);
     let (ids, velocities, radii) = frame(&positions);
-    let view = FrameView {
+    let view = Snapshot {
         time: 0.0,
         ids: &ids,
         positions: &positions,
@@ -116,7 +116,7 @@ fn closure_cross_section_and_cut_depth_are_honoured() {
     let rows = 10;
     let positions = square_packing(rows);
     let (ids, velocities, radii) = frame(&positions);
-    let view = FrameView {
+    let view = Snapshot {
         time: 0.0,
         ids: &ids,
         positions: &positions,
@@ -157,7 +157,7 @@ fn bed_height_is_the_mean_of_column_tops() {
         }
     }
     let (ids, velocities, radii) = frame(&positions);
-    let view = FrameView {
+    let view = Snapshot {
         time: 0.0,
         ids: &ids,
         positions: &positions,

@@ -1,6 +1,6 @@
 //! Outlet crossings: interpolation, the velocity profile, tallies and the discharge series.
 
-use measure::{CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry, TimeWindow};
+use measure::{CrossingProbe, Snapshot, MeasureError, OutletBins, OutletGeometry, TimeWindow};
 use std::f64::consts::PI;
 
 const D: f64 = 3.0e-3;
@@ -41,8 +41,8 @@ impl Ballistic {
         }
     }
 
-    fn view(&self, time: f64) -> FrameView<'_> {
-        FrameView {
+    fn view(&self, time: f64) -> Snapshot<'_> {
+        Snapshot {
             time,
             ids: &self.ids,
             positions: &self.positions,
@@ -244,7 +244,7 @@ fn frames_out_of_order_or_inconsistent_are_rejected() {
         probe.observe(&state.view(0.005)),
         Err(MeasureError::TimeNotIncreasing { .. })
     ));
-    let bad = FrameView {
+    let bad = Snapshot {
         radii: &[],
         ..state.view(0.02)
     };

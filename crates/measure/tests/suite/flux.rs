@@ -1,7 +1,7 @@
 //! Flux check W = (2/3) ρ_p d ∫ φ v dx against the counted crossing rate for uniform flow.
 
 use measure::{
-    flux_from_profiles, CrossingProbe, FrameView, MeasureError, OutletBins, OutletGeometry,
+    flux_from_profiles, CrossingProbe, Snapshot, MeasureError, OutletBins, OutletGeometry,
     OutletSummary, StripConfig, StripProbe, TimeWindow,
 };
 use std::f64::consts::PI;
@@ -71,7 +71,7 @@ fn run(
     for k in 0..=frames_per_period * periods {
         let t = k as f64 * dt;
         let (ids, positions, velocities, radii) = lattice_at(t);
-        let frame = FrameView {
+        let frame = Snapshot {
             time: t,
             ids: &ids,
             positions: &positions,
@@ -142,7 +142,7 @@ fn flux_from_profiles_needs_matching_bins() {
     let mut strip =
         StripProbe::new(StripConfig::new(g, OutletBins::across(&g, 8).unwrap())).unwrap();
     let (ids, positions, velocities, radii) = lattice_at(0.0);
-    let frame = FrameView {
+    let frame = Snapshot {
         time: 0.0,
         ids: &ids,
         positions: &positions,

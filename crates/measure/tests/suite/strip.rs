@@ -1,7 +1,7 @@
 //! Strip area fraction φ(x), ⟨φ v⟩ and the snapshot speed on synthetic packings with known answers.
 
 use measure::{
-    FrameView, MeasureError, OutletBins, OutletGeometry, StripConfig, StripProbe, TimeWindow,
+    Snapshot, MeasureError, OutletBins, OutletGeometry, StripConfig, StripProbe, TimeWindow,
 };
 use std::f64::consts::PI;
 
@@ -19,7 +19,7 @@ fn geometry() -> OutletGeometry {
     }
 }
 
-/// Owned particle arrays for building a `FrameView`.
+/// Owned particle arrays for building a `Snapshot`.
 struct Particles {
     ids: Vec<u64>,
     positions: Vec<[f64; 3]>,
@@ -38,8 +38,8 @@ impl Particles {
         }
     }
 
-    fn view(&self, time: f64) -> FrameView<'_> {
-        FrameView {
+    fn view(&self, time: f64) -> Snapshot<'_> {
+        Snapshot {
             time,
             ids: &self.ids,
             positions: &self.positions,

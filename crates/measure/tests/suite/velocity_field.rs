@@ -1,7 +1,7 @@
 //! Coarse-grained velocity field: uniform flows, mass conservation and window selection.
 
 use measure::{
-    FieldGrid, FrameView, Kernel, MeasureError, OutletGeometry, TimeWindow, VelocityFieldProbe,
+    FieldGrid, Snapshot, Kernel, MeasureError, OutletGeometry, TimeWindow, VelocityFieldProbe,
     DEFAULT_BLOCK_DURATION,
 };
 use std::f64::consts::PI;
@@ -41,7 +41,7 @@ fn lattice(spacing: f64, velocity: [f64; 3]) -> Arrays {
 fn observe(probe: &mut VelocityFieldProbe, t: f64, spacing: f64, velocity: [f64; 3]) {
     let (ids, positions, velocities, radii) = lattice(spacing, velocity);
     probe
-        .observe(&FrameView {
+        .observe(&Snapshot {
             time: t,
             ids: &ids,
             positions: &positions,
@@ -104,7 +104,7 @@ fn gaussian_kernel_conserves_mass_to_its_quadrature_error() {
     let mut probe =
         VelocityFieldProbe::new(grid, Kernel::Gaussian { width }, DEFAULT_BLOCK_DURATION).unwrap();
     probe
-        .observe(&FrameView {
+        .observe(&Snapshot {
             time: 0.0,
             ids: &[1],
             positions: &[[0.0003, 1.5e-3, 0.0201]],

@@ -11,7 +11,7 @@ use super::error::MeasureError;
 ///
 /// The engine side fills it from its own storage; nothing here depends on the engine.
 #[derive(Debug, Clone, Copy)]
-pub struct FrameView<'a> {
+pub struct Snapshot<'a> {
     /// Simulation time of the snapshot [s].
     pub time: f64,
     /// Stable particle identifiers; a removed particle's id is never reused.
@@ -29,7 +29,7 @@ pub struct FrameView<'a> {
     pub masses: Option<&'a [f64]>,
 }
 
-impl FrameView<'_> {
+impl Snapshot<'_> {
     /// Number of particles in the frame.
     pub fn len(&self) -> usize {
         self.ids.len()
