@@ -39,7 +39,21 @@ enum Command {
     Verify(verify_cmd::VerifyArgs),
 }
 
+/// Sends the warnings of every part of the program to standard error, as `warning: …` lines;
+/// `HOPPERFLOW_LOG` (for example `HOPPERFLOW_LOG=debug`) shows more.
+fn install_warnings() {
+    let filter = tracing_subscriber::EnvFilter::try_from_env("HOPPERFLOW_LOG")
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn"));
+    tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .without_time()
+        .with_target(false)
+        .init();
+}
+
 fn main() {
+    install_warnings();
     signals::quiet_broken_pipe();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
