@@ -2,15 +2,16 @@
 //! Slurm array job with one case per task, its progress, one task, and the collection of the
 //! case folders into `results.csv` and the report.
 //!
-//! The study crate does the work (`study::cluster`); this module turns the flags into its
+//! The study crate does the work (`study::write_jobs`, `study::case_statuses`); this module turns the flags into its
 //! options and prints what it returns.
 
 use std::path::{Path, PathBuf};
 
 use case::SweepPlan;
 use clap::Args;
-use study::cluster::{self, JobsError, SlurmOptions, TimeLimit};
-use study::sweep::{collect_study, run_task, SimulationRunner, TaskOutcome};
+use study::{
+    collect_study, run_task, JobsError, SimulationRunner, SlurmOptions, TaskOutcome, TimeLimit,
+};
 
 use crate::run_cmd::EXIT_BAD_INPUT;
 use crate::signals::EXIT_STOPPED;
@@ -103,7 +104,7 @@ pub fn write_jobs(
             return EXIT_BAD_INPUT;
         }
     };
-    let jobs = match cluster::write_jobs(plan, sweep_text, out, command, &options, args.submit) {
+    let jobs = match study::write_jobs(plan, sweep_text, out, command, &options, args.submit) {
         Ok(jobs) => jobs,
         Err(e) => {
             eprintln!("error: {e}");
@@ -144,7 +145,7 @@ pub fn write_jobs(
 
 /// `--status`: every case's state, and the counts.
 pub fn status(out: &Path) -> i32 {
-    let cases = match cluster::case_statuses(out) {
+    let cases = match study::case_statuses(out) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");

@@ -18,7 +18,7 @@ use case::{
 use files::CaseStatus;
 use indicatif::{ProgressBar, ProgressStyle};
 use run::Start;
-use study::sweep::{run_study, SimulationRunner, StudyError, StudyEvent, StudyOptions};
+use study::{run_study, SimulationRunner, StudyError, StudyEvent, StudyOptions};
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -200,7 +200,7 @@ pub fn run(args: StudyArgs) -> i32 {
     // A study from one bed: every case checked against it before anything is written.
     let (plan, start) = match &args.from_bed {
         None => (plan, Start::Fill),
-        Some(dir) => match study::sweep::plan_from_bed_dir(plan, dir) {
+        Some(dir) => match study::plan_from_bed_dir(plan, dir) {
             Ok(planned) => planned,
             Err(e) => {
                 eprintln!("error: {e}");
@@ -231,7 +231,7 @@ pub fn run(args: StudyArgs) -> i32 {
     }
     // A folder of another sweep, or a case folder of other inputs, is refused before
     // anything in it changes.
-    if let Err(e) = study::sweep::check_study_dir(&plan, &out) {
+    if let Err(e) = study::check_study_dir(&plan, &out) {
         eprintln!("error: {e}");
         return exit_code_of(&e);
     }

@@ -19,8 +19,8 @@ use serde::{Deserialize, Serialize};
 
 use super::disc_area::{overlap_area, Disc, Rectangle};
 use super::error::MeasureError;
-use super::snapshot::Snapshot;
 use super::geometry::OutletGeometry;
+use super::snapshot::Snapshot;
 
 /// The container's inner cross-section in the (x, z) plane.
 pub trait CrossSection {

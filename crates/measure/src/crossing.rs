@@ -14,8 +14,8 @@ use serde::{Deserialize, Serialize};
 
 use super::block_error::{BlockSums, ERROR_BLOCKS};
 use super::error::MeasureError;
-use super::snapshot::{Snapshot, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
+use super::snapshot::{Snapshot, TimeWindow};
 
 /// Default width of the time bins of W(t) [s]: docs/physics.md §7 asks for 0.02–0.05 s bins; the
 /// short end keeps the rising and falling phases visible for a silo that empties in < 1 s.

@@ -23,10 +23,10 @@ mod bulk;
 mod crossing;
 mod disc_area;
 mod error;
-mod snapshot;
 mod geometry;
 mod radial;
 mod silo_bulk;
+mod snapshot;
 mod strip;
 mod summary;
 mod velocity_field;
@@ -40,10 +40,10 @@ pub use crossing::{
 };
 pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
 pub use error::MeasureError;
-pub use snapshot::{Snapshot, TimeWindow};
 pub use geometry::{OutletBins, OutletGeometry, OutletShape, CENTRE_HALF_WIDTH};
 pub use radial::{radial_profiles, RadialBin, RadialBins, RadialPackingProbe};
 pub use silo_bulk::{bed_bulk, silo_bulk};
+pub use snapshot::{Snapshot, TimeWindow};
 pub use strip::{
     AreaFractionBin, AreaFractionProfile, StripConfig, StripFrame, StripProbe, StripRecord,
 };

@@ -21,8 +21,8 @@ use super::block_error::BlockSums;
 use super::crossing::mean_of;
 use super::disc_area::{overlap_area, section_radius, Disc, Rectangle};
 use super::error::MeasureError;
-use super::snapshot::{Snapshot, TimeWindow};
 use super::geometry::{OutletBins, OutletGeometry};
+use super::snapshot::{Snapshot, TimeWindow};
 
 /// How the strip is laid out.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

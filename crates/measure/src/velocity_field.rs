@@ -14,8 +14,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::MeasureError;
-use super::snapshot::{Snapshot, TimeWindow};
 use super::geometry::OutletGeometry;
+use super::snapshot::{Snapshot, TimeWindow};
 
 /// Default time-block length [s], matching the W(t) bins.
 pub const DEFAULT_BLOCK_DURATION: f64 = 0.02;

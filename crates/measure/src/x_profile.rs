@@ -17,8 +17,8 @@ use serde::{Deserialize, Serialize};
 
 use super::block_error::{BlockSums, ERROR_BLOCKS};
 use super::crossing::CrossingRecord;
-use super::snapshot::TimeWindow;
 use super::geometry::OutletBins;
+use super::snapshot::TimeWindow;
 
 /// One x-bin of the profiles of a 3D slot or rectangle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -12,7 +12,7 @@ use files::CaseStatus;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use run::Start;
-use study::sweep::{SimulationRunner, StudyEvent, StudyOptions};
+use study::{SimulationRunner, StudyEvent, StudyOptions};
 
 use crate::errors::{case_error, RunError};
 use crate::run::{checked_threads, panic_text};
@@ -91,10 +91,10 @@ pub fn run_study<'py>(
     // A study from one bed (`hopperflow study --from-bed`): every case checked against it.
     let (plan, start) = match from_bed {
         None => (plan, Start::Fill),
-        Some(dir) => study::sweep::plan_from_bed_dir(plan, &dir)
+        Some(dir) => study::plan_from_bed_dir(plan, &dir)
             .map_err(|e| PyValueError::new_err(e.to_string()))?,
     };
-    study::sweep::check_study_dir(&plan, &out).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    study::check_study_dir(&plan, &out).map_err(|e| PyValueError::new_err(e.to_string()))?;
     std::fs::create_dir_all(&out)?;
     files::write_atomic(out.join("sweep.toml"), text.as_bytes())
         .map_err(|e| RunError::new_err(e.to_string()))?;
@@ -165,7 +165,7 @@ pub fn run_study<'py>(
                 sink.lock().unwrap_or_else(|e| e.into_inner()).push(line);
             };
             let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                study::sweep::run_study(&plan, &root, &runner, &options, &observer)
+                study::run_study(&plan, &root, &runner, &options, &observer)
             }));
             let _ = tx.send(result);
         })

@@ -17,7 +17,7 @@ use case::{Case, Geometry, MeshOutlet};
 use files::StopReason;
 use measure::{
     bed_bulk, silo_bulk, BulkMeasurement, BulkProbe, ContainerOutline, CrossingProbe, FieldGrid,
-    Snapshot, Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe,
+    Kernel, OutletBins, OutletGeometry, OutletShape, RadialBins, RadialPackingProbe, Snapshot,
     StripConfig, StripProbe, VelocityFieldProbe,
 };
 

@@ -9,5 +9,17 @@
 
 #![warn(missing_docs)]
 
-pub mod cluster;
-pub mod sweep;
+mod cluster;
+mod sweep;
+
+pub use cluster::{
+    array_script, case_statuses, job_name, known_partitions, on_path, queued_cases, report_script,
+    sbatch, shell_quote, write_jobs, CaseStanding, Jobs, JobsError, SlurmOptions, Submission,
+    TimeLimit, SUBMISSIONS_FILE, TIME_FORMATS,
+};
+pub use sweep::{
+    case_states, check_study_dir, collect_study, expected_cost, failed_row, manifest_of_plan,
+    measured_row, plan_from_bed, plan_from_bed_dir, prepare_study, run_study, run_task, CaseRunner,
+    CaseState, Collected, SimulationRunner, StudyError, StudyEvent, StudyOptions, StudyOutcome,
+    TaskOutcome, STOPPED,
+};

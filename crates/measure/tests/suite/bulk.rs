@@ -1,7 +1,7 @@
 //! Bulk volume fraction φ_B, bed height and the container cross-section.
 
 use measure::{
-    sphere_volume_below, BulkProbe, ContainerOutline, CrossSection, Snapshot, OutletGeometry,
+    sphere_volume_below, BulkProbe, ContainerOutline, CrossSection, OutletGeometry, Snapshot,
 };
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 

@@ -1,6 +1,6 @@
 //! Outlet crossings: interpolation, the velocity profile, tallies and the discharge series.
 
-use measure::{CrossingProbe, Snapshot, MeasureError, OutletBins, OutletGeometry, TimeWindow};
+use measure::{CrossingProbe, MeasureError, OutletBins, OutletGeometry, Snapshot, TimeWindow};
 use std::f64::consts::PI;
 
 const D: f64 = 3.0e-3;

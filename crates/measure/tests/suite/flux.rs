@@ -1,8 +1,8 @@
 //! Flux check W = (2/3) ρ_p d ∫ φ v dx against the counted crossing rate for uniform flow.
 
 use measure::{
-    flux_from_profiles, CrossingProbe, Snapshot, MeasureError, OutletBins, OutletGeometry,
-    OutletSummary, StripConfig, StripProbe, TimeWindow,
+    flux_from_profiles, CrossingProbe, MeasureError, OutletBins, OutletGeometry, OutletSummary,
+    Snapshot, StripConfig, StripProbe, TimeWindow,
 };
 use std::f64::consts::PI;
 

@@ -1,7 +1,7 @@
 //! Strip area fraction φ(x), ⟨φ v⟩ and the snapshot speed on synthetic packings with known answers.
 
 use measure::{
-    Snapshot, MeasureError, OutletBins, OutletGeometry, StripConfig, StripProbe, TimeWindow,
+    MeasureError, OutletBins, OutletGeometry, Snapshot, StripConfig, StripProbe, TimeWindow,
 };
 use std::f64::consts::PI;
 

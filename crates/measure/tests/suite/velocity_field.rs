@@ -1,7 +1,7 @@
 //! Coarse-grained velocity field: uniform flows, mass conservation and window selection.
 
 use measure::{
-    FieldGrid, Snapshot, Kernel, MeasureError, OutletGeometry, TimeWindow, VelocityFieldProbe,
+    FieldGrid, Kernel, MeasureError, OutletGeometry, Snapshot, TimeWindow, VelocityFieldProbe,
     DEFAULT_BLOCK_DURATION,
 };
 use std::f64::consts::PI;

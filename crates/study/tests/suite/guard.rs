@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use case::parse_sweep;
 use files::CHECKPOINT_FILE;
 use run::{run_case, RunError, RunOptions, RunOutcome};
-use study::sweep::{check_study_dir, StudyError};
+use study::{check_study_dir, StudyError};
 
 /// Every file under `dir` with its bytes.
 fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
@@ -87,14 +87,14 @@ digits = 3
         }
         other => panic!("expected CaseFolder, got {other:?}"),
     }
-    let err = study::sweep::run_study(
+    let err = study::run_study(
         &plan,
         root.path(),
-        &study::sweep::SimulationRunner {
+        &study::SimulationRunner {
             pictures: false,
             ..Default::default()
         },
-        &study::sweep::StudyOptions::default(),
+        &study::StudyOptions::default(),
         &|_| {},
     )
     .unwrap_err();

@@ -9,7 +9,7 @@ use std::path::Path;
 use case::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
 use report::{analyse_study, build_report, load_study};
 use serde_json::Value;
-use study::sweep::{run_study, StudyEvent, StudyOptions};
+use study::{run_study, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
 
 fn quiet(_: &StudyEvent) {}

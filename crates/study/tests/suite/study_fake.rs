@@ -30,7 +30,7 @@ use measure::{RadialBin, RadialBins};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use run::{fit_radial, write_radial_profiles};
-use study::sweep::CaseRunner;
+use study::CaseRunner;
 
 /// Gravitational acceleration used by the fake [m/s²] (the analysis uses the same).
 pub const GRAVITY: f64 = 9.81;

@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use case::{parse_sweep, SweepCase};
 use files::CaseSummary;
 use run::{run_case, RunOptions, RunOutcome};
-use study::sweep::{run_study, CaseRunner, SimulationRunner, StudyEvent, StudyOptions};
+use study::{run_study, CaseRunner, SimulationRunner, StudyEvent, StudyOptions};
 
 /// Two cases of 150 spheres in a 45 mm wide, flat-bottomed hopper, outlet 15 and 18 mm
 /// (5 and 6 d), stopped after 80 % of the mass or 1 s of discharge.

@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 
 use case::{parse_sweep, SweepPlan};
 use files::{read_results_table, CaseStatus};
-use study::sweep::{run_study, StudyError, StudyEvent, StudyOptions};
+use study::{run_study, StudyError, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
 
 /// Six cases: two hopper angles × three outlet widths.
@@ -215,7 +215,7 @@ fn one_worker_runs_the_smallest_outlets_first() {
     let costs: Vec<f64> = plan
         .cases
         .iter()
-        .map(|c| study::sweep::expected_cost(&c.case))
+        .map(|c| study::expected_cost(&c.case))
         .collect();
     assert!(costs.iter().all(|c| c.is_finite() && *c > 0.0));
 }
