@@ -41,12 +41,15 @@ pub struct InteractionSpec {
 }
 
 impl InteractionSpec {
-    /// Table 1, both particle–particle and particle–wall: μ = 0.5, μ_r = 0.01, e = 0.2.
-    pub fn paper() -> Self {
+    /// Table 1, both particle–particle and particle–wall: the engine's
+    /// [`dem::Interaction::fan2023`] (μ = 0.5, μ_r = 0.01, e = 0.2), the one place that
+    /// holds these numbers.
+    pub fn fan2023() -> Self {
+        let table1 = dem::Interaction::fan2023();
         Self {
-            friction: 0.5,
-            rolling_friction: 0.01,
-            restitution: 0.2,
+            friction: table1.friction,
+            rolling_friction: table1.rolling_friction,
+            restitution: table1.restitution,
         }
     }
 }
@@ -241,10 +244,10 @@ impl Case {
             particles: ParticleSpec::paper(),
             wall: WallSpec {
                 material: WallMaterialSpec::SameAsParticle,
-                interaction: InteractionSpec::paper(),
+                interaction: InteractionSpec::fan2023(),
             },
             contact: ContactSpec {
-                particle: InteractionSpec::paper(),
+                particle: InteractionSpec::fan2023(),
                 tangential: TangentialLawSpec::MindlinNoSlip,
                 rolling: RollingLawSpec::ConstantTorque,
                 normal_clamp: false,

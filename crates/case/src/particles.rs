@@ -17,12 +17,15 @@ pub struct MaterialSpec {
 }
 
 impl MaterialSpec {
-    /// Table 1: ρ_p = 2500 kg/m³, G = 1e8 Pa, ν = 0.25.
-    pub fn paper() -> Self {
+    /// Table 1: the engine's [`dem::Material::fan2023`] (ρ_p = 2500 kg/m³, G = 1e8 Pa,
+    /// ν = 0.25), the one place that holds these numbers. G comes back from E = 2G(1+ν)
+    /// exactly: 2.5e8 / 2.5 is 1e8 with no rounding.
+    pub fn fan2023() -> Self {
+        let table1 = dem::Material::fan2023();
         Self {
-            density: 2500.0,
-            shear_modulus: 1.0e8,
-            poisson_ratio: 0.25,
+            density: table1.density,
+            shear_modulus: table1.shear_modulus(),
+            poisson_ratio: table1.poisson_ratio,
         }
     }
 
@@ -245,7 +248,7 @@ impl ParticleSpec {
         Self::single(
             3000,
             SizeDistribution::Monodisperse { diameter: 3.0e-3 },
-            MaterialSpec::paper(),
+            MaterialSpec::fan2023(),
         )
     }
 

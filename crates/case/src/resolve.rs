@@ -250,7 +250,7 @@ fn read_interaction(
     section: &mut Section<'_>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<InteractionSpec> {
-    let paper = InteractionSpec::paper();
+    let paper = InteractionSpec::fan2023();
     let friction = section.float_or("friction", "", paper.friction, errors);
     let rolling = section.float_or("rolling_friction", "", paper.rolling_friction, errors);
     let restitution = section.float_or("restitution", "", paper.restitution, errors);
@@ -647,7 +647,7 @@ fn read_wall(
     let material = if is_table {
         read_material(
             &mut section.section("material", errors),
-            MaterialSpec::paper(),
+            MaterialSpec::fan2023(),
             errors,
         )
         .map(|(material, _)| WallMaterialSpec::Custom(material))

@@ -122,7 +122,7 @@ fn read_particle_material(
         }
         None => read_material(
             &mut section.section("material", errors),
-            MaterialSpec::paper(),
+            MaterialSpec::fan2023(),
             errors,
         )
         .map(|(material, sources)| (material, sources, None)),
