@@ -16,7 +16,7 @@ use crate::history::{settle, LIVE, WAS_LIVE};
 use crate::material::PairCoefficients;
 use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
-use crate::wall::{Wall, WallShape};
+use crate::wall::Wall;
 
 mod accumulator;
 mod chunked;

@@ -10,6 +10,8 @@
 use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::geometry::{NearCache, SurfaceElements, WallGeometry};
+use super::mesh::{MeshContact, MeshScratch};
 use super::WallError;
 
 /// A cylinder or cone frustum about an axis.
@@ -89,17 +91,6 @@ impl Frustum {
         self.radii
     }
 
-    /// Moves the frustum by `offset` [m].
-    pub(super) fn translate(&mut self, offset: DVec3) {
-        self.base += offset;
-    }
-
-    /// Turns the frustum by `rotation` about the world point `centre` [m].
-    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
-        self.base = centre + rotation * (self.base - centre);
-        self.axis = (rotation * self.axis).normalize();
-    }
-
     /// Height along the axis from the base and the unit radial direction of `x` (a fixed
     /// perpendicular of the axis when `x` lies on it), with the distance from the axis [m].
     #[inline]
@@ -118,9 +109,9 @@ impl Frustum {
 
     /// Closest point of the surface to `x`, its distance and the position along the axis
     /// of the closest point as a fraction of the length (0 at the base; 0.5 for an infinite
-    /// cylinder).
+    /// cylinder), which gives the contact's band.
     #[inline]
-    pub fn closest_point(&self, x: DVec3) -> (DVec3, f64, f64) {
+    pub fn closest_point_and_height(&self, x: DVec3) -> (DVec3, f64, f64) {
         let (s, radial, rho) = self.meridian(x);
         let [r0, r1] = self.radii;
         let (t, rc, sc) = if self.length.is_infinite() {
@@ -135,11 +126,21 @@ impl Frustum {
         let d = ((rho - rc).powi(2) + (s - sc).powi(2)).sqrt();
         (p, d, t)
     }
+}
+
+impl WallGeometry for Frustum {
+    /// [`Frustum::closest_point_and_height`] without the height; out of line, so that the
+    /// loops of the shapes that call it through [`super::Wall`] inline none of its code.
+    #[inline(never)]
+    fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
+        let (p, d, _) = self.closest_point_and_height(x);
+        (p, d)
+    }
 
     /// Contact normal (surface to sphere) for a sphere at `x` whose closest point is `p` at
     /// distance `dist`: along x − p, or the surface's meridian normal when x lies on it.
     #[inline]
-    pub(super) fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
+    fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
         if dist > 0.0 {
             return (x - p) / dist;
         }
@@ -156,13 +157,61 @@ impl Frustum {
     /// True when `x` is certainly farther than `reach` [m] from the surface: beyond either
     /// end, or outside the widest or inside the narrowest radius, by more than `reach`.
     #[inline]
-    pub(super) fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
+    fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
         let (s, _, rho) = self.meridian(x);
         let [r0, r1] = self.radii;
         s < -reach
             || s > self.length + reach
             || rho > r0.max(r1) + reach
             || rho < r0.min(r1) - reach
+    }
+
+    #[inline]
+    fn is_unbounded(&self) -> bool {
+        self.length.is_infinite()
+    }
+
+    #[inline]
+    fn needs_surface_pass(&self) -> bool {
+        true
+    }
+
+    fn elements(&self) -> SurfaceElements {
+        SurfaceElements::Bands
+    }
+
+    /// The one contact at the closest point, if nearer than `r`, booked to the band of
+    /// `bands` equal lengths along the axis that holds the point.
+    #[inline]
+    fn surface_contacts(
+        &self,
+        (x, r): (DVec3, f64),
+        bands: usize,
+        _near: &mut NearCache,
+        _scratch: &mut MeshScratch,
+        out: &mut Vec<MeshContact>,
+    ) {
+        out.clear();
+        let (point, distance, t) = self.closest_point_and_height(x);
+        if distance < r {
+            out.push(MeshContact {
+                point,
+                normal: self.contact_normal(x, point, distance),
+                distance,
+                triangle: ((t * bands as f64) as usize).min(bands - 1) as u32,
+            });
+        }
+    }
+
+    /// Moves the frustum by `offset` [m].
+    fn translate(&mut self, offset: DVec3) {
+        self.base += offset;
+    }
+
+    /// Turns the frustum by `rotation` about the world point `centre` [m].
+    fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
+        self.base = centre + rotation * (self.base - centre);
+        self.axis = (rotation * self.axis).normalize();
     }
 }
 
@@ -197,7 +246,7 @@ mod tests {
         ) {
             let f = Frustum::new(DVec3::new(0.1, -0.2, -0.5), DVec3::new(0.3, 0.1, 1.0), 1.0, [r0, r1]).unwrap();
             let x = DVec3::from_array(x);
-            let (p, d, t) = f.closest_point(x);
+            let (p, d, t) = f.closest_point_and_height(x);
             prop_assert!((p.distance(x) - d).abs() < 1e-12);
             // p lies on the surface: at height t L its distance from the axis is r(t).
             let (s, _, rho) = f.meridian(p);
@@ -217,16 +266,16 @@ mod tests {
         // Exact numbers: radius 1 about z; a point at ρ = 0.75 is 0.25 from it, one at 1.5
         // is 0.5 from it, and the normal points back to the point in both cases.
         let c = Frustum::new(DVec3::ZERO, DVec3::Z, 2.0, [1.0, 1.0]).unwrap();
-        let (p, d, _) = c.closest_point(DVec3::new(0.75, 0.0, 1.0));
+        let (p, d, _) = c.closest_point_and_height(DVec3::new(0.75, 0.0, 1.0));
         assert_eq!((p, d), (DVec3::new(1.0, 0.0, 1.0), 0.25));
         assert_eq!(
             c.contact_normal(DVec3::new(0.75, 0.0, 1.0), p, d),
             -DVec3::X
         );
-        let (p, d, _) = c.closest_point(DVec3::new(0.0, 1.5, 0.5));
+        let (p, d, _) = c.closest_point_and_height(DVec3::new(0.0, 1.5, 0.5));
         assert_eq!((p, d), (DVec3::new(0.0, 1.0, 0.5), 0.5));
         let inf = Frustum::new(DVec3::ZERO, DVec3::Z, f64::INFINITY, [1.0, 1.0]).unwrap();
-        let (p, d, _) = inf.closest_point(DVec3::new(0.0, 0.5, -1e6));
+        let (p, d, _) = inf.closest_point_and_height(DVec3::new(0.0, 0.5, -1e6));
         assert_eq!((p, d), (DVec3::new(0.0, 1.0, -1e6), 0.5));
         assert!(!inf.certainly_beyond(DVec3::new(0.0, 0.5, 1e9), 0.6));
     }
