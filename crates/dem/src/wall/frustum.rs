@@ -91,6 +91,21 @@ impl Frustum {
         self.radii
     }
 
+    /// Lateral area [m²] of band `band` (counted from 0 at the base) of `bands` bands of
+    /// equal length along the axis, the elements the frustum's loads are booked to
+    /// ([`WallGeometry::surface_contacts`]): the band is itself a cone frustum, between
+    /// the heights a L and b L (a = band/bands, b = (band + 1)/bands) where the radii are
+    /// r_a = r₀ + a (r₁ − r₀) and r_b = r₀ + b (r₁ − r₀), and its lateral area is
+    /// π (r_a + r_b) s with the slant length s = √(L² + (r₁ − r₀)²)/bands. Infinite for an
+    /// unbounded cylinder. What a wall pressure divides a band's normal force by.
+    pub fn band_area(&self, band: usize, bands: usize) -> f64 {
+        let (length, [r0, r1]) = (self.length, self.radii);
+        let slant = length.hypot(r1 - r0) / bands as f64;
+        let (a, b) = (band as f64 / bands as f64, (band + 1) as f64 / bands as f64);
+        let (ra, rb) = (r0 + a * (r1 - r0), r0 + b * (r1 - r0));
+        std::f64::consts::PI * (ra + rb) * slant
+    }
+
     /// Height along the axis from the base and the unit radial direction of `x` (a fixed
     /// perpendicular of the axis when `x` lies on it), with the distance from the axis [m].
     #[inline]
@@ -218,6 +233,7 @@ impl WallGeometry for Frustum {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use approx::assert_relative_eq;
     use proptest::prelude::*;
 
     /// Closest distance by dense sampling of the surface: 400 heights × 720 angles.
@@ -278,6 +294,41 @@ mod tests {
         let (p, d, _) = inf.closest_point_and_height(DVec3::new(0.0, 0.5, -1e6));
         assert_eq!((p, d), (DVec3::new(0.0, 1.0, -1e6), 0.5));
         assert!(!inf.certainly_beyond(DVec3::new(0.0, 0.5, 1e9), 0.6));
+    }
+
+    #[test]
+    fn a_band_has_the_lateral_area_of_its_cone_frustum_and_the_bands_add_up() {
+        // Closed form of a cone frustum's lateral area: π (r_a + r_b) √(h² + (r_b − r_a)²).
+        let lateral =
+            |ra: f64, rb: f64, h: f64| std::f64::consts::PI * (ra + rb) * h.hypot(rb - ra);
+        let cone = Frustum::new(DVec3::ZERO, DVec3::Z, 0.6, [0.05, 0.3]).unwrap();
+        // One band is the whole frustum.
+        assert_relative_eq!(
+            cone.band_area(0, 1),
+            lateral(0.05, 0.3, 0.6),
+            max_relative = 1e-15
+        );
+        // Band 1 of 4 lies between the heights 0.15 and 0.3, radii 0.1125 and 0.175.
+        assert_relative_eq!(
+            cone.band_area(1, 4),
+            lateral(0.1125, 0.175, 0.15),
+            max_relative = 1e-14
+        );
+        let total: f64 = (0..7).map(|k| cone.band_area(k, 7)).sum();
+        assert_relative_eq!(total, lateral(0.05, 0.3, 0.6), max_relative = 1e-14);
+        // A cylinder's band is 2π r L/bands; a sharp cone's whole side is π r √(L² + r²).
+        let cylinder = Frustum::new(DVec3::ZERO, DVec3::Z, 2.0, [0.5, 0.5]).unwrap();
+        assert_relative_eq!(
+            cylinder.band_area(3, 5),
+            std::f64::consts::TAU * 0.5 * 2.0 / 5.0,
+            max_relative = 1e-15
+        );
+        let sharp = Frustum::new(DVec3::ZERO, DVec3::Z, 1.0, [0.0, 0.75]).unwrap();
+        assert_relative_eq!(
+            sharp.band_area(0, 1),
+            std::f64::consts::PI * 0.75 * 1.25,
+            max_relative = 1e-15
+        );
     }
 
     #[test]
