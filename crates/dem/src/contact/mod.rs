@@ -3,7 +3,6 @@
 //!
 //! Each stage is a pure function in its own file; this module only orders them.
 
-pub(crate) mod batch;
 pub mod damping;
 pub mod geometry;
 pub mod normal;

@@ -22,7 +22,7 @@
 use glam::DVec3;
 
 use super::{live_history, WallSource};
-use crate::contact::batch::{Batch, BATCH};
+use super::kernel::{Batch, BATCH};
 use crate::history::WAS_LIVE;
 
 /// What the pair gather reads: the bodies, and the candidates with their histories.
@@ -194,7 +194,7 @@ pub(super) fn pair_flags(_: &[DVec3], _: (&[u32], &[u32]), _: &mut [u32], _: f64
 
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 mod rows {
-    use crate::contact::batch::Batch;
+    use crate::forces::kernel::Batch;
     use glam::DVec3;
     use safe_arch::{
         add_m256d, bitand_m256d, cast_to_m256d_from_m256i, cmp_op, cmp_op_mask_m256d,

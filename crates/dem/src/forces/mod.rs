@@ -9,7 +9,7 @@
 
 use glam::{BVec3, DVec3};
 
-use crate::contact::batch::{Batch, BATCH};
+use kernel::{Batch, BATCH};
 use crate::contact::geometry::plane_distance;
 use crate::contact::{BodyMotion, ContactForce, ContactHistory, ContactLaws};
 use crate::history::{settle, LIVE, WAS_LIVE};
@@ -24,6 +24,7 @@ mod compact;
 mod filter;
 mod gather;
 mod general;
+pub(crate) mod kernel;
 pub(crate) mod loads;
 mod pairs;
 mod parallel;

@@ -1,5 +1,5 @@
 //! The paper's laws over particle–particle candidates: the touching ones gathered into
-//! batches, resolved by the vectorised kernel (`contact::batch`) and handed on in pair order.
+//! batches, resolved by the vectorised kernel (`forces::kernel`) and handed on in pair order.
 
 use super::*;
 

@@ -30,7 +30,7 @@ pub(crate) struct SurfaceScratch {
     pub(super) taken: Vec<bool>,
     /// The batched path's contacts found and not yet resolved, and their batch.
     pub(super) pending: Vec<super::surface_batch::Pending>,
-    pub(super) batch: Box<crate::contact::batch::Batch>,
+    pub(super) batch: Box<super::kernel::Batch>,
 }
 
 /// Where the pass writes: the bodies' forces and torques, each wall's load in fixed point,

@@ -1,5 +1,5 @@
-//! The paper's contact laws (Hertz + restitution dashpot, Mindlin no-slip, Eq. 8 constant
-//! rolling torque, no clamp) evaluated for a batch of touching pairs stored as structure of
+//! The batched contact kernel, force machinery: the paper's contact laws (Hertz + restitution
+//! dashpot, Mindlin no-slip, Eq. 8 constant rolling torque, no clamp) evaluated for a batch of touching pairs stored as structure of
 //! arrays.
 //!
 //! The scalar pipeline in `ContactLaws::resolve` is one long chain of dependent square roots
@@ -12,8 +12,8 @@
 
 use glam::DVec3;
 
-use super::geometry::{effective_radius, lever_arm};
-use super::{damping, normal, rolling};
+use crate::contact::geometry::{effective_radius, lever_arm};
+use crate::contact::{damping, normal, rolling};
 use crate::material::{harmonic, PairCoefficients};
 
 /// Contacts per batch: the arrays (≈ 40 × 8 × BATCH bytes) stay in the L1 cache.
