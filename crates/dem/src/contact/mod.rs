@@ -173,11 +173,8 @@ impl ContactLaws {
             match self.rolling {
                 RollingLaw::None | RollingLaw::ConstantTorque { limiter: false } => {}
                 RollingLaw::ConstantTorque { limiter: true } => {
-                    let limit = rolling::constant_torque_limit(
-                        g.inertia_reduced(),
-                        omega_rel.length(),
-                        dt,
-                    );
+                    let limit =
+                        rolling::constant_torque_limit(g.inertia_reduced(), omega_rel.length(), dt);
                     let m = c.rolling_friction * hertz.force;
                     let (mi, mj) =
                         rolling::constant_torque(omega_rel, m * g.arm_i, m * g.arm_j, limit);

@@ -233,7 +233,11 @@ mod tests {
     fn mindlin_stiffness_is_eight_g_star_times_the_contact_radius() {
         // A4's contact: a = √(R* δ) = √(1.5e-8) m, S_t = 8 G* a.
         let a = (R * DELTA).sqrt();
-        assert_relative_eq!(mindlin_stiffness(G_STAR, a), 8.0 * G_STAR * a, max_relative = 1e-15);
+        assert_relative_eq!(
+            mindlin_stiffness(G_STAR, a),
+            8.0 * G_STAR * a,
+            max_relative = 1e-15
+        );
         // Exact numbers: 8 × 2 × 0.5 = 8.
         assert_eq!(mindlin_stiffness(2.0, 0.5), 8.0);
     }
@@ -243,7 +247,11 @@ mod tests {
         // Mindlin–Deresiewicz: δ_t,max = 3 μ F_n/(16 G* a) with the Hertz force F_n.
         let h = super::super::normal::hertz(E_STAR, R, DELTA);
         let expected = 3.0 * MU * h.force / (16.0 * G_STAR * h.contact_radius);
-        assert_relative_eq!(slip_distance(MU, DELTA, E_STAR, G_STAR), expected, max_relative = 1e-14);
+        assert_relative_eq!(
+            slip_distance(MU, DELTA, E_STAR, G_STAR),
+            expected,
+            max_relative = 1e-14
+        );
         // The initial Mindlin–Deresiewicz stiffness (3/2) μ F_n/δ_t,max is Mindlin's 8 G* a.
         let cap = coulomb_limit(MU, h.force);
         assert_relative_eq!(
@@ -285,7 +293,11 @@ mod tests {
         let (mut slid, mut stuck) = (0, 0);
         for k in 0..4000 {
             let n = v(&mut rng, 1.0).normalize();
-            let xi = if k % 5 == 0 { DVec3::ZERO } else { v(&mut rng, 4e-5) };
+            let xi = if k % 5 == 0 {
+                DVec3::ZERO
+            } else {
+                v(&mut rng, 4e-5)
+            };
             let vt = v(&mut rng, 2.0);
             let (dt, s_t, cap, gamma) = (2.5e-6, 1.0e5, 2.0 * rng.gen::<f64>(), 0.01);
             let mut scalar = rotate_into_plane(xi, n);

@@ -21,8 +21,8 @@
 
 use glam::DVec3;
 
-use super::{live_history, WallSource};
 use super::kernel::{Batch, BATCH};
+use super::{live_history, WallSource};
 use crate::history::WAS_LIVE;
 
 /// What the pair gather reads: the bodies, and the candidates with their histories.

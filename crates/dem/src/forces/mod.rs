@@ -9,7 +9,6 @@
 
 use glam::{BVec3, DVec3};
 
-use kernel::{Batch, BATCH};
 use crate::contact::geometry::plane_distance;
 use crate::contact::{BodyMotion, ContactForce, ContactHistory, ContactLaws};
 use crate::history::{settle, LIVE, WAS_LIVE};
@@ -17,6 +16,7 @@ use crate::material::PairCoefficients;
 use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
 use crate::wall::Wall;
+use kernel::{Batch, BATCH};
 
 mod accumulator;
 mod chunked;
