@@ -9,11 +9,13 @@
 //! and each element load receives the same additions in the same order as on the
 //! one-at-a-time path, whose forces the kernel matches to a few ulps (`forces::kernel`).
 
+use glam::DVec3;
+
 use super::kernel::{Batch, BATCH};
 use super::loads::add_load;
 use super::pairs::batch_force;
 use super::surfaces::{continued, remember, touching, Stretch, StretchSinks, SurfaceScratch};
-use super::*;
+use super::{KernelInput, WorstOverlap};
 use crate::history::{SurfaceContact, SurfaceSlot};
 
 /// A contact gathered into the batch and not yet handed out: its particle, where its

@@ -10,11 +10,14 @@
 //! [`SAME_CONTACT_COS`]. So a sphere sliding across the triangles of a flat or gently
 //! curved mesh keeps its tangential spring from one triangle to the next.
 
+use glam::DVec3;
+
 use super::loads::{add_load, LoadQuanta, LoadSum, SurfaceLoads};
-use super::*;
+use super::{walls, KernelInput, WorstOverlap};
 use crate::contact::geometry::{sphere_wall, Sphere};
+use crate::contact::{BodyMotion, ContactHistory, ContactLaws};
 use crate::history::{SurfaceContact, SurfaceSlot};
-use crate::wall::{MeshContact, MeshScratch};
+use crate::wall::{MeshContact, MeshScratch, Wall};
 
 /// Cosine of the largest angle between the normals of a remembered contact and a new one
 /// that continue each other (60°). A sliding contact's normal turns by far less in one

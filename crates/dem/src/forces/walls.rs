@@ -1,8 +1,17 @@
 //! The paper's laws over particle–wall candidates: one run of equal wall at a time (the list
 //! is wall-major), each wall's probe, velocity and coefficients looked up once per run.
 
-use super::*;
+use glam::DVec3;
+
+use super::filter::{compact_touching, live_history, note_live, plane_touches};
+use super::kernel::{Batch, BATCH};
+use super::loads::{add_batch_loads, LoadSum};
+use super::pairs::batch_force;
+use super::{compact, gather, KernelInput, WorstOverlap};
+use crate::contact::geometry::plane_distance;
+use crate::contact::ContactForce;
 use crate::wall::geometry::{ShapeVisitor, WallGeometry};
+use crate::wall::Wall;
 
 /// What the wall filter needs of one wall, flattened so that planes need no closest-point call.
 #[derive(Debug, Clone, Copy)]
