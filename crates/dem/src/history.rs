@@ -215,13 +215,9 @@ pub(crate) struct SurfaceContact {
 pub(crate) struct SurfaceSlot {
     /// The contacts of the last step.
     pub contacts: Vec<SurfaceContact>,
-    /// Triangles within reach plus the margin of `anchor`.
+    /// The triangles near the sphere and where it was when they were found.
     #[serde(skip)]
-    pub near: Vec<crate::wall::NearTriangle>,
-    /// Where the sphere's centre was, in the mesh's frame, when `near` was found [m]; none
-    /// until then.
-    #[serde(skip)]
-    pub anchor: Option<DVec3>,
+    pub near: crate::wall::geometry::NearCache,
 }
 
 #[cfg(test)]

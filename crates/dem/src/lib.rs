@@ -51,6 +51,6 @@ pub use watch::Watched;
 /// the API: it changes with the engine's layout.
 #[doc(hidden)]
 pub mod internals {
-    pub use crate::contact::batch::{Batch, BATCH};
+    pub use crate::forces::kernel::{Batch, BATCH};
     pub use crate::neighbour::CellGrid;
 }

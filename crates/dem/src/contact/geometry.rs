@@ -1,6 +1,6 @@
 //! The contact geometry of each shape pair (docs/physics.md §1, §5): normal, overlap,
 //! effective radius and mass, and the levers from the centres to the contact point. Pure
-//! functions; the one-contact path calls them whole, the batched kernel (`contact::batch`)
+//! functions; the one-contact path calls them whole, the batched kernel (`forces::kernel`)
 //! calls the scalar pieces lane by lane.
 
 use glam::DVec3;

@@ -3,7 +3,6 @@
 //!
 //! Each stage is a pure function in its own file; this module only orders them.
 
-pub(crate) mod batch;
 pub mod damping;
 pub mod geometry;
 pub mod normal;
@@ -130,18 +129,16 @@ impl ContactLaws {
         }
 
         // Tangential (§3): history rotated into the current tangent plane first.
-        let cap = c.friction * hertz.force;
+        let cap = tangential::coulomb_limit(c.friction, hertz.force);
         history.tangential = tangential::rotate_into_plane(history.tangential, n);
         let f_t = match self.tangential {
             TangentialLaw::MindlinNoSlip => {
-                let s_t = 8.0 * c.g_star * hertz.contact_radius;
-                // γ_t = prefactor √(S_t m*) = γ_n √(S_t/S_n), and S_t/S_n = 4G*/E* is fixed
-                // per pair of materials: one square root saved per contact.
-                let gamma_t = gamma_n * c.stiffness_ratio_sqrt;
+                let s_t = tangential::mindlin_stiffness(c.g_star, hertz.contact_radius);
+                let gamma_t = tangential::no_slip_dashpot(gamma_n, c.stiffness_ratio_sqrt);
                 tangential::mindlin_no_slip(&mut history.tangential, v_t, dt, s_t, cap, gamma_t)
             }
             TangentialLaw::MindlinDeresiewicz => {
-                let slip = c.friction * g.overlap * c.e_star / (4.0 * c.g_star);
+                let slip = tangential::slip_distance(c.friction, g.overlap, c.e_star, c.g_star);
                 tangential::mindlin_deresiewicz(
                     &mut history.tangential,
                     v_t,
@@ -157,33 +154,27 @@ impl ContactLaws {
         // −a_i n and from j's is +a_j n with force −F_t on j, so M_i = −a_i (n × F_t) and
         // M_j = −a_j (n × F_t): one cross product serves both.
         let n_cross_ft = n.cross(f_t);
-        let mut torque_i;
-        let mut torque_j;
 
         // Rolling (§4), on the relative spin and the elastic normal force.
         let omega_rel = i.omega - j.omega;
-        match self.rolling {
+        let (mut torque_i, mut torque_j) = match self.rolling {
+            // Eq. 8 folded into the same levers: one division instead of three and no
+            // second cross product.
             RollingLaw::ConstantTorque { limiter: false } => {
-                // Eq. 8 folded into the same levers: M_i gets −μ_r a_i F_ne ω̂ and M_j
-                // +μ_r a_j F_ne ω̂, so with s = μ_r F_ne/|ω_rel| both torques are
-                // −a (n × F_t ± s ω_rel). Same law as `rolling::constant_torque`, one
-                // division instead of three and no second cross product.
                 let w2 = omega_rel.length_squared();
                 let s = rolling::constant_torque_scale(c.rolling_friction, hertz.force, w2);
-                let roll = s * omega_rel;
-                torque_i = -g.arm_i * (n_cross_ft + roll);
-                torque_j = -g.arm_j * (n_cross_ft - roll);
+                rolling::constant_torque_levers(n_cross_ft, s, omega_rel, (g.arm_i, g.arm_j))
             }
-            _ => {
-                torque_i = -g.arm_i * n_cross_ft;
-                torque_j = -g.arm_j * n_cross_ft;
-            }
-        }
+            RollingLaw::None
+            | RollingLaw::ConstantTorque { limiter: true }
+            | RollingLaw::Epsd { .. } => (-g.arm_i * n_cross_ft, -g.arm_j * n_cross_ft),
+        };
         if c.rolling_friction > 0.0 {
             match self.rolling {
                 RollingLaw::None | RollingLaw::ConstantTorque { limiter: false } => {}
                 RollingLaw::ConstantTorque { limiter: true } => {
-                    let limit = g.inertia_reduced() * omega_rel.length() / dt;
+                    let limit =
+                        rolling::constant_torque_limit(g.inertia_reduced(), omega_rel.length(), dt);
                     let m = c.rolling_friction * hertz.force;
                     let (mi, mj) =
                         rolling::constant_torque(omega_rel, m * g.arm_i, m * g.arm_j, limit);
@@ -193,11 +184,10 @@ impl ContactLaws {
                 RollingLaw::Epsd { viscous_damping } => {
                     let omega_roll = omega_rel - omega_rel.dot(n) * n;
                     history.rolling = tangential::rotate_into_plane(history.rolling, n);
-                    let k_n = hertz.force / g.overlap;
                     let mu_r = c.rolling_friction;
-                    let k_r = 2.25 * k_n * mu_r * mu_r * g.r_eff * g.r_eff;
-                    let cap_r = mu_r * g.r_eff * hertz.force;
-                    let eta = viscous_damping * 2.0 * (g.rolling_inertia() * k_r).sqrt();
+                    let k_r = rolling::epsd_stiffness(hertz.force, g.overlap, mu_r, g.r_eff);
+                    let cap_r = rolling::epsd_limit(mu_r, g.r_eff, hertz.force);
+                    let eta = rolling::epsd_dashpot(viscous_damping, g.rolling_inertia(), k_r);
                     let m = rolling::epsd(&mut history.rolling, omega_roll, dt, k_r, cap_r, eta);
                     torque_i += m;
                     torque_j -= m;

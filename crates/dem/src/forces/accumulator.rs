@@ -1,7 +1,10 @@
 //! The one summation order both evaluation paths share: each contact's force and torques
 //! added to its two bodies as it is resolved, in pair-list order.
 
-use super::*;
+use glam::DVec3;
+
+use super::{prefetch, PairSink};
+use crate::contact::ContactForce;
 
 /// Adds pair forces to the bodies in pair order, the one summation both evaluation paths share.
 ///

@@ -14,9 +14,15 @@
 //! still in the cache, where a separate pass after the evaluation would stream every body
 //! from memory a second time.
 
+use glam::DVec3;
 use std::ops::Range;
 
-use super::*;
+use super::accumulator::Accumulator;
+use super::loads::LoadSum;
+use super::walls::{prepare_wall_batch, wall_pieces, wall_probes, wall_runs, WallPiece};
+use super::{add_surface_contacts, pair_loop, ContactCount, Evaluation, ForceBuffers, KernelInput};
+use crate::contact::{ContactForce, ContactLaws};
+use crate::neighbour::{PairList, WallPairList};
 use crate::ranges::pair_start;
 
 /// Bodies per chunk. About 150 bytes each (position, velocity, spin, force, torque, list

@@ -1,7 +1,12 @@
 //! Branch-free filters: which candidates touch, and which contacts keep their tangential
 //! history (docs/physics.md §3.1: a contact that opens forgets it).
 
-use super::*;
+use glam::{BVec3, DVec3};
+
+use super::{compact, gather, prefetch, PREFETCH_AHEAD, PREFETCH_BODIES};
+use crate::contact::geometry::plane_distance;
+use crate::history::{LIVE, WAS_LIVE};
+use crate::particles::ParticleSet;
 
 /// Lists (in `touching[..count]`, count returned) the candidates of `pi`/`pj` whose spheres
 /// overlap, without a branch on the outcome, and marks the others' histories as not live

@@ -21,8 +21,9 @@
 
 use glam::DVec3;
 
-use super::{live_history, WallSource};
-use crate::contact::batch::{Batch, BATCH};
+use super::filter::live_history;
+use super::kernel::{Batch, BATCH};
+use super::walls::WallSource;
 use crate::history::WAS_LIVE;
 
 /// What the pair gather reads: the bodies, and the candidates with their histories.
@@ -194,7 +195,7 @@ pub(super) fn pair_flags(_: &[DVec3], _: (&[u32], &[u32]), _: &mut [u32], _: f64
 
 #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 mod rows {
-    use crate::contact::batch::Batch;
+    use crate::forces::kernel::Batch;
     use glam::DVec3;
     use safe_arch::{
         add_m256d, bitand_m256d, cast_to_m256d_from_m256i, cmp_op, cmp_op_mask_m256d,
@@ -535,7 +536,7 @@ mod tests {
         let (normal, offset) = (DVec3::new(0.3, -0.5, 0.8).normalize(), -0.02);
         let radius = jumble.set.radius[0];
         let geometry = |b: &mut Batch, m: usize, x: DVec3, r: f64| {
-            b.overlap[m] = r - super::super::plane_distance(x, normal, offset);
+            b.overlap[m] = r - crate::contact::geometry::plane_distance(x, normal, offset);
         };
         for len in 0..=BATCH {
             let mut group: Vec<u32> = indices(&mut rng, len, candidates);
@@ -581,10 +582,10 @@ mod tests {
         let cut2 = dist2[dist2.len() / 2];
 
         let mut want = vec![9; candidates];
-        super::super::pair_flags::<false>(&position, (&pi, &pj), &mut want, &|_, _| cut2);
+        super::super::filter::pair_flags::<false>(&position, (&pi, &pj), &mut want, &|_, _| cut2);
         let mut got = vec![9; candidates];
         let done = pair_flags(&position, (&pi, &pj), &mut got, cut2);
-        super::super::pair_flags::<false>(
+        super::super::filter::pair_flags::<false>(
             &position,
             (&pi[done..], &pj[done..]),
             &mut got[done..],

@@ -2,8 +2,13 @@
 //! path of the laws the batched kernel does not cover, and the reference the tests hold
 //! the batched path to.
 
-use super::*;
+use glam::DVec3;
+
+use super::loads::{add_load, LoadSum};
+use super::{KernelInput, PairSink, WorstOverlap};
 use crate::contact::geometry::{sphere_sphere, sphere_wall, Sphere};
+use crate::contact::{BodyMotion, ContactForce, ContactHistory, ContactLaws};
+use crate::particles::ParticleSet;
 
 /// Body `k` of `p` as the contact geometry sees it.
 #[inline(always)]

@@ -17,7 +17,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::contact::batch::{Batch, BATCH};
+use super::kernel::{Batch, BATCH};
 use crate::contact::ContactForce;
 
 /// Binary orders of magnitude between the lightest particle's weight and the force quantum.

@@ -7,16 +7,19 @@
 //! wall contacts. Both paths run the same kernel and give every body the same sequence of
 //! floating-point additions (gravity, pairs in list order, walls in list order).
 
-use glam::{BVec3, DVec3};
+use glam::DVec3;
 
-use crate::contact::batch::{Batch, BATCH};
-use crate::contact::geometry::plane_distance;
-use crate::contact::{BodyMotion, ContactForce, ContactHistory, ContactLaws};
-use crate::history::{settle, LIVE, WAS_LIVE};
+use crate::contact::{ContactForce, ContactLaws};
+use crate::history::settle;
 use crate::material::PairCoefficients;
 use crate::neighbour::{PairList, WallPairList};
 use crate::particles::ParticleSet;
-use crate::wall::{Wall, WallShape};
+use crate::wall::Wall;
+use accumulator::Accumulator;
+use general::{pair_loop_with, wall_loop};
+use kernel::{Batch, BATCH};
+use pairs::batched_pair_loop;
+use walls::{batched_wall_loop, WallProbe};
 
 mod accumulator;
 mod chunked;
@@ -24,6 +27,7 @@ mod compact;
 mod filter;
 mod gather;
 mod general;
+pub(crate) mod kernel;
 pub(crate) mod loads;
 mod pairs;
 mod parallel;
@@ -34,13 +38,8 @@ mod surfaces_parallel;
 pub(super) mod tests;
 mod walls;
 
-use accumulator::*;
 pub(crate) use chunked::{chunk_bounds, evaluate_chunk};
-use filter::*;
-use general::*;
-use loads::{add_batch_loads, add_load, LoadQuanta, LoadSum};
-use pairs::*;
-use walls::*;
+use loads::{LoadQuanta, LoadSum};
 
 /// Read-only inputs of the kernel.
 pub(crate) struct KernelInput<'a> {

@@ -1,7 +1,13 @@
 //! The paper's laws over particle–particle candidates: the touching ones gathered into
-//! batches, resolved by the vectorised kernel (`contact::batch`) and handed on in pair order.
+//! batches, resolved by the vectorised kernel (`forces::kernel`) and handed on in pair order.
 
-use super::*;
+use glam::DVec3;
+
+use super::filter::filter_touching;
+use super::kernel::{Batch, BATCH};
+use super::{gather, prefetch, KernelInput, PairSink, WorstOverlap, PREFETCH_BODIES};
+use crate::contact::ContactForce;
+use crate::material::PairCoefficients;
 
 /// The coefficients every contact shares when there is one material.
 pub(super) fn uniform_coefficients(

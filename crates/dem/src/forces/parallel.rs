@@ -32,9 +32,20 @@
 //! So the sums, and the whole trajectory, do not depend on the thread count or on where the
 //! ranges are cut.
 
-use super::*;
-use crate::ranges::{cost_bounds, pair_start};
+use glam::DVec3;
 use rayon::prelude::*;
+
+use super::accumulator::Accumulator;
+use super::general::wall_loop;
+use super::loads::LoadSum;
+use super::walls::{prepare_wall_batch, wall_pieces, wall_probes, wall_runs, WallPiece, WallProbe};
+use super::{
+    loads, pair_loop, surfaces, surfaces_parallel, ContactCount, Evaluation, ForceBuffers,
+    KernelInput, KernelScratch, PairSink, WorstOverlap,
+};
+use crate::contact::{ContactForce, ContactLaws};
+use crate::neighbour::{PairList, WallPairList};
+use crate::ranges::{cost_bounds, pair_start};
 
 /// Ranges per pool thread: more than one lets the pool balance ranges whose cost the cut
 /// misjudged, fewer keeps the incoming pairs (resolved twice) few.

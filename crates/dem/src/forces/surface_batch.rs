@@ -7,13 +7,15 @@
 //! the history it continues, `surfaces::continued`), gathered into a batch, resolved
 //! together, and handed out in the order they were found: each particle, each wall load
 //! and each element load receives the same additions in the same order as on the
-//! one-at-a-time path, whose forces the kernel matches to a few ulps (`contact::batch`).
+//! one-at-a-time path, whose forces the kernel matches to a few ulps (`forces::kernel`).
 
+use glam::DVec3;
+
+use super::kernel::{Batch, BATCH};
 use super::loads::add_load;
 use super::pairs::batch_force;
 use super::surfaces::{continued, remember, touching, Stretch, StretchSinks, SurfaceScratch};
-use super::*;
-use crate::contact::batch::{Batch, BATCH};
+use super::{KernelInput, WorstOverlap};
 use crate::history::{SurfaceContact, SurfaceSlot};
 
 /// A contact gathered into the batch and not yet handed out: its particle, where its
@@ -310,7 +312,7 @@ mod tests {
     fn batched_surface_contacts_match_the_one_by_one_laws() {
         // The batches against `ContactLaws::resolve` over the same contacts, for two steps
         // (the second continues the histories the first wrote back). Same formulas with a
-        // few operations regrouped (`contact::batch`): agreement to 1e-12 of each body's
+        // few operations regrouped (`forces::kernel`): agreement to 1e-12 of each body's
         // largest force or torque; the counts, the worst contact and the order of the
         // element bookings are equal.
         let (set, ids) = spheres();

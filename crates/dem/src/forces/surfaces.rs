@@ -10,21 +10,19 @@
 //! [`SAME_CONTACT_COS`]. So a sphere sliding across the triangles of a flat or gently
 //! curved mesh keeps its tangential spring from one triangle to the next.
 
+use glam::DVec3;
+
 use super::loads::{add_load, LoadQuanta, LoadSum, SurfaceLoads};
-use super::*;
+use super::{walls, KernelInput, WorstOverlap};
 use crate::contact::geometry::{sphere_wall, Sphere};
+use crate::contact::{BodyMotion, ContactHistory, ContactLaws};
 use crate::history::{SurfaceContact, SurfaceSlot};
-use crate::wall::{MeshContact, MeshScratch, WallShape};
+use crate::wall::{MeshContact, MeshScratch, Wall};
 
 /// Cosine of the largest angle between the normals of a remembered contact and a new one
 /// that continue each other (60°). A sliding contact's normal turns by far less in one
 /// step; two simultaneous contacts of a fold differ by more.
 const SAME_CONTACT_COS: f64 = 0.5;
-
-/// How far, as a fraction of its radius, a sphere may move relative to a mesh before the
-/// triangles near it are looked up again: a triangle farther than R + margin when they were
-/// found cannot have come within R since.
-const NEAR_MARGIN: f64 = 0.02;
 
 /// Working arrays of the pass, reused from step to step.
 #[derive(Debug, Default)]
@@ -35,7 +33,7 @@ pub(crate) struct SurfaceScratch {
     pub(super) taken: Vec<bool>,
     /// The batched path's contacts found and not yet resolved, and their batch.
     pub(super) pending: Vec<super::surface_batch::Pending>,
-    pub(super) batch: Box<crate::contact::batch::Batch>,
+    pub(super) batch: Box<super::kernel::Batch>,
 }
 
 /// Where the pass writes: the bodies' forces and torques, each wall's load in fixed point,
@@ -260,54 +258,19 @@ fn resolve_candidate(
 }
 
 /// The contacts of a sphere at `x` with radius `r` [m] with `wall`, into
-/// `scratch.contacts`; for a frustum, `triangle` holds the contact's band, of `bands` equal
-/// lengths along the axis. For a mesh, the triangles near the sphere are looked up in the
-/// mesh's index only when it has left the margin about where `slot` last found them.
+/// `scratch.contacts`, each with its element: for a frustum its band, of `bands` equal
+/// lengths along the axis; for a mesh its triangle, the triangles near the sphere looked up
+/// in the mesh's index only when it has left the margin about where `slot` last found them
+/// ([`Wall::surface_contacts`]).
+#[inline]
 pub(super) fn touching(
     wall: &Wall,
-    (x, r): (DVec3, f64),
+    sphere: (DVec3, f64),
     bands: usize,
     slot: &mut SurfaceSlot,
     (mesh, out): (&mut MeshScratch, &mut Vec<MeshContact>),
 ) {
-    match wall.shape() {
-        WallShape::Mesh(m) => {
-            let margin = NEAR_MARGIN * r;
-            let here = m.to_mesh_frame(x);
-            if slot
-                .anchor
-                .is_none_or(|a| a.distance_squared(here) >= margin * margin)
-            {
-                m.triangles_near(here, r + margin, &mut slot.near);
-                slot.anchor = Some(here);
-            }
-            m.contacts_among(x, r, &slot.near, mesh, out);
-        }
-        WallShape::Frustum(f) => {
-            out.clear();
-            let (point, distance, t) = f.closest_point(x);
-            if distance < r {
-                out.push(MeshContact {
-                    point,
-                    normal: wall.contact_normal(x, point, distance),
-                    distance,
-                    triangle: ((t * bands as f64) as usize).min(bands - 1) as u32,
-                });
-            }
-        }
-        WallShape::Plane(_) | WallShape::Polygon(_) => {
-            out.clear();
-            let (point, distance) = wall.closest_point(x);
-            if distance < r {
-                out.push(MeshContact {
-                    point,
-                    normal: wall.contact_normal(x, point, distance),
-                    distance,
-                    triangle: 0,
-                });
-            }
-        }
-    }
+    wall.surface_contacts(sphere, bands, &mut slot.near, mesh, out);
 }
 
 /// Moves a candidate's remembered contacts `slot` into `previous`, none of them `taken`

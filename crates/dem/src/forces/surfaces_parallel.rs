@@ -18,11 +18,12 @@
 //! fork and join per step; under other laws the planar walls are resolved after all pairs,
 //! and this pass follows them on its own ([`surface_pass_parallel`]).
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use super::loads::{merge_loads, LoadSum, SurfaceLoads};
 use super::surfaces::{resolve_stretch, Stretch, StretchSinks, SurfaceScratch, SurfaceSinks};
-use super::*;
+use super::{walls, KernelInput, WorstOverlap};
 use crate::history::SurfaceSlot;
 
 /// Ranges per thread, so that the pool can balance ranges of unequal cost: the candidates

@@ -1,12 +1,16 @@
 //! Tests of the force evaluation: the batched kernels against the general laws, the
 //! filters against their definitions, and the fixtures other force tests share.
 
+use rand::{Rng, SeedableRng};
+
+use super::filter::{live_history, note_live, plane_touches};
 use super::*;
-use crate::history::HistoryArrays;
+use crate::contact::geometry::plane_distance;
+use crate::contact::ContactHistory;
+use crate::history::{HistoryArrays, LIVE};
 use crate::material::{Interaction, Material, WallMaterial};
 use crate::neighbour::{build_lists, CellGrid, PairSearch};
 use crate::particles::{MaterialId, ParticleInit};
-use rand::{Rng, SeedableRng};
 
 /// Keeps every contact, in order, for tests that sum them their own way.
 impl PairSink for Vec<(u32, u32, ContactForce)> {

@@ -1,7 +1,17 @@
 //! The paper's laws over particle–wall candidates: one run of equal wall at a time (the list
 //! is wall-major), each wall's probe, velocity and coefficients looked up once per run.
 
-use super::*;
+use glam::DVec3;
+
+use super::filter::{compact_touching, live_history, note_live, plane_touches};
+use super::kernel::{Batch, BATCH};
+use super::loads::{add_batch_loads, LoadSum};
+use super::pairs::batch_force;
+use super::{compact, gather, KernelInput, WorstOverlap};
+use crate::contact::geometry::plane_distance;
+use crate::contact::ContactForce;
+use crate::wall::geometry::{ShapeVisitor, WallGeometry};
+use crate::wall::Wall;
 
 /// What the wall filter needs of one wall, flattened so that planes need no closest-point call.
 #[derive(Debug, Clone, Copy)]
@@ -10,7 +20,7 @@ pub(super) enum WallProbe {
     Absent,
     /// An infinite plane: signed distance x·n − offset [m], unit normal n towards the particles.
     Plane { normal: DVec3, offset: f64 },
-    /// A polygon: its closest-point test.
+    /// Any other shape the loop takes (a polygon): its closest-point test.
     ClosestPoint,
     /// A wall this loop leaves to the surface pass ([`Wall::resolved_one_by_one`]).
     Deferred,
@@ -32,16 +42,26 @@ pub(super) fn wall_contact(
             let s = plane_distance(x, normal, offset);
             (!(s >= r)).then_some((normal, r - s))
         }
-        WallProbe::ClosestPoint => {
-            // Only polygons present in the simulation get this probe; the polygon's own test,
-            // so that no other shape's code is inlined into their loop.
-            let Some(WallShape::Polygon(polygon)) = input.walls[w].as_ref().map(Wall::shape) else {
-                return None;
-            };
-            let (cp, dist) = polygon.closest_point(x);
-            (!(dist >= r)).then(|| (polygon.contact_normal(x, cp, dist), r - dist))
-        }
+        WallProbe::ClosestPoint => input.walls[w].as_ref()?.shape().visit(Touching { x, r }),
         WallProbe::Absent | WallProbe::Deferred => None,
+    }
+}
+
+/// The contact of a sphere at `x` with radius `r` [m] with a shape whose closest point gives
+/// its one contact ([`WallGeometry::needs_surface_pass`] false): the normal and the overlap,
+/// if they overlap (NaN counts as touching, as in [`wall_contact`]).
+struct Touching {
+    x: DVec3,
+    r: f64,
+}
+
+impl ShapeVisitor<'_> for Touching {
+    type Output = Option<(DVec3, f64)>;
+    #[inline(always)]
+    fn visit<S: WallGeometry>(self, shape: &S) -> Option<(DVec3, f64)> {
+        let Self { x, r } = self;
+        let (cp, dist) = shape.closest_point(x);
+        (!(dist >= r)).then(|| (shape.contact_normal(x, cp, dist), r - dist))
     }
 }
 

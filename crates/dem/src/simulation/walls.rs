@@ -6,7 +6,8 @@ use glam::DQuat;
 
 use super::*;
 use crate::forces::loads::{load_of, SurfaceLoads, WallLoad};
-use crate::wall::{WallMotion, WallShape};
+use crate::wall::geometry::SurfaceElements;
+use crate::wall::WallMotion;
 
 impl Simulation {
     /// Sets how a wall moves: its velocity, its angular velocity about a centre, and whether
@@ -56,7 +57,7 @@ impl Simulation {
     /// to its triangles, a plane or polygon has only its total load.
     pub fn set_wall_bands(&mut self, id: WallId, bands: usize) -> Result<(), DemError> {
         let wall = self.wall(id).ok_or(DemError::UnknownWall(id.0))?;
-        if !matches!(wall.shape(), WallShape::Frustum(_)) || bands == 0 {
+        if wall.shape().elements() != SurfaceElements::Bands || bands == 0 {
             return Err(DemError::InvalidInput(format!(
                 "wall {}: bands are set for a cylinder or cone only, and at least 1, got {bands}",
                 id.0
@@ -92,10 +93,10 @@ impl Simulation {
     /// The element loads a new wall starts with: one per triangle of a mesh, one band of a
     /// cylinder or cone, none otherwise.
     pub(super) fn fresh_surface_loads(wall: &Wall) -> SurfaceLoads {
-        let elements = match wall.shape() {
-            WallShape::Mesh(m) => m.len(),
-            WallShape::Frustum(_) => 1,
-            WallShape::Plane(_) | WallShape::Polygon(_) => 0,
+        let elements = match wall.shape().elements() {
+            SurfaceElements::None => 0,
+            SurfaceElements::Triangles(n) => n,
+            SurfaceElements::Bands => 1,
         };
         SurfaceLoads {
             duration: 0.0,

@@ -17,10 +17,17 @@
 //! edge by one triangle), the nearest one counts, so a touching sphere always has a contact.
 
 use glam::{DQuat, DVec3};
+use serde::{Deserialize, Serialize};
 
+use super::geometry::{NearCache, SurfaceElements, WallGeometry};
 use super::mesh_index::TriangleGrid;
 use super::triangle::{area2_and_normal, closest_point, Feature};
 use super::WallError;
+
+/// How far, as a fraction of its radius, a sphere may move relative to a mesh before the
+/// triangles near it are looked up again: a triangle farther than R + margin when they were
+/// found cannot have come within R since.
+const NEAR_MARGIN: f64 = 0.02;
 
 /// Smallest accepted ratio of a triangle's doubled area to the square of its longest edge:
 /// below it the triangle is a sliver or a segment whose normal is round-off.
@@ -86,8 +93,10 @@ pub struct MeshContact {
     pub triangle: u32,
 }
 
-/// A wall of triangles.
-#[derive(Debug, Clone, PartialEq)]
+/// A wall of triangles. Stored as [`MeshRecord`]: its triangles and pose; the index is
+/// rebuilt on loading.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(into = "MeshRecord", try_from = "MeshRecord")]
 pub struct Mesh {
     facets: Vec<Facet>,
     /// Welded corners, in the mesh's frame [m].
@@ -103,6 +112,35 @@ pub struct Mesh {
     rotation: DQuat,
     /// Translation of the pose [m].
     translation: DVec3,
+}
+
+/// The stored form of a [`Mesh`]: its triangles in its own frame, as given, and its pose.
+#[derive(Serialize, Deserialize)]
+pub(super) struct MeshRecord {
+    triangles: Vec<[DVec3; 3]>,
+    rotation: DQuat,
+    translation: DVec3,
+}
+
+impl From<Mesh> for MeshRecord {
+    fn from(m: Mesh) -> Self {
+        let (triangles, rotation, translation) = m.parts();
+        Self {
+            triangles,
+            rotation,
+            translation,
+        }
+    }
+}
+
+impl TryFrom<MeshRecord> for Mesh {
+    type Error = WallError;
+
+    fn try_from(r: MeshRecord) -> Result<Self, WallError> {
+        let mut m = Mesh::new(&r.triangles)?;
+        m.set_pose(r.rotation, r.translation);
+        Ok(m)
+    }
 }
 
 /// The triangles of a contact query before the claims, reused between queries.
@@ -226,7 +264,7 @@ impl Mesh {
 
     /// The mesh's triangles in its own frame, as given, with its pose: what a checkpoint
     /// stores.
-    pub(super) fn parts(&self) -> (Vec<[DVec3; 3]>, DQuat, DVec3) {
+    fn parts(&self) -> (Vec<[DVec3; 3]>, DQuat, DVec3) {
         (
             self.facets.iter().map(|f| f.corners).collect(),
             self.rotation,
@@ -235,7 +273,7 @@ impl Mesh {
     }
 
     /// Sets the pose (checkpoints).
-    pub(super) fn set_pose(&mut self, rotation: DQuat, translation: DVec3) {
+    fn set_pose(&mut self, rotation: DQuat, translation: DVec3) {
         self.rotation = rotation;
         self.translation = translation;
     }
@@ -263,26 +301,6 @@ impl Mesh {
         self.rotation.inverse() * (x - self.translation)
     }
 
-    /// Moves the mesh by `offset` [m].
-    pub(super) fn translate(&mut self, offset: DVec3) {
-        self.translation += offset;
-    }
-
-    /// Turns the mesh by `rotation` about the world point `centre` [m].
-    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
-        self.translation = centre + rotation * (self.translation - centre);
-        self.rotation = (rotation * self.rotation).normalize();
-    }
-
-    /// True when `x` is certainly farther than `reach` [m] from the mesh: outside its
-    /// bounding box grown by `reach`.
-    #[inline]
-    pub(super) fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
-        let b = self.to_body(x);
-        let gap = (self.bounds.0 - b).max(b - self.bounds.1).max(DVec3::ZERO);
-        !(gap.length_squared() < reach * reach)
-    }
-
     /// Distance from `x` to the nearest point of the mesh within `reach` [m], or `reach`
     /// when none is nearer.
     #[cfg(test)]
@@ -295,24 +313,6 @@ impl Mesh {
             false
         });
         best.sqrt()
-    }
-
-    /// True when some triangle is closer than `reach` [m] to `x`: the neighbour search's
-    /// test, which stops at the first.
-    pub(super) fn comes_within(&self, x: DVec3, reach: f64) -> bool {
-        let b = self.to_body(x);
-        let reach2 = reach * reach;
-        let mut found = false;
-        self.grid.near(b, reach, |t| {
-            let f = &self.facets[t as usize];
-            if f.plane_beyond(b, reach) {
-                return false;
-            }
-            let (p, _) = closest_point(b, f.corners);
-            found = (b - p).length_squared() < reach2;
-            found
-        });
-        found
     }
 
     /// A point of the world in the mesh's own frame [m].
@@ -466,6 +466,114 @@ impl Mesh {
     #[cfg(test)]
     pub(super) fn vertex_count(&self) -> usize {
         self.vertices.len()
+    }
+}
+
+impl WallGeometry for Mesh {
+    /// The nearest point of all the triangles and the distance to it, found by looking
+    /// for triangles within a reach grown fourfold from 1 mm until one is found. Out of
+    /// line: the force loops find a mesh's contacts with [`Mesh::contacts_among`].
+    #[inline(never)]
+    fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
+        let mut scratch = MeshScratch::default();
+        let mut out = Vec::new();
+        let mut reach = 1e-3;
+        loop {
+            self.contacts(x, reach, &mut scratch, &mut out);
+            if let Some(c) = out.iter().min_by(|a, b| a.distance.total_cmp(&b.distance)) {
+                return (c.point, c.distance);
+            }
+            if !reach.is_finite() {
+                return (x, f64::INFINITY);
+            }
+            reach *= 4.0;
+        }
+    }
+
+    /// Along x − p, or +z where x lies on the surface (the surface pass takes a contact's
+    /// normal from its triangle instead, [`MeshContact::normal`]).
+    #[inline]
+    fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
+        if dist > 0.0 {
+            (x - p) / dist
+        } else {
+            DVec3::Z
+        }
+    }
+
+    /// Moves the mesh by `offset` [m].
+    fn translate(&mut self, offset: DVec3) {
+        self.translation += offset;
+    }
+
+    /// Turns the mesh by `rotation` about the world point `centre` [m].
+    fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
+        self.translation = centre + rotation * (self.translation - centre);
+        self.rotation = (rotation * self.rotation).normalize();
+    }
+
+    /// True when `x` is certainly farther than `reach` [m] from the mesh: outside its
+    /// bounding box grown by `reach`.
+    #[inline]
+    fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
+        let b = self.to_body(x);
+        let gap = (self.bounds.0 - b).max(b - self.bounds.1).max(DVec3::ZERO);
+        !(gap.length_squared() < reach * reach)
+    }
+
+    /// True when some triangle is closer than `reach` [m] to `x`: the neighbour search's
+    /// test, which stops at the first.
+    fn comes_within(&self, x: DVec3, reach: f64) -> bool {
+        let b = self.to_body(x);
+        let reach2 = reach * reach;
+        let mut found = false;
+        self.grid.near(b, reach, |t| {
+            let f = &self.facets[t as usize];
+            if f.plane_beyond(b, reach) {
+                return false;
+            }
+            let (p, _) = closest_point(b, f.corners);
+            found = (b - p).length_squared() < reach2;
+            found
+        });
+        found
+    }
+
+    #[inline]
+    fn is_unbounded(&self) -> bool {
+        false
+    }
+
+    #[inline]
+    fn needs_surface_pass(&self) -> bool {
+        true
+    }
+
+    fn elements(&self) -> SurfaceElements {
+        SurfaceElements::Triangles(self.len())
+    }
+
+    /// [`Mesh::contacts_among`] the triangles of `near`, which are looked up in the mesh's
+    /// index again only when the sphere has left the margin about where they were found.
+    #[inline]
+    fn surface_contacts(
+        &self,
+        (x, r): (DVec3, f64),
+        _bands: usize,
+        near: &mut NearCache,
+        scratch: &mut MeshScratch,
+        out: &mut Vec<MeshContact>,
+    ) {
+        let margin = NEAR_MARGIN * r;
+        let here = self.to_mesh_frame(x);
+        if near
+            .anchor
+            .is_none_or(|a| a.distance_squared(here) >= margin * margin)
+        {
+            self.triangles_near(here, r + margin, &mut near.near);
+            near.anchor = Some(here);
+        }
+        self.contacts_among(x, r, &near.near, scratch, out);
     }
 }
 

@@ -1,9 +1,15 @@
 //! Walls (docs/physics.md §5): a wall is a body of infinite radius and mass, of one of the
-//! shapes in [`WallShape`], each in a file of its own with the operations the neighbour
-//! search and the force loops need of it (closest point, contact normal, a cheap test for
-//! far points). A new shape is a new file and a new arm in each `match` of this file.
+//! shapes in [`WallShape`]. Each shape is a file of its own implementing
+//! [`WallGeometry`](geometry::WallGeometry), every operation the neighbour search, the force
+//! loops and the wall's motion need of it; [`WallShape::visit`] and
+//! [`WallShape::geometry_mut`] are the only `match`es over the shapes, both exhaustive.
+//!
+//! A new shape: a file with its type, its construction checks and its `WallGeometry`
+//! implementation (serialisable, for checkpoints), a variant of [`WallShape`], and its arm in
+//! `visit` and in `geometry_mut`; a constructor on [`Wall`] if callers build it.
 
 mod frustum;
+pub(crate) mod geometry;
 mod mesh;
 mod mesh_index;
 mod plane;
@@ -17,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::material::{Interaction, WallMaterial};
 pub use frustum::Frustum;
+use geometry::{ShapeVisitor, SurfaceElements, WallGeometry};
 pub use mesh::{Mesh, MeshContact, MeshScratch, NearTriangle};
 pub use plane::Plane;
 pub use polygon::Polygon;
@@ -25,8 +32,9 @@ pub use polygon::Polygon;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct WallId(pub u32);
 
-/// The shape of a wall.
-#[derive(Debug, Clone, PartialEq)]
+/// The shape of a wall. Stored in checkpoints as the shape's own fields under the
+/// variant's name (a mesh as its triangles and pose).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum WallShape {
     /// An infinite plane ([`Plane`]).
     Plane(Plane),
@@ -39,15 +47,48 @@ pub enum WallShape {
 }
 
 impl WallShape {
+    /// Runs `visitor` on the concrete shape: the one dispatch of the shapes' queries, so
+    /// that each shape's code is compiled into the operation with static calls. Inlined, so
+    /// that an operation on a known shape keeps only its arm.
+    #[inline(always)]
+    pub(crate) fn visit<'a, V: ShapeVisitor<'a>>(&'a self, visitor: V) -> V::Output {
+        match self {
+            WallShape::Plane(p) => visitor.visit(p),
+            WallShape::Polygon(p) => visitor.visit(p),
+            WallShape::Frustum(f) => visitor.visit(f),
+            WallShape::Mesh(m) => visitor.visit(&**m),
+        }
+    }
+
+    /// The shape as a trait object, for what is done once per wall rather than per body.
+    pub(crate) fn geometry(&self) -> &dyn WallGeometry {
+        struct AsDyn;
+        impl<'a> ShapeVisitor<'a> for AsDyn {
+            type Output = &'a dyn WallGeometry;
+            fn visit<S: WallGeometry>(self, shape: &'a S) -> &'a dyn WallGeometry {
+                shape
+            }
+        }
+        self.visit(AsDyn)
+    }
+
+    /// The shape as a mutable trait object, to move it: the one dispatch of the shapes'
+    /// changes.
+    pub(crate) fn geometry_mut(&mut self) -> &mut dyn WallGeometry {
+        match self {
+            WallShape::Plane(p) => p,
+            WallShape::Polygon(p) => p,
+            WallShape::Frustum(f) => f,
+            WallShape::Mesh(m) => &mut **m,
+        }
+    }
+
     /// The shape as a plane x·n = offset (unit normal n, offset [m]) when it is an infinite
     /// plane, which the force loops filter with one dot product per candidate; `None` for
     /// shapes that need the general closest-point test.
     #[inline]
     pub fn as_plane(&self) -> Option<(DVec3, f64)> {
-        match self {
-            WallShape::Plane(p) => Some(p.normal_and_offset()),
-            _ => None,
-        }
+        self.geometry().as_plane()
     }
 
     /// True when the shape is unbounded, so that nearly every body is a neighbour-list
@@ -56,18 +97,27 @@ impl WallShape {
     /// [`Wall::certainly_beyond`] first.
     #[inline]
     pub fn is_unbounded(&self) -> bool {
-        match self {
-            WallShape::Plane(_) => true,
-            WallShape::Frustum(f) => f.length().is_infinite(),
-            WallShape::Polygon(_) | WallShape::Mesh(_) => false,
-        }
+        self.geometry().is_unbounded()
     }
 
     /// True for the shapes the batched wall loop does not take (a frustum, a mesh): their
     /// contacts are resolved one at a time after the other walls' (`forces::surfaces`).
-    #[inline]
-    pub fn is_curved_or_meshed(&self) -> bool {
-        matches!(self, WallShape::Frustum(_) | WallShape::Mesh(_))
+    #[inline(always)]
+    pub fn needs_surface_pass(&self) -> bool {
+        struct Query;
+        impl ShapeVisitor<'_> for Query {
+            type Output = bool;
+            #[inline(always)]
+            fn visit<S: WallGeometry>(self, shape: &S) -> bool {
+                shape.needs_surface_pass()
+            }
+        }
+        self.visit(Query)
+    }
+
+    /// The parts the shape's element loads are booked to.
+    pub(crate) fn elements(&self) -> SurfaceElements {
+        self.geometry().elements()
     }
 }
 
@@ -297,17 +347,12 @@ impl Wall {
     /// a surface velocity that varies over the wall (a spin).
     #[inline]
     pub fn resolved_one_by_one(&self) -> bool {
-        self.shape.is_curved_or_meshed() || self.angular_velocity != DVec3::ZERO
+        self.shape.needs_surface_pass() || self.angular_velocity != DVec3::ZERO
     }
 
     /// Turns the wall rigidly by `rotation` about the world point `centre` [m].
     pub fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
-        match &mut self.shape {
-            WallShape::Plane(p) => p.rotate_about(centre, rotation),
-            WallShape::Polygon(p) => p.rotate_about(centre, rotation),
-            WallShape::Frustum(f) => f.rotate_about(centre, rotation),
-            WallShape::Mesh(m) => m.rotate_about(centre, rotation),
-        }
+        self.shape.geometry_mut().rotate_about(centre, rotation);
         self.centre = centre + rotation * (self.centre - centre);
     }
 
@@ -318,12 +363,7 @@ impl Wall {
 
     /// Moves the wall rigidly by `offset` [m].
     pub fn translate(&mut self, offset: DVec3) {
-        match &mut self.shape {
-            WallShape::Plane(p) => p.translate(offset),
-            WallShape::Polygon(p) => p.translate(offset),
-            WallShape::Frustum(f) => f.translate(offset),
-            WallShape::Mesh(m) => m.translate(offset),
-        }
+        self.shape.geometry_mut().translate(offset);
         self.centre += offset;
     }
 
@@ -331,84 +371,100 @@ impl Wall {
     ///
     /// For a plane the distance is signed along its normal (negative behind it, on the
     /// solid side). For a polygon it is the Euclidean distance to the face, an edge or a
-    /// corner. The polygon's arm is tested first and alone, so that the force loop of
-    /// polygons inlines no other shape's code.
+    /// corner; for a frustum or a mesh, whose closest points are out of line, to the nearest
+    /// point of the surface.
     #[inline(always)]
     pub fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
-        match &self.shape {
-            WallShape::Plane(p) => p.closest_point(x),
-            WallShape::Polygon(p) => p.closest_point(x),
-            _ => self.closest_point_of_surface(x),
-        }
-    }
-
-    /// [`Wall::closest_point`] of a frustum or a mesh (for a mesh the nearest point of all
-    /// its triangles), kept out of line.
-    #[inline(never)]
-    fn closest_point_of_surface(&self, x: DVec3) -> (DVec3, f64) {
-        match &self.shape {
-            WallShape::Frustum(f) => {
-                let (p, d, _) = f.closest_point(x);
-                (p, d)
+        struct Query(DVec3);
+        impl ShapeVisitor<'_> for Query {
+            type Output = (DVec3, f64);
+            #[inline(always)]
+            fn visit<S: WallGeometry>(self, shape: &S) -> (DVec3, f64) {
+                shape.closest_point(self.0)
             }
-            WallShape::Mesh(m) => {
-                let mut scratch = MeshScratch::default();
-                let mut out = Vec::new();
-                // Reach: grown until some triangle is within it.
-                let mut reach = 1e-3;
-                loop {
-                    m.contacts(x, reach, &mut scratch, &mut out);
-                    if let Some(c) = out.iter().min_by(|a, b| a.distance.total_cmp(&b.distance)) {
-                        return (c.point, c.distance);
-                    }
-                    if !reach.is_finite() {
-                        return (x, f64::INFINITY);
-                    }
-                    reach *= 4.0;
-                }
-            }
-            WallShape::Plane(_) | WallShape::Polygon(_) => unreachable!("handled inline"),
         }
+        self.shape.visit(Query(x))
     }
 
     /// True when the wall comes closer than `reach` [m] to `x`: the neighbour search's test,
     /// which for a mesh looks only at the triangles in reach and stops at the first.
     #[inline]
     pub fn comes_within(&self, x: DVec3, reach: f64) -> bool {
-        match &self.shape {
-            WallShape::Mesh(m) => m.comes_within(x, reach),
-            _ => self.closest_point(x).1 < reach,
+        struct Query(DVec3, f64);
+        impl ShapeVisitor<'_> for Query {
+            type Output = bool;
+            #[inline(always)]
+            fn visit<S: WallGeometry>(self, shape: &S) -> bool {
+                shape.comes_within(self.0, self.1)
+            }
         }
+        self.shape.visit(Query(x, reach))
     }
 
     /// True when `x` is certainly farther than `reach` [m] from the wall, by a test cheaper
     /// than [`Wall::closest_point`]; false when the shape has no such test (a plane).
     #[inline(always)]
     pub fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
-        match &self.shape {
-            WallShape::Plane(_) => false,
-            WallShape::Polygon(p) => p.certainly_beyond(x, reach),
-            WallShape::Frustum(f) => f.certainly_beyond(x, reach),
-            WallShape::Mesh(m) => m.certainly_beyond(x, reach),
+        struct Query(DVec3, f64);
+        impl ShapeVisitor<'_> for Query {
+            type Output = bool;
+            #[inline(always)]
+            fn visit<S: WallGeometry>(self, shape: &S) -> bool {
+                shape.certainly_beyond(self.0, self.1)
+            }
         }
+        self.shape.visit(Query(x, reach))
     }
 
     /// Contact normal (wall to particle) for a particle at `x` whose closest wall point is `p`
     /// at distance `dist`.
     #[inline(always)]
     pub fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
-        match &self.shape {
-            WallShape::Plane(plane) => plane.contact_normal(),
-            WallShape::Polygon(polygon) => polygon.contact_normal(x, p, dist),
-            WallShape::Frustum(f) => f.contact_normal(x, p, dist),
-            WallShape::Mesh(_) => {
-                if dist > 0.0 {
-                    (x - p) / dist
-                } else {
-                    DVec3::Z
-                }
+        struct Query(DVec3, DVec3, f64);
+        impl ShapeVisitor<'_> for Query {
+            type Output = DVec3;
+            #[inline(always)]
+            fn visit<S: WallGeometry>(self, shape: &S) -> DVec3 {
+                shape.contact_normal(self.0, self.1, self.2)
             }
         }
+        self.shape.visit(Query(x, p, dist))
+    }
+
+    /// The contacts of a sphere at `x` with radius `r` [m] with the wall on the surface pass,
+    /// into `out`, each with the element it is booked to (of `bands` for a banded shape);
+    /// `near` is the sphere's own cache of nearby triangles, `scratch` working memory
+    /// ([`WallGeometry::surface_contacts`]).
+    #[inline]
+    pub(crate) fn surface_contacts(
+        &self,
+        sphere: (DVec3, f64),
+        bands: usize,
+        near: &mut geometry::NearCache,
+        scratch: &mut MeshScratch,
+        out: &mut Vec<MeshContact>,
+    ) {
+        struct Query<'b> {
+            sphere: (DVec3, f64),
+            bands: usize,
+            near: &'b mut geometry::NearCache,
+            scratch: &'b mut MeshScratch,
+            out: &'b mut Vec<MeshContact>,
+        }
+        impl ShapeVisitor<'_> for Query<'_> {
+            type Output = ();
+            #[inline(always)]
+            fn visit<S: WallGeometry>(self, shape: &S) {
+                shape.surface_contacts(self.sphere, self.bands, self.near, self.scratch, self.out);
+            }
+        }
+        self.shape.visit(Query {
+            sphere,
+            bands,
+            near,
+            scratch,
+            out,
+        });
     }
 
     /// Velocity of the wall's material point at `x` [m/s]: v + ω × (x − c)
@@ -423,32 +479,13 @@ mod record {
     //! The stored form of a wall: its shape by its defining numbers (a mesh by its triangles
     //! and pose, rebuilt with its index on loading), then its motion and material.
 
-    use super::*;
-
-    /// The shape as stored.
-    #[derive(Serialize, Deserialize)]
-    pub(super) enum ShapeRecord {
-        Plane {
-            point: DVec3,
-            normal: DVec3,
-        },
-        Polygon {
-            vertices: Vec<DVec3>,
-            normal: DVec3,
-            edge_normals: Vec<DVec3>,
-        },
-        Frustum(Frustum),
-        Mesh {
-            triangles: Vec<[DVec3; 3]>,
-            rotation: DQuat,
-            translation: DVec3,
-        },
-    }
+    use super::{Interaction, Wall, WallError, WallMaterial, WallMotion, WallShape};
+    use serde::{Deserialize, Serialize};
 
     /// A wall as stored.
     #[derive(Serialize, Deserialize)]
     pub(super) struct WallRecord {
-        shape: ShapeRecord,
+        shape: WallShape,
         motion: WallMotion,
         sums_load: bool,
         material: WallMaterial,
@@ -457,30 +494,9 @@ mod record {
 
     impl From<Wall> for WallRecord {
         fn from(w: Wall) -> Self {
-            let motion = w.motion();
-            let shape = match w.shape {
-                WallShape::Plane(p) => ShapeRecord::Plane {
-                    point: p.point,
-                    normal: p.normal,
-                },
-                WallShape::Polygon(p) => ShapeRecord::Polygon {
-                    vertices: p.vertices,
-                    normal: p.normal,
-                    edge_normals: p.edge_normals,
-                },
-                WallShape::Frustum(f) => ShapeRecord::Frustum(f),
-                WallShape::Mesh(m) => {
-                    let (triangles, rotation, translation) = m.parts();
-                    ShapeRecord::Mesh {
-                        triangles,
-                        rotation,
-                        translation,
-                    }
-                }
-            };
             Self {
-                shape,
-                motion,
+                motion: w.motion(),
+                shape: w.shape,
                 sums_load: w.sums_load,
                 material: w.material,
                 interaction: w.interaction,
@@ -492,29 +508,7 @@ mod record {
         type Error = WallError;
 
         fn try_from(r: WallRecord) -> Result<Self, WallError> {
-            let shape = match r.shape {
-                ShapeRecord::Plane { point, normal } => WallShape::Plane(Plane { point, normal }),
-                ShapeRecord::Polygon {
-                    vertices,
-                    normal,
-                    edge_normals,
-                } => WallShape::Polygon(Polygon {
-                    vertices,
-                    normal,
-                    edge_normals,
-                }),
-                ShapeRecord::Frustum(f) => WallShape::Frustum(f),
-                ShapeRecord::Mesh {
-                    triangles,
-                    rotation,
-                    translation,
-                } => {
-                    let mut m = Mesh::new(&triangles)?;
-                    m.set_pose(rotation, translation);
-                    WallShape::Mesh(Box::new(m))
-                }
-            };
-            let mut w = Wall::of(shape, r.material, r.interaction);
+            let mut w = Wall::of(r.shape, r.material, r.interaction);
             w.set_motion(r.motion)?;
             w.sums_load = r.sums_load;
             Ok(w)

@@ -1,8 +1,9 @@
 //! The infinite plane: a wall whose solid side lies behind its unit normal (docs/physics.md §5).
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::geometry::{SurfaceElements, WallGeometry};
 use super::WallError;
 
 /// An infinite plane through `point` whose solid side lies behind `normal`; particles live
@@ -45,29 +46,48 @@ impl Plane {
     pub fn normal_and_offset(&self) -> (DVec3, f64) {
         (self.normal, self.point.dot(self.normal))
     }
+}
 
-    /// Moves the plane by `offset` [m].
-    pub(super) fn translate(&mut self, offset: DVec3) {
-        self.point += offset;
-    }
-
-    /// Turns the plane by `rotation` about the world point `centre` [m].
-    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: glam::DQuat) {
-        self.point = centre + rotation * (self.point - centre);
-        self.normal = (rotation * self.normal).normalize();
-    }
-
-    /// Closest point of the plane to `x` and the distance to it, signed along the normal
-    /// (negative behind the plane).
+impl WallGeometry for Plane {
+    /// The closest point and the distance signed along the normal (negative behind the
+    /// plane).
     #[inline(always)]
-    pub(super) fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
+    fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
         let s = (x - self.point).dot(self.normal);
         (x - s * self.normal, s)
     }
 
-    /// The contact normal, wall to particle: the plane's own, wherever the particle is.
+    /// The plane's own normal, wherever the particle is.
     #[inline(always)]
-    pub(super) fn contact_normal(&self) -> DVec3 {
+    fn contact_normal(&self, _x: DVec3, _p: DVec3, _dist: f64) -> DVec3 {
         self.normal
+    }
+
+    #[inline(always)]
+    fn is_unbounded(&self) -> bool {
+        true
+    }
+
+    #[inline(always)]
+    fn as_plane(&self) -> Option<(DVec3, f64)> {
+        Some(self.normal_and_offset())
+    }
+
+    #[inline(always)]
+    fn needs_surface_pass(&self) -> bool {
+        false
+    }
+
+    fn elements(&self) -> SurfaceElements {
+        SurfaceElements::None
+    }
+
+    fn translate(&mut self, offset: DVec3) {
+        self.point += offset;
+    }
+
+    fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
+        self.point = centre + rotation * (self.point - centre);
+        self.normal = (rotation * self.normal).normalize();
     }
 }

@@ -1,9 +1,10 @@
 //! The finite convex planar polygon: a two-sided wall whose contacts are with its face, an
 //! edge or a corner, whichever holds the closest point (docs/physics.md §5).
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::geometry::{SurfaceElements, WallGeometry};
 use super::WallError;
 
 /// A finite convex planar polygon, two-sided.
@@ -75,14 +76,16 @@ impl Polygon {
     pub fn normal(&self) -> DVec3 {
         self.normal
     }
+}
 
+impl WallGeometry for Polygon {
     /// Moves the polygon by `offset` [m].
-    pub(super) fn translate(&mut self, offset: DVec3) {
+    fn translate(&mut self, offset: DVec3) {
         self.vertices.iter_mut().for_each(|v| *v += offset);
     }
 
     /// Turns the polygon by `rotation` about the world point `centre` [m].
-    pub(super) fn rotate_about(&mut self, centre: DVec3, rotation: glam::DQuat) {
+    fn rotate_about(&mut self, centre: DVec3, rotation: DQuat) {
         for v in &mut self.vertices {
             *v = centre + rotation * (*v - centre);
         }
@@ -96,7 +99,7 @@ impl Polygon {
     /// the perpendicular when it falls inside, otherwise the closest point of the nearest
     /// edge or corner.
     #[inline(always)]
-    pub(crate) fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
+    fn closest_point(&self, x: DVec3) -> (DVec3, f64) {
         let vertices = &self.vertices;
         let h = (x - vertices[0]).dot(self.normal);
         let q = x - h * self.normal;
@@ -122,19 +125,33 @@ impl Polygon {
     /// True when `x` is certainly farther than `reach` [m] from the polygon, by its distance
     /// from the polygon's plane alone, which never exceeds the distance to the polygon.
     #[inline(always)]
-    pub(crate) fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
+    fn certainly_beyond(&self, x: DVec3, reach: f64) -> bool {
         (x - self.vertices[0]).dot(self.normal).abs() >= reach
     }
 
     /// Contact normal (polygon to particle) for a particle at `x` whose closest point is `p`
     /// at distance `dist`: along x − p, or the plane's normal when x lies in the polygon.
     #[inline(always)]
-    pub(crate) fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
+    fn contact_normal(&self, x: DVec3, p: DVec3, dist: f64) -> DVec3 {
         if dist > 0.0 {
             (x - p) / dist
         } else {
             self.normal
         }
+    }
+
+    #[inline(always)]
+    fn is_unbounded(&self) -> bool {
+        false
+    }
+
+    #[inline(always)]
+    fn needs_surface_pass(&self) -> bool {
+        false
+    }
+
+    fn elements(&self) -> SurfaceElements {
+        SurfaceElements::None
     }
 }
 

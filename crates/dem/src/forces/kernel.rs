@@ -1,19 +1,24 @@
-//! The paper's contact laws (Hertz + restitution dashpot, Mindlin no-slip, Eq. 8 constant
-//! rolling torque, no clamp) evaluated for a batch of touching pairs stored as structure of
-//! arrays.
+//! The batched contact kernel: the force machinery that evaluates the paper's contact laws
+//! (Hertz + restitution dashpot, Mindlin no-slip, Eq. 8 constant rolling torque, no clamp)
+//! for a batch of touching pairs stored as structure of arrays. It holds no law of its own.
 //!
 //! The scalar pipeline in `ContactLaws::resolve` is one long chain of dependent square roots
 //! and divisions per contact, too long for the processor to overlap consecutive contacts.
-//! Here every stage is written without branches over arrays, so the compiler evaluates two
-//! contacts per SSE2 instruction (`sqrtpd`, `divpd`) and independent contacts overlap.
-//! The algebra is that of `normal::hertz`, `damping::dashpot`, `tangential::rotate_into_plane`,
-//! `tangential::mindlin_no_slip` and `rolling::constant_torque`, operation for operation where
-//! it matters; a test checks the two against each other.
+//! Here every stage is a loop over the contacts without branches, so the compiler evaluates
+//! two contacts per SSE2 instruction (`sqrtpd`, `divpd`) and independent contacts overlap.
+//! Each stage calls the law's own function from `contact`: `normal::hertz`,
+//! `damping::dashpot`, `rolling::constant_torque_scale`, `tangential::mindlin_stiffness`,
+//! `coulomb_limit` and `no_slip_dashpot` as they are, and the lane forms
+//! `tangential::rotate_and_slip_lane`, `tangential::no_slip_force_lane` and
+//! `rolling::constant_torque_levers_lane` where the scalar form branches or works on
+//! vectors; the contact module's tests hold the lane forms to the scalar ones bit for bit,
+//! and a test here holds the whole kernel to `ContactLaws::resolve`.
 
 use glam::DVec3;
 
-use super::geometry::{effective_radius, lever_arm};
-use super::{damping, normal, rolling};
+use crate::contact::geometry::{effective_radius, lever_arm};
+use crate::contact::tangential;
+use crate::contact::{damping, normal, rolling};
 use crate::material::{harmonic, PairCoefficients};
 
 /// Contacts per batch: the arrays (≈ 40 × 8 × BATCH bytes) stay in the L1 cache.
@@ -269,27 +274,20 @@ impl Batch {
             st.rolling[k] = rolling::constant_torque_scale(rolling_friction, f_ne, w2);
         }
 
-        // Pass 3, history into the tangent plane keeping its length (`rotate_into_plane`;
-        // a zero or normal history becomes zero, as there), plus the step's slip v_t Δt.
+        // Pass 3, history into the tangent plane keeping its length (a zero or normal history
+        // becomes zero), plus the step's slip v_t Δt.
         for k in 0..n {
             let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let xi = [self.xi[0][k], self.xi[1][k], self.xi[2][k]];
-            let len2 = dot(xi, xi);
-            let xn = dot(xi, nrm);
-            let proj = [
-                xi[0] - xn * nrm[0],
-                xi[1] - xn * nrm[1],
-                xi[2] - xn * nrm[2],
-            ];
-            let p2 = dot(proj, proj);
-            let keep = if p2 > 0.0 { (len2 / p2).sqrt() } else { 0.0 };
-            for (c, p) in proj.into_iter().enumerate() {
-                self.xi[c][k] = p * keep + st.v_t[c][k] * dt;
+            let v_t = [st.v_t[0][k], st.v_t[1][k], st.v_t[2][k]];
+            let xi = tangential::rotate_and_slip_lane(xi, nrm, v_t, dt);
+            for (c, x) in xi.into_iter().enumerate() {
+                self.xi[c][k] = x;
             }
         }
 
-        // Pass 4, Mindlin no-slip (`mindlin_no_slip`): spring on ξ, Coulomb cap μ F_ne,
-        // dashpot γ_t = γ_n √(4G*/E*) only while sticking; then the torques.
+        // Pass 4, Mindlin no-slip: spring on ξ, Coulomb cap μ F_ne, dashpot
+        // γ_t = γ_n √(4G*/E*) only while sticking; then the torques.
         for k in 0..n {
             let (g_star, friction, ratio) = (
                 self.coeff.g_star[k],
@@ -298,40 +296,30 @@ impl Batch {
             );
             let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
             let v_t = [st.v_t[0][k], st.v_t[1][k], st.v_t[2][k]];
-            let s_t = 8.0 * g_star * st.a[k];
-            let gamma_t = st.gamma_n[k] * ratio;
-            let cap = friction * st.f_ne[k];
+            let s_t = tangential::mindlin_stiffness(g_star, st.a[k]);
+            let gamma_t = tangential::no_slip_dashpot(st.gamma_n[k], ratio);
+            let cap = tangential::coulomb_limit(friction, st.f_ne[k]);
             let mut xi = [self.xi[0][k], self.xi[1][k], self.xi[2][k]];
-            let spring2 = s_t * s_t * dot(xi, xi);
-            let sliding = spring2 > cap * cap;
-            let scale = if sliding { cap / spring2.sqrt() } else { 1.0 };
-            let dash = if sliding { 0.0 } else { gamma_t };
-            for x in &mut xi {
-                *x *= scale;
-            }
-            let f_t = [
-                -s_t * xi[0] - dash * v_t[0],
-                -s_t * xi[1] - dash * v_t[1],
-                -s_t * xi[2] - dash * v_t[2],
-            ];
+            let f_t = tangential::no_slip_force_lane(&mut xi, v_t, s_t, cap, gamma_t);
 
-            // Torques (as `ContactLaws::resolve`): M_i = −a_i (n × F_t + s ω_rel),
-            // M_j = −a_j (n × F_t − s ω_rel), s = μ_r F_ne/|ω_rel| (Eq. 8). ω_rel is formed
-            // again here (three subtractions of inputs, the same bits as in pass 2) rather
-            // than stored and reloaded.
+            // Torques (`rolling::constant_torque_levers`). ω_rel is formed again here (three
+            // subtractions of inputs, the same bits as in pass 2) rather than stored and
+            // reloaded.
             let omega_rel = [
                 self.omega[0][0][k] - self.omega[1][0][k],
                 self.omega[0][1][k] - self.omega[1][1][k],
                 self.omega[0][2][k] - self.omega[1][2][k],
             ];
             let (s, f_n) = (st.rolling[k], st.f_n[k]);
-            let (arm_i, arm_j) = (st.arm[0][k], st.arm[1][k]);
+            let arms = (st.arm[0][k], st.arm[1][k]);
             let nxf = cross(nrm, f_t);
+            let (torque_i, torque_j) =
+                rolling::constant_torque_levers_lane(nxf, s, omega_rel, arms);
             for c in 0..3 {
                 self.xi[c][k] = xi[c];
                 self.force[c][k] = f_n * nrm[c] + f_t[c];
-                self.torque_i[c][k] = -arm_i * (nxf[c] + s * omega_rel[c]);
-                self.torque_j[c][k] = -arm_j * (nxf[c] - s * omega_rel[c]);
+                self.torque_i[c][k] = torque_i[c];
+                self.torque_j[c][k] = torque_j[c];
             }
         }
     }
