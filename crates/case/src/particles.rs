@@ -37,8 +37,12 @@ impl MaterialSpec {
     /// Rayleigh time t_R = π r √(ρ/G) / (0.1631 ν + 0.8766) [s] for a sphere of radius
     /// `radius` [m] (paper Eq. 9 with EDEM's coefficient, physics spec §6.1).
     pub fn rayleigh_time(&self, radius: f64) -> f64 {
-        std::f64::consts::PI * radius * (self.density / self.shear_modulus).sqrt()
-            / (0.1631 * self.poisson_ratio + 0.8766)
+        dem::timescale::rayleigh_time_of(
+            self.density,
+            self.shear_modulus,
+            self.poisson_ratio,
+            radius,
+        )
     }
 }
 

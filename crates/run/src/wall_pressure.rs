@@ -77,18 +77,11 @@ impl WallPressureRecorder {
             let z = match wall.shape() {
                 WallShape::Frustum(f) => {
                     let (z0, length) = (f.base().z, f.length());
-                    let [r0, r1] = f.radii();
                     let bands = ((length / zone_height).ceil() as usize).max(1);
-                    let slant = length.hypot(r1 - r0) / bands as f64;
                     let zones = (0..bands)
                         .map(|k| {
                             let (a, b) = (k as f64 / bands as f64, (k + 1) as f64 / bands as f64);
-                            let (ra, rb) = (r0 + a * (r1 - r0), r0 + b * (r1 - r0));
-                            (
-                                z0 + a * length,
-                                z0 + b * length,
-                                std::f64::consts::PI * (ra + rb) * slant,
-                            )
+                            (z0 + a * length, z0 + b * length, f.band_area(k, bands))
                         })
                         .collect();
                     let element_zone = (0..bands as u32).collect();
