@@ -16,6 +16,7 @@ mod cylinder;
 mod document;
 mod error;
 mod geometry;
+mod limits;
 mod mesh;
 mod overrides;
 mod particles;

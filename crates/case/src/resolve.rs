@@ -16,6 +16,7 @@ use files::DEFAULT_GRAVITY;
 use super::document::{NodeValue, Table};
 use super::error::{number, rounded, ConfigError, ConfigErrors, ErrorKind};
 use super::geometry::Geometry;
+use super::limits::outlet_too_small;
 use super::mesh::MeshOutlet;
 use super::particles::MaterialSpec;
 use super::reader::Section;
@@ -41,29 +42,6 @@ pub(crate) const ALTERNATIVE_KEYS: &[(&str, &str)] = &[
         "wall.material.youngs_modulus",
     ),
 ];
-
-/// Largest particle count accepted; a guard against typos that would exhaust memory.
-pub(crate) const MAX_PARTICLE_COUNT: i64 = 10_000_000;
-
-/// Smallest outlet width in largest particle diameters (the issue's rule: D ≥ 3 d).
-pub(crate) const MIN_OUTLET_DIAMETERS: f64 = 3.0;
-
-/// Why an outlet of size `value` [m] is refused: narrower than [`MIN_OUTLET_DIAMETERS`]
-/// largest particle diameters, `d_max` with the key that set it; `None` when it is wide
-/// enough or the particles are unknown.
-pub(crate) fn outlet_too_small(value: f64, d_max: Option<(f64, &str)>) -> Option<String> {
-    let (d_max, source) = d_max?;
-    let smallest = MIN_OUTLET_DIAMETERS * d_max;
-    // The product rounds: 3 × 0.003 is 0.009000000000000001, above the 0.009 a user writes
-    // for exactly three diameters. A few units in the last place decide nothing.
-    (value < smallest * (1.0 - 4.0 * f64::EPSILON)).then(|| {
-        format!(
-            "must be ≥ {MIN_OUTLET_DIAMETERS} particle diameters ({} m), d being the largest \
-             diameter, {source}",
-            rounded(smallest)
-        )
-    })
-}
 
 const TOP_KEYS: &[&str] = &[
     "version",

@@ -4,8 +4,8 @@
 use super::cuboid::{CuboidGeometry, CuboidOutlet};
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::geometry::WallSurface;
+use super::limits::outlet_too_small;
 use super::reader::Section;
-use super::resolve::outlet_too_small;
 use super::resolve_particles::source;
 
 /// Keys of a rectangular silo's `[geometry]`.

@@ -4,8 +4,8 @@
 use super::cylinder::CylinderGeometry;
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::geometry::{WallSurface, DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
+use super::limits::outlet_too_small;
 use super::reader::Section;
-use super::resolve::outlet_too_small;
 use super::resolve_particles::source;
 
 /// Keys of a cylindrical silo's `[geometry]`.

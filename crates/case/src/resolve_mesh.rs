@@ -13,9 +13,9 @@ use std::sync::Arc;
 use sha2::{Digest, Sha256};
 
 use super::error::{number, rounded, ConfigError, ErrorKind, Location};
+use super::limits::outlet_too_small;
 use super::mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 use super::reader::{Located, Section};
-use super::resolve::outlet_too_small;
 
 /// Keys of a mesh container's `[geometry]`.
 pub(crate) const MESH_KEYS: &[&str] = &["kind", "walls", "outlet", "fill_min", "fill_max"];

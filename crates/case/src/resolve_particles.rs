@@ -4,9 +4,9 @@
 
 use super::document::NodeValue;
 use super::error::{number, rounded, ConfigError, ErrorKind};
+use super::limits::MAX_PARTICLE_COUNT;
 use super::particles::{Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
-use super::resolve::MAX_PARTICLE_COUNT;
 use super::resolve_materials::NamedMaterials;
 
 /// Where a value that a limit derives from was set: `key = value unit`, marked
