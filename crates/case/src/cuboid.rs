@@ -11,7 +11,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::geometry::WallSurface;
+use super::wall_surface::WallSurface;
 
 /// The orifice of a rectangular silo.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -263,7 +263,7 @@ impl CuboidGeometry {
 
     /// Height [m] below which the container holds `volume` [m³], or `None` if it cannot.
     pub fn height_holding(&self, volume: f64) -> Option<f64> {
-        super::geometry::height_holding(self.height, volume, |z| self.volume_below(z))
+        super::fill_height::height_holding(self.height, volume, |z| self.volume_below(z))
     }
 
     /// Whether a sphere of radius `r` [m] centred at (x, y, z) lies inside the container with

@@ -6,7 +6,8 @@ use std::f64::consts::PI;
 
 use serde::{Deserialize, Serialize};
 
-use super::geometry::{height_holding, WallSurface, DEFAULT_MESH_SEGMENTS};
+use super::fill_height::height_holding;
+use super::wall_surface::{WallSurface, DEFAULT_MESH_SEGMENTS};
 
 /// A cylindrical silo: a vertical cylinder of radius R above a conical hopper of half-angle
 /// θ (or a flat bottom), with a circular orifice of diameter D in the orifice plane z = 0.

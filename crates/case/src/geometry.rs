@@ -13,46 +13,6 @@ use super::cylinder::CylinderGeometry;
 use super::mesh::MeshGeometry;
 use super::slab::SlabGeometry;
 
-/// Default number of segments around the axis of a meshed cylinder or cone, and of the
-/// orifice's polygon: 96 segments put the chord's midpoint 0.05 % of the radius inside the
-/// circle, far below a particle radius for any silo a few diameters wide.
-pub const DEFAULT_MESH_SEGMENTS: usize = 96;
-
-/// Fewest and most segments around a circle (a triangle must stay a reasonable fraction of
-/// the silo; more than a few thousand only costs memory).
-pub const MESH_SEGMENTS_RANGE: (i64, i64) = (12, 4096);
-
-/// How curved walls are represented in the engine.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WallSurface {
-    /// Exact cylinder and cone (the engine's frustum shape, docs/physics.md §5.2).
-    Smooth,
-    /// Triangle meshes of `mesh_segments` strips around the axis (§5.3).
-    Meshed,
-}
-/// Height [m] below which a container of height `height` [m] whose volume below z is
-/// `volume_below(z)` [m³] holds `volume` [m³], or `None` if it cannot. `volume_below` is
-/// continuous and increasing: bisection to 2^-60 of the height.
-pub(super) fn height_holding(
-    height: f64,
-    volume: f64,
-    volume_below: impl Fn(f64) -> f64,
-) -> Option<f64> {
-    if volume > volume_below(height) {
-        return None;
-    }
-    let (mut low, mut high) = (0.0, height);
-    for _ in 0..60 {
-        let mid = 0.5 * (low + high);
-        if volume_below(mid) < volume {
-            low = mid;
-        } else {
-            high = mid;
-        }
-    }
-    Some(high)
-}
 /// The container of a case.
 ///
 /// Serialised without a tag, so that the slab writes exactly the fields it always wrote.

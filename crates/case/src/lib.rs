@@ -15,6 +15,7 @@ mod cuboid;
 mod cylinder;
 mod document;
 mod error;
+mod fill_height;
 mod geometry;
 mod limits;
 mod mesh;
@@ -32,6 +33,7 @@ mod slab;
 mod sweep;
 mod sweep_file;
 mod template;
+mod wall_surface;
 mod write;
 
 use std::path::Path;
@@ -49,7 +51,7 @@ pub use case::{
 pub use cuboid::{CuboidFace, CuboidGeometry, CuboidOutlet, HalfSpace};
 pub use cylinder::CylinderGeometry;
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
-pub use geometry::{Geometry, WallSurface, DEFAULT_MESH_SEGMENTS};
+pub use geometry::Geometry;
 pub use mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 pub use particles::{
     mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, MaterialSpec,
@@ -60,6 +62,7 @@ pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, Sweep
 pub use template::{
     template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, MESH_TEMPLATE,
 };
+pub use wall_surface::{WallSurface, DEFAULT_MESH_SEGMENTS};
 
 use document::parse_document;
 use error::ErrorKind as Kind;

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::geometry::{DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
+use super::wall_surface::{DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
 
 /// Most STL files of one case (each is a wall with a row in `wall_forces.csv`).
 pub const MAX_MESH_WALLS: usize = 64;

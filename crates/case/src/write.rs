@@ -6,9 +6,10 @@ use dem::MaterialTable;
 
 use super::case::{Case, RollingLawSpec, TangentialLawSpec, WallMaterialSpec, CASE_FORMAT_VERSION};
 use super::error::rounded;
-use super::geometry::{Geometry, WallSurface};
+use super::geometry::Geometry;
 use super::mesh::MeshOutlet;
 use super::particles::{FractionBasis, MaterialSpec, SizeDistribution};
+use super::wall_surface::WallSurface;
 use files::DEFAULT_GRAVITY;
 
 /// A float in TOML syntax that parses back to the same bits: Rust prints the shortest

@@ -9,7 +9,7 @@ use run::bench::{
     SiloRequest, SiloSource, SiloStart,
 };
 
-use crate::run_cmd::EXIT_BAD_INPUT;
+use crate::exit_codes::EXIT_BAD_INPUT;
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum BenchCase {

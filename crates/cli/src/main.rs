@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod bench_cmd;
+mod exit_codes;
 mod report_cmd;
 mod run_cmd;
 mod signals;
@@ -59,7 +60,7 @@ fn main() {
         Ok(cli) => cli,
         Err(e) => {
             let code = if e.use_stderr() {
-                run_cmd::EXIT_BAD_INPUT
+                exit_codes::EXIT_BAD_INPUT
             } else {
                 0
             };

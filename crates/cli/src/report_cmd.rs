@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use clap::Args;
 use report::{build_report, ReportError};
 
-use crate::run_cmd::EXIT_BAD_INPUT;
+use crate::exit_codes::EXIT_BAD_INPUT;
 
 #[derive(Args)]
 pub struct ReportArgs {

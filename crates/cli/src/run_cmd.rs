@@ -1,5 +1,6 @@
 //! `hopperflow run`, `check` and `init`: one case from a file (or the paper's base case).
 
+use crate::exit_codes::EXIT_BAD_INPUT;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -12,9 +13,6 @@ use run::{
     check_save_bed, occupant, read_bed, run_case_from, Bed, Occupant, Progress, RunError,
     RunOptions, RunOutcome, Start,
 };
-
-/// Exit code for bad input (a malformed case file or override).
-pub const EXIT_BAD_INPUT: i32 = 2;
 
 #[derive(Args)]
 pub struct RunArgs {
@@ -352,7 +350,7 @@ pub fn run(args: RunArgs) -> i32 {
                 "stopped by a signal; the checkpoint in {} continues with --resume",
                 args.out.display()
             );
-            crate::signals::EXIT_STOPPED
+            crate::exit_codes::EXIT_STOPPED
         }
         Err(e @ (RunError::Bed(_) | RunError::Packing(_) | RunError::BedTooLate { .. })) => {
             eprintln!("error: {e}");

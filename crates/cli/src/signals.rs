@@ -1,5 +1,5 @@
 //! SIGTERM and Ctrl-C stop a run or a study cleanly: the running cases write a checkpoint
-//! after their current protocol chunk and the process exits with [`EXIT_STOPPED`].
+//! after their current protocol chunk and the process exits with [`crate::exit_codes::EXIT_STOPPED`].
 //!
 //! Slurm sends SIGTERM at a job's time limit and on `scancel`, then SIGKILL after its
 //! `KillWait` (30 s by default); a protocol chunk takes milliseconds, so the checkpoint is
@@ -7,10 +7,6 @@
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-
-/// Exit status of a run or study stopped by SIGTERM or Ctrl-C after writing its
-/// checkpoints (BSD's EX_TEMPFAIL: the work is unfinished, try again later).
-pub const EXIT_STOPPED: i32 = 75;
 
 /// A flag that SIGTERM and SIGINT set. Where the handlers cannot be installed the flag
 /// stays false and the signals keep their default action (end the process), which loses

@@ -13,8 +13,8 @@ use study::{
     collect_study, run_task, JobsError, SimulationRunner, SlurmOptions, TaskOutcome, TimeLimit,
 };
 
-use crate::run_cmd::EXIT_BAD_INPUT;
-use crate::signals::EXIT_STOPPED;
+use crate::exit_codes::EXIT_BAD_INPUT;
+use crate::exit_codes::EXIT_STOPPED;
 
 /// Slurm options of `hopperflow study`.
 #[derive(Args, Clone, Debug, Default)]
@@ -110,7 +110,7 @@ pub fn write_jobs(
             eprintln!("error: {e}");
             return match &e {
                 JobsError::BadOption(_) => EXIT_BAD_INPUT,
-                JobsError::Study(e) => crate::study_cmd::exit_code_of(e),
+                JobsError::Study(e) => crate::exit_codes::study_exit_code(e),
                 _ => 1,
             };
         }
@@ -217,7 +217,7 @@ pub fn task(
         }
         Err(e) => {
             eprintln!("error: {id}: {e}");
-            crate::study_cmd::exit_code_of(&e)
+            crate::exit_codes::study_exit_code(&e)
         }
     }
 }
@@ -228,7 +228,7 @@ pub fn collect(plan: &SweepPlan, out: &Path) -> i32 {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
-            return crate::study_cmd::exit_code_of(&e);
+            return crate::exit_codes::study_exit_code(&e);
         }
     };
     println!(

@@ -18,7 +18,7 @@ use case::{
 use files::CaseStatus;
 use indicatif::{ProgressBar, ProgressStyle};
 use run::Start;
-use study::{run_study, SimulationRunner, StudyError, StudyEvent, StudyOptions};
+use study::{run_study, SimulationRunner, StudyEvent, StudyOptions};
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -60,21 +60,6 @@ pub struct StudyArgs {
     /// keys; each takes the bed's seed, and replicas are refused (they would repeat one run).
     #[arg(long, value_name = "DIR")]
     from_bed: Option<PathBuf>,
-}
-
-/// The exit status of a study-level error: 2 for what the user's inputs or folder cause
-/// (another sweep in the folder, a case folder of other inputs, an unknown case), 1 else.
-pub fn exit_code_of(e: &StudyError) -> i32 {
-    match e {
-        StudyError::DifferentStudy { .. }
-        | StudyError::CaseFolder { .. }
-        | StudyError::DuplicateCase(_)
-        | StudyError::UnknownCase { .. }
-        | StudyError::Bed(_)
-        | StudyError::BedDoesNotFit { .. }
-        | StudyError::ReplicasFromOneBed { .. } => 2,
-        _ => 1,
-    }
 }
 
 /// The hopperflow binary and this study's own arguments, as an array task or the report
@@ -204,7 +189,7 @@ pub fn run(args: StudyArgs) -> i32 {
             Ok(planned) => planned,
             Err(e) => {
                 eprintln!("error: {e}");
-                return exit_code_of(&e);
+                return crate::exit_codes::study_exit_code(&e);
             }
         },
     };
@@ -233,7 +218,7 @@ pub fn run(args: StudyArgs) -> i32 {
     // anything in it changes.
     if let Err(e) = study::check_study_dir(&plan, &out) {
         eprintln!("error: {e}");
-        return exit_code_of(&e);
+        return crate::exit_codes::study_exit_code(&e);
     }
     if let Err(e) = std::fs::create_dir_all(&out) {
         eprintln!("error: cannot create {}: {e}", out.display());
@@ -314,7 +299,7 @@ pub fn run(args: StudyArgs) -> i32 {
                 eprintln!(
                     "stopped by a signal: running cases wrote checkpoints; rerun the same command to continue"
                 );
-                return crate::signals::EXIT_STOPPED;
+                return crate::exit_codes::EXIT_STOPPED;
             }
             // The report covers what finished; failed cases are left out of its fits
             // and counted in it.
