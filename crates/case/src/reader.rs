@@ -22,6 +22,32 @@ pub(crate) struct Located<T> {
     pub unit: &'static str,
 }
 
+impl<T> Located<T> {
+    /// An error about this value, shown as `shown`.
+    fn error_shown(
+        &self,
+        kind: ErrorKind,
+        shown: String,
+        message: impl Into<String>,
+    ) -> ConfigError {
+        ConfigError::new(
+            kind,
+            self.location.clone(),
+            self.key.clone(),
+            Some(shown),
+            message,
+        )
+    }
+
+    /// `text` marked `(default)` when the user did not write the value.
+    fn marked(&self, mut text: String) -> String {
+        if !self.given {
+            text.push_str(" (default)");
+        }
+        text
+    }
+}
+
 impl<T: Copy> Located<T> {
     /// The same key and place with a different value (e.g. a derived default).
     pub fn with_value(&self, value: T) -> Self {
@@ -45,21 +71,12 @@ impl Located<f64> {
                 text.push_str(unit);
             }
         }
-        if !self.given {
-            text.push_str(" (default)");
-        }
-        text
+        self.marked(text)
     }
 
     /// An error about this value.
     pub fn error(&self, kind: ErrorKind, message: impl Into<String>) -> ConfigError {
-        ConfigError::new(
-            kind,
-            self.location.clone(),
-            self.key.clone(),
-            Some(self.shown()),
-            message,
-        )
+        self.error_shown(kind, self.shown(), message)
     }
 
     /// Records an error unless the value is finite and strictly positive.
@@ -84,30 +101,14 @@ impl Located<f64> {
 /// A value with a place, for messages about integers, strings and booleans.
 impl Located<i64> {
     pub fn error(&self, kind: ErrorKind, message: impl Into<String>) -> ConfigError {
-        let mut shown = self.value.to_string();
-        if !self.given {
-            shown.push_str(" (default)");
-        }
-        ConfigError::new(
-            kind,
-            self.location.clone(),
-            self.key.clone(),
-            Some(shown),
-            message,
-        )
+        self.error_shown(kind, self.marked(self.value.to_string()), message)
     }
 }
 
 impl Located<String> {
     /// An error about this word, shown quoted.
     pub fn error(&self, kind: ErrorKind, message: impl Into<String>) -> ConfigError {
-        ConfigError::new(
-            kind,
-            self.location.clone(),
-            self.key.clone(),
-            Some(format!("\"{}\"", self.value)),
-            message,
-        )
+        self.error_shown(kind, format!("\"{}\"", self.value), message)
     }
 }
 
@@ -121,21 +122,12 @@ impl Located<Vec<f64>> {
             text.push(' ');
             text.push_str(self.unit);
         }
-        if !self.given {
-            text.push_str(" (default)");
-        }
-        text
+        self.marked(text)
     }
 
     /// An error about this vector.
     pub fn error(&self, kind: ErrorKind, message: impl Into<String>) -> ConfigError {
-        ConfigError::new(
-            kind,
-            self.location.clone(),
-            self.key.clone(),
-            Some(self.shown()),
-            message,
-        )
+        self.error_shown(kind, self.shown(), message)
     }
 
     /// Records an error unless every component is finite.

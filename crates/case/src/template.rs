@@ -1,12 +1,110 @@
 //! The commented case file that `hopperflow init` writes: every key, its unit, its default.
 
+// Each template is one `concat!` of its own text and the sections it shares with the others,
+// so that a section common to several kinds is written once. The sections are macros, not
+// constants, because `concat!` takes only literals (and macros that expand to them), and the
+// templates stay `&'static str` constants. What `hopperflow init` writes is pinned byte for
+// byte by the test `every_template_keeps_its_text` (crates/case/tests/suite/shipped.rs).
+
+/// The keys at the top level, then the `[geometry]` header: the same in every template.
+macro_rules! globals {
+    () => {
+        r#"version = 1    # case-file format version
+seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
+gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
+
+[geometry]
+"#
+    };
+}
+
+/// The particle–particle coefficients of the paper's Table 1 under their `[contact]` header
+/// (the slab, box and mesh templates).
+macro_rules! contact_coefficients {
+    () => {
+        r#"[contact]
+friction = 0.5           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
+restitution = 0.2        # e particle–particle [-], in (0, 1]
+"#
+    };
+}
+
+/// The contact laws' keys, briefly explained (the cylinder, box and mesh templates).
+macro_rules! contact_laws {
+    () => {
+        r#"tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
+rolling = "constant_torque"      # "constant_torque" or "epsd"
+normal_clamp = false     # clamp the normal force to ≥ 0
+"#
+    };
+}
+
+/// The paper's particle material, the walls of that material and the contact coefficients
+/// (the box and mesh templates).
+macro_rules! material_wall_contact {
+    () => {
+        concat!(
+            r#"[particles.material]
+density = 2500.0         # ρ_p [kg/m³]
+shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
+poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
+
+[wall]
+material = "same"        # "same", "rigid", or a [wall.material] table
+friction = 0.5           # μ_s particle–wall [-], ≥ 0
+rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
+restitution = 0.2        # e particle–wall [-], in (0, 1]
+
+"#,
+            contact_coefficients!(),
+            contact_laws!(),
+        )
+    };
+}
+
+/// The `[protocol]` header and the settling keys (every template).
+macro_rules! settling {
+    () => {
+        r#"[protocol]
+settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
+max_settle_time = 3.0    # [s], longest simulated settling time
+"#
+    };
+}
+
+/// The outlet-crossing check and the start of the steady window (every template).
+macro_rules! steady_window {
+    () => {
+        r#"crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
+steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
+"#
+    };
+}
+
+/// The end of `[measure]` and the start of `[output]`, without VTU snapshots (the cylinder,
+/// box and mesh templates).
+macro_rules! measure_end_3d {
+    () => {
+        concat!(
+            steady_window!(),
+            r#"steady_end_fraction = 0.7     # [-], and ends at this fraction
+
+[output]
+vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+"#,
+        )
+    };
+}
+
 /// A case file holding the paper's base case with every key explained.
 ///
 /// Keys whose default depends on another key (on the particle diameter or the hopper
 /// height) and keys that are alternatives to another key are shown commented out, so
 /// that the template reads back to exactly [`super::Case::paper_base`] and stays right
 /// when the user changes the diameter.
-pub const CASE_TEMPLATE: &str = r#"# hopperflow case file.
+pub const CASE_TEMPLATE: &str = concat!(
+    r#"# hopperflow case file.
 #
 # Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
 # carry `_deg` in their key. The values below are the defaults: the base case of
@@ -15,12 +113,9 @@ pub const CASE_TEMPLATE: &str = r#"# hopperflow case file.
 # Check a file with `hopperflow check FILE`; override a key on the command line with
 # `hopperflow run FILE --set geometry.outlet_width=0.045`.
 
-version = 1    # case-file format version
-seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
-gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
-
-[geometry]
-# kind = "slab"          # "slab" (this hopper, the default), "cylinder" (a silo), "box" (a
+"#,
+    globals!(),
+    r#"# kind = "slab"          # "slab" (this hopper, the default), "cylinder" (a silo), "box" (a
 #                        # rectangular silo) or "mesh" (your STL walls); `hopperflow init
 #                        # --kind cylinder|box|mesh` writes a commented template of each
 # Coordinates: x from the hopper axis, z up from the outlet plane, y across the slab.
@@ -81,11 +176,9 @@ friction = 0.5           # μ_s particle–wall [-], ≥ 0 (applies to front and
 rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
 restitution = 0.2        # e particle–wall [-], in (0, 1]
 
-[contact]
-friction = 0.5           # μ_s particle–particle [-], ≥ 0
-rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
-restitution = 0.2        # e particle–particle [-], in (0, 1]
-tangential = "mindlin_no_slip"   # "mindlin_no_slip" (EDEM/LIGGGHTS) or "mindlin_deresiewicz" (paper Eq. 7, corrected)
+"#,
+    contact_coefficients!(),
+    r#"tangential = "mindlin_no_slip"   # "mindlin_no_slip" (EDEM/LIGGGHTS) or "mindlin_deresiewicz" (paper Eq. 7, corrected)
 rolling = "constant_torque"      # "constant_torque" (paper Eq. 8) or "epsd"
 normal_clamp = false     # clamp the normal force to ≥ 0 (the paper's Eq. 6 does not)
 
@@ -93,10 +186,9 @@ normal_clamp = false     # clamp the normal force to ≥ 0 (the paper's Eq. 6 do
 time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; 2.5e-6 s = 0.097 t_R for Table 1
 # rayleigh_fraction = 0.097  # alternative to time_step: Δt as a fraction of the Rayleigh time, in (0, 0.2]
 
-[protocol]
-settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
-max_settle_time = 3.0    # [s], longest simulated settling time
-fill_bottom = 0.0        # [m], bottom of the insertion region above the outlet plane
+"#,
+    settling!(),
+    r#"fill_bottom = 0.0        # [m], bottom of the insertion region above the outlet plane
 # fill_top = 0.4         # [m], top of the insertion region; default H
 fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 # deletion_depth = 0.015 # [m], particles this far below the outlet are removed; default 5 d, ≥ d
@@ -109,20 +201,22 @@ rate_bin_width = 0.02    # [s], time bins of the discharge rate W(t), ≥ Δt
 # x_bin_width = 0.0015   # [m], x-bins of v(x) and φ(x); default d/2, ≤ D
 # strip_height = 0.003   # [m], height h of the outlet strip for φ(x); default d
 frame_interval = 0.001   # [s], time between snapshot frames, ≥ Δt
-crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
-steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
-steady_end_fraction = 0.7     # [-], and ends at this fraction; 0 ≤ start < end ≤ stop_fraction ≤ 1
+"#,
+    steady_window!(),
+    r#"steady_end_fraction = 0.7     # [-], and ends at this fraction; 0 ≤ start < end ≤ stop_fraction ≤ 1
 
 [output]
 vtu_interval = 0.1       # [s], time between VTU particle snapshots (particles.pvd); 0 writes none
 checkpoint_interval = 1.0  # [s], simulated time between checkpoints; 0 writes none
 plots = true             # draw the per-case plots
-"#;
+"#,
+);
 
 /// A case file of a cylindrical silo with every key explained (`hopperflow init --kind
 /// cylinder`): the benchmark silo of Dosta et al. (2024) with its large orifice, reduced to
 /// 20 000 spheres of its material M1 in steel walls.
-pub const CYLINDER_TEMPLATE: &str = r#"# hopperflow case file: a cylindrical silo.
+pub const CYLINDER_TEMPLATE: &str = concat!(
+    r#"# hopperflow case file: a cylindrical silo.
 #
 # Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
 # carry `_deg` in their key. The values below are the open DEM benchmark silo of Dosta et al.
@@ -130,12 +224,9 @@ pub const CYLINDER_TEMPLATE: &str = r#"# hopperflow case file: a cylindrical sil
 # reduced to 20 000 spheres (the benchmark fills 100 000). Check a file with
 # `hopperflow check FILE`; override a key with `--set geometry.outlet_diameter=0.04`.
 
-version = 1    # case-file format version
-seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
-gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
-
-[geometry]
-kind = "cylinder"
+"#,
+    globals!(),
+    r#"kind = "cylinder"
 # Coordinates: z up from the orifice plane z = 0, the silo's axis on z (x = y = 0).
 radius = 0.1             # R [m], inner radius of the cylinder
 height = 0.2354          # H [m], top of the cylinder above the orifice plane
@@ -172,17 +263,15 @@ poisson_ratio = 0.2      # ν [-]
 friction = 0.3           # μ_s particle–particle [-], ≥ 0
 rolling_friction = 0.0   # μ_r particle–particle [-], ≥ 0
 restitution = 0.5        # e particle–particle [-], in (0, 1]
-tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
-rolling = "constant_torque"      # "constant_torque" or "epsd"
-normal_clamp = false     # clamp the normal force to ≥ 0
-
+"#,
+    contact_laws!(),
+    r#"
 [time]
 time_step = 1.5e-6       # Δt [s], at most 0.2 Rayleigh times (the benchmark's for M1)
 
-[protocol]
-settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
-max_settle_time = 3.0    # [s], longest simulated settling time
-fill_bottom = 0.0        # [m], bottom of the insertion region above the orifice plane
+"#,
+    settling!(),
+    r#"fill_bottom = 0.0        # [m], bottom of the insertion region above the orifice plane
 # fill_top = 0.2354      # [m], top of the insertion region; default H
 fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 deletion_depth = 0.02    # [m], particles this far below the orifice are removed (the benchmark's)
@@ -196,20 +285,18 @@ rate_bin_width = 0.01    # [s], time bins of W(t) and the samples of N(t) (remai
 # x_bin_width = 0.002    # [m], width of the annuli of v(r) and φ(r); default d/2, ≤ D
 # strip_height = 0.004   # [m], height h of the slab at the orifice for φ(r); default d
 frame_interval = 0.001   # [s], time between the frames that measure φ(r), ≥ Δt
-crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
-steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
-steady_end_fraction = 0.7     # [-], and ends at this fraction
-
-[output]
-vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
-checkpoint_interval = 0.25  # [s], simulated time between checkpoints; 0 writes none
+"#,
+    measure_end_3d!(),
+    r#"checkpoint_interval = 0.25  # [s], simulated time between checkpoints; 0 writes none
 plots = true             # draw the plots and the frames of a vertical cut through the axis
-"#;
+"#,
+);
 
 /// A case file of a rectangular silo with every key explained (`hopperflow init --kind box`):
 /// a box 100 mm × 50 mm with a 60° wedge over a 20 mm slot, 4000 spheres of the paper's
 /// material.
-pub const BOX_TEMPLATE: &str = r#"# hopperflow case file: a rectangular silo.
+pub const BOX_TEMPLATE: &str = concat!(
+    r#"# hopperflow case file: a rectangular silo.
 #
 # Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
 # carry `_deg` in their key. A box W × B above a wedge of two plates meeting a slot that spans
@@ -217,12 +304,9 @@ pub const BOX_TEMPLATE: &str = r#"# hopperflow case file: a rectangular silo.
 # spheres are those of Fan et al. (2023), Table 1, 3 mm. Check a file with
 # `hopperflow check FILE`; override a key with `--set geometry.outlet_width=0.025`.
 
-version = 1    # case-file format version
-seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
-gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
-
-[geometry]
-kind = "box"
+"#,
+    globals!(),
+    r#"kind = "box"
 # Coordinates: z up from the orifice plane z = 0, the box centred on the z axis:
 # x in [−W/2, W/2], y in [−B/2, B/2]. Frames show the vertical cut through y = 0.
 width = 0.1              # W [m], along x
@@ -239,32 +323,15 @@ walls = "smooth"         # "smooth" (exact planar polygons) or "meshed" (each wa
 count = 4000             # N; they must fit below H at volume fraction 0.64
 diameter = 0.003         # d [m], or a [particles.size_distribution] as in `hopperflow init`
 
-[particles.material]
-density = 2500.0         # ρ_p [kg/m³]
-shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
-poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
-
-[wall]
-material = "same"        # "same", "rigid", or a [wall.material] table
-friction = 0.5           # μ_s particle–wall [-], ≥ 0
-rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
-restitution = 0.2        # e particle–wall [-], in (0, 1]
-
-[contact]
-friction = 0.5           # μ_s particle–particle [-], ≥ 0
-rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
-restitution = 0.2        # e particle–particle [-], in (0, 1]
-tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
-rolling = "constant_torque"      # "constant_torque" or "epsd"
-normal_clamp = false     # clamp the normal force to ≥ 0
-
+"#,
+    material_wall_contact!(),
+    r#"
 [time]
 time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; or rayleigh_fraction = 0.097
 
-[protocol]
-settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
-max_settle_time = 3.0    # [s], longest simulated settling time
-fill_bottom = 0.0        # [m], bottom of the insertion region above the orifice plane
+"#,
+    settling!(),
+    r#"fill_bottom = 0.0        # [m], bottom of the insertion region above the orifice plane
 # fill_top = 0.2         # [m], top of the insertion region; default H
 fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 # deletion_depth = 0.015 # [m], particles this far below the orifice are removed; default 5 d
@@ -278,20 +345,18 @@ rate_bin_width = 0.02    # [s], time bins of W(t) and the samples of N(t) (remai
 # x_bin_width = 0.0015   # [m], x-bins of the profiles v(x) and φ(x) across the orifice; default d/2, ≤ D
 # strip_height = 0.003   # [m], not used by a box (its φ(x) comes from the crossings)
 frame_interval = 0.001   # [s], time between snapshot frames, ≥ Δt
-crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
-steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
-steady_end_fraction = 0.7     # [-], and ends at this fraction
-
-[output]
-vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
-checkpoint_interval = 0.5  # [s], simulated time between checkpoints; 0 writes none
+"#,
+    measure_end_3d!(),
+    r#"checkpoint_interval = 0.5  # [s], simulated time between checkpoints; 0 writes none
 plots = true             # draw the plots and the frames of a vertical cut through y = 0
-"#;
+"#,
+);
 
 /// A case file of STL walls with every key explained (`hopperflow init --kind mesh`): a
 /// conical silo given as two STL files in millimetres, which `hopperflow init FILE --kind mesh`
 /// writes beside FILE ([`template_files`]).
-pub const MESH_TEMPLATE: &str = r#"# hopperflow case file: a container of your own STL walls.
+pub const MESH_TEMPLATE: &str = concat!(
+    r#"# hopperflow case file: a container of your own STL walls.
 #
 # Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
 # carry `_deg` in their key. The walls are STL files (ASCII or binary), each mapped to metres
@@ -305,12 +370,9 @@ pub const MESH_TEMPLATE: &str = r#"# hopperflow case file: a container of your o
 # stand above it. Particles are poured into the fill box, which must lie inside the walls:
 # nothing can tell the inside of an open mesh, so only a box that cuts a triangle is refused.
 
-version = 1    # case-file format version
-seed = 1       # seed of the random fill, an integer in [0, 2^63 − 1]
-gravity = 9.81 # g [m/s²], pointing along −z, in (0, 1000]
-
-[geometry]
-kind = "mesh"
+"#,
+    globals!(),
+    r#"kind = "mesh"
 fill_min = [-0.03, -0.03, 0.05]  # [m], lower corner of the fill box; z ≥ 0
 fill_max = [0.03, 0.03, 0.2]     # [m], upper corner; its z is the case's H (the default fill_top)
 outlet = { shape = "disc", centre = [0.0, 0.0], radius = 0.01, segments = 96 }
@@ -336,32 +398,15 @@ scale = 0.001
 count = 2000             # N
 diameter = 0.004         # d [m], or a [particles.size_distribution] as in `hopperflow init`
 
-[particles.material]
-density = 2500.0         # ρ_p [kg/m³]
-shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
-poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
-
-[wall]
-material = "same"        # "same", "rigid", or a [wall.material] table
-friction = 0.5           # μ_s particle–wall [-], ≥ 0
-rolling_friction = 0.01  # μ_r particle–wall [-], ≥ 0
-restitution = 0.2        # e particle–wall [-], in (0, 1]
-
-[contact]
-friction = 0.5           # μ_s particle–particle [-], ≥ 0
-rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
-restitution = 0.2        # e particle–particle [-], in (0, 1]
-tangential = "mindlin_no_slip"   # "mindlin_no_slip" or "mindlin_deresiewicz"
-rolling = "constant_torque"      # "constant_torque" or "epsd"
-normal_clamp = false     # clamp the normal force to ≥ 0
-
+"#,
+    material_wall_contact!(),
+    r#"
 [time]
 time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; or rayleigh_fraction
 
-[protocol]
-settle_kinetic_energy = 1.0e-9  # [J], mean kinetic energy per particle below which the fill is settled
-max_settle_time = 3.0    # [s], longest simulated settling time
-fill_bottom = 0.0        # [m], bottom of the insertion band (inside the fill box)
+"#,
+    settling!(),
+    r#"fill_bottom = 0.0        # [m], bottom of the insertion band (inside the fill box)
 # fill_top = 0.2         # [m], top of the insertion band; default H, the fill box's top
 fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
 # deletion_depth = 0.02  # [m], particles this far below the orifice plane are removed; default 5 d
@@ -374,15 +419,12 @@ rate_bin_width = 0.02    # [s], time bins of W(t) and the samples of N(t) (remai
 # x_bin_width = 0.002    # [m], annuli of v(r), φ(r) (disc) or x-bins of v(x), φ(x) (rectangle); default d/2
 # strip_height = 0.004   # [m], height of the slab at the orifice for a disc's φ(r); default d
 frame_interval = 0.001   # [s], time between the frames that measure φ(r), ≥ Δt
-crossing_check_interval = 10  # [steps] between outlet-crossing checks, in [1, 100]
-steady_start_fraction = 0.15  # [-], steady window starts when this fraction of the fill has left
-steady_end_fraction = 0.7     # [-], and ends at this fraction
-
-[output]
-vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
-checkpoint_interval = 0.5  # [s], simulated time between checkpoints; 0 writes none
+"#,
+    measure_end_3d!(),
+    r#"checkpoint_interval = 0.5  # [s], simulated time between checkpoints; 0 writes none
 plots = true             # draw the plots and the frames of a vertical cut through the outlet's centre
-"#;
+"#,
+);
 
 /// The commented template of a geometry kind, by its `geometry.kind` name.
 pub fn template(kind: &str) -> Option<&'static str> {

@@ -1,6 +1,6 @@
 //! Writes a resolved case back as a TOML case file that reads back to the same case.
 
-use std::fmt::Write;
+use std::fmt::{Display, Write};
 
 use dem::MaterialTable;
 
@@ -20,6 +20,42 @@ fn float(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x:?}")
+    }
+}
+
+/// A case file being written, a line at a time: every key as `key = value`, then its note
+/// (a unit, a symbol, a derived value) as a comment, two spaces before the `#`.
+struct Lines(String);
+
+impl Lines {
+    /// A line as it is.
+    fn line(&mut self, text: &str) {
+        let _ = writeln!(self.0, "{text}");
+    }
+
+    /// A table's header after an empty line, given with its brackets (`[name]`, `[[name]]`).
+    fn table(&mut self, header: &str) {
+        let _ = writeln!(self.0, "\n{header}");
+    }
+
+    /// `key = value`, then `  # note` unless the note is empty.
+    fn key(&mut self, key: &str, value: impl Display, note: &str) {
+        if note.is_empty() {
+            let _ = writeln!(self.0, "{key} = {value}");
+        } else {
+            let _ = writeln!(self.0, "{key} = {value}  # {note}");
+        }
+    }
+
+    /// A float key, in the syntax that reads back to the same bits ([`float`]).
+    fn float(&mut self, key: &str, x: f64, note: &str) {
+        self.key(key, float(x), note);
+    }
+
+    /// A word in quotes, as it is: the writer's own words and names the case validated,
+    /// which need no escape (a free text goes through [`string`]).
+    fn word(&mut self, key: &str, word: &str, note: &str) {
+        self.key(key, format_args!("\"{word}\""), note);
     }
 }
 
@@ -57,32 +93,24 @@ fn floats(xs: &[f64]) -> String {
     format!("[{}]", items.join(", "))
 }
 
-fn material_lines(out: &mut String, material: &MaterialSpec) {
-    let _ = writeln!(out, "density = {}  # [kg/m³]", float(material.density));
-    let _ = writeln!(
-        out,
-        "shear_modulus = {}  # [Pa]",
-        float(material.shear_modulus)
-    );
-    let _ = writeln!(
-        out,
-        "poisson_ratio = {}  # [-]",
-        float(material.poisson_ratio)
-    );
+fn material_lines(out: &mut Lines, material: &MaterialSpec) {
+    out.float("density", material.density, "[kg/m³]");
+    out.float("shear_modulus", material.shear_modulus, "[Pa]");
+    out.float("poisson_ratio", material.poisson_ratio, "[-]");
 }
 
 /// The size of the particles or of the last `[[particles.components]]` (`table` names the
 /// table the size distribution's header continues): `diameter`, or a size distribution.
-fn size_lines(out: &mut String, size: &SizeDistribution, table: &str) {
+fn size_lines(out: &mut Lines, size: &SizeDistribution, table: &str) {
     match size {
         SizeDistribution::Monodisperse { diameter } => {
-            let _ = writeln!(out, "diameter = {}  # [m]", float(*diameter));
+            out.float("diameter", *diameter, "[m]");
         }
         SizeDistribution::Uniform { min, max } => {
-            let _ = writeln!(out, "\n[{table}.size_distribution]");
-            let _ = writeln!(out, "kind = \"uniform\"");
-            let _ = writeln!(out, "min = {}  # [m]", float(*min));
-            let _ = writeln!(out, "max = {}  # [m]", float(*max));
+            out.table(&format!("[{table}.size_distribution]"));
+            out.word("kind", "uniform", "");
+            out.float("min", *min, "[m]");
+            out.float("max", *max, "[m]");
         }
         SizeDistribution::Normal {
             mean,
@@ -90,50 +118,46 @@ fn size_lines(out: &mut String, size: &SizeDistribution, table: &str) {
             min,
             max,
         } => {
-            let _ = writeln!(out, "\n[{table}.size_distribution]");
-            let _ = writeln!(out, "kind = \"normal\"");
-            let _ = writeln!(out, "mean = {}  # [m]", float(*mean));
-            let _ = writeln!(out, "std_dev = {}  # [m]", float(*std_dev));
-            let _ = writeln!(out, "min = {}  # [m]", float(*min));
-            let _ = writeln!(out, "max = {}  # [m]", float(*max));
+            out.table(&format!("[{table}.size_distribution]"));
+            out.word("kind", "normal", "");
+            out.float("mean", *mean, "[m]");
+            out.float("std_dev", *std_dev, "[m]");
+            out.float("min", *min, "[m]");
+            out.float("max", *max, "[m]");
         }
         SizeDistribution::Discrete {
             diameters,
             fractions,
         } => {
-            let _ = writeln!(out, "\n[{table}.size_distribution]");
-            let _ = writeln!(out, "kind = \"discrete\"");
-            let _ = writeln!(out, "diameters = {}  # [m]", floats(diameters));
-            let _ = writeln!(
-                out,
-                "fractions = {}  # number fractions [-]",
-                floats(fractions)
-            );
+            out.table(&format!("[{table}.size_distribution]"));
+            out.word("kind", "discrete", "");
+            out.key("diameters", floats(diameters), "[m]");
+            out.key("fractions", floats(fractions), "number fractions [-]");
         }
     }
 }
 
 /// The `[materials.NAME]` tables and `[[pairs]]` of a case's material table, every value
 /// as given (a material keeps whichever of E and G it was given).
-fn material_table_lines(out: &mut String, table: &MaterialTable) {
+fn material_table_lines(out: &mut Lines, table: &MaterialTable) {
     for (name, m) in &table.materials {
-        let _ = writeln!(out, "\n[materials.{name}]");
+        out.table(&format!("[materials.{name}]"));
         let lines = [
-            ("density", m.density, "  # [kg/m³]"),
-            ("youngs_modulus", m.youngs_modulus, "  # E [Pa]"),
-            ("shear_modulus", m.shear_modulus, "  # G [Pa]"),
-            ("poisson_ratio", m.poisson_ratio, "  # [-]"),
+            ("density", m.density, "[kg/m³]"),
+            ("youngs_modulus", m.youngs_modulus, "E [Pa]"),
+            ("shear_modulus", m.shear_modulus, "G [Pa]"),
+            ("poisson_ratio", m.poisson_ratio, "[-]"),
         ];
         for (key, value, unit) in lines {
             if let Some(value) = value {
-                let _ = writeln!(out, "{key} = {}{unit}", float(value));
+                out.float(key, value, unit);
             }
         }
     }
     for pair in &table.pairs {
         let [a, b] = &pair.materials;
-        let _ = writeln!(out, "\n[[pairs]]");
-        let _ = writeln!(out, "materials = [\"{a}\", \"{b}\"]");
+        out.table("[[pairs]]");
+        out.key("materials", format_args!("[\"{a}\", \"{b}\"]"), "");
         let lines = [
             ("restitution", pair.restitution),
             ("friction", pair.friction),
@@ -141,7 +165,7 @@ fn material_table_lines(out: &mut String, table: &MaterialTable) {
         ];
         for (key, value) in lines {
             if let Some(value) = value {
-                let _ = writeln!(out, "{key} = {}", float(value));
+                out.float(key, value, "");
             }
         }
     }
@@ -149,66 +173,46 @@ fn material_table_lines(out: &mut String, table: &MaterialTable) {
 
 /// The `[geometry]` table of a resolved case. A slab writes no `kind`: it is the default, and
 /// its resolved text (which the summary's hash covers) stays what it always was.
-fn geometry_lines(out: &mut String, geometry: &Geometry) {
+fn geometry_lines(out: &mut Lines, geometry: &Geometry) {
     match geometry {
         Geometry::Slab(g) => {
-            let _ = writeln!(out, "\n[geometry]");
-            let _ = writeln!(out, "width = {}  # L [m]", float(g.width));
-            let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
-            let _ = writeln!(out, "thickness = {}  # Z [m]", float(g.thickness));
-            let _ = writeln!(out, "outlet_width = {}  # D [m]", float(g.outlet_width));
-            let _ = writeln!(
-                out,
-                "hopper_angle_deg = {}  # α [°]",
-                float(g.hopper_angle_deg)
-            );
-            let _ = writeln!(
-                out,
-                "outlet_gap = {}  # s [m]; e = {} m",
-                float(g.outlet_gap),
-                rounded(g.outlet_offset())
-            );
+            out.table("[geometry]");
+            out.float("width", g.width, "L [m]");
+            out.float("height", g.height, "H [m]");
+            out.float("thickness", g.thickness, "Z [m]");
+            out.float("outlet_width", g.outlet_width, "D [m]");
+            out.float("hopper_angle_deg", g.hopper_angle_deg, "α [°]");
+            let e = rounded(g.outlet_offset());
+            out.float("outlet_gap", g.outlet_gap, &format!("s [m]; e = {e} m"));
         }
         Geometry::Cylinder(g) => {
-            let _ = writeln!(out, "\n[geometry]");
-            let _ = writeln!(out, "kind = \"cylinder\"");
-            let _ = writeln!(out, "radius = {}  # R [m]", float(g.radius));
-            let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
-            let _ = writeln!(
-                out,
-                "outlet_diameter = {}  # D [m]",
-                float(g.outlet_diameter)
-            );
-            let _ = writeln!(
-                out,
-                "hopper_angle_deg = {}  # θ [°]",
-                float(g.hopper_angle_deg)
-            );
-            let _ = writeln!(out, "outlet_offset = {}  # e [m]", float(g.outlet_offset));
-            let _ = writeln!(out, "walls = \"{}\"", walls_word(g.walls));
-            let _ = writeln!(out, "mesh_segments = {}", g.mesh_segments);
+            out.table("[geometry]");
+            out.word("kind", "cylinder", "");
+            out.float("radius", g.radius, "R [m]");
+            out.float("height", g.height, "H [m]");
+            out.float("outlet_diameter", g.outlet_diameter, "D [m]");
+            out.float("hopper_angle_deg", g.hopper_angle_deg, "θ [°]");
+            out.float("outlet_offset", g.outlet_offset, "e [m]");
+            out.word("walls", walls_word(g.walls), "");
+            out.key("mesh_segments", g.mesh_segments, "");
         }
         Geometry::Cuboid(g) => {
-            let _ = writeln!(out, "\n[geometry]");
-            let _ = writeln!(out, "kind = \"box\"");
-            let _ = writeln!(out, "width = {}  # W [m]", float(g.width));
-            let _ = writeln!(out, "depth = {}  # B [m]", float(g.depth));
-            let _ = writeln!(out, "height = {}  # H [m]", float(g.height));
-            let _ = writeln!(out, "outlet = \"{}\"", g.outlet.word());
-            let _ = writeln!(out, "outlet_width = {}  # D [m]", float(g.outlet_width));
-            let _ = writeln!(
-                out,
-                "hopper_angle_deg = {}  # α [°]",
-                float(g.hopper_angle_deg)
-            );
-            let _ = writeln!(out, "outlet_offset = {}  # e [m]", float(g.outlet_offset));
-            let _ = writeln!(out, "walls = \"{}\"", walls_word(g.walls));
+            out.table("[geometry]");
+            out.word("kind", "box", "");
+            out.float("width", g.width, "W [m]");
+            out.float("depth", g.depth, "B [m]");
+            out.float("height", g.height, "H [m]");
+            out.word("outlet", g.outlet.word(), "");
+            out.float("outlet_width", g.outlet_width, "D [m]");
+            out.float("hopper_angle_deg", g.hopper_angle_deg, "α [°]");
+            out.float("outlet_offset", g.outlet_offset, "e [m]");
+            out.word("walls", walls_word(g.walls), "");
         }
         Geometry::Mesh(g) => {
-            let _ = writeln!(out, "\n[geometry]");
-            let _ = writeln!(out, "kind = \"mesh\"");
-            let _ = writeln!(out, "fill_min = {}  # [m]", floats(&g.fill_min));
-            let _ = writeln!(out, "fill_max = {}  # [m]; H is its z", floats(&g.fill_max));
+            out.table("[geometry]");
+            out.word("kind", "mesh", "");
+            out.key("fill_min", floats(&g.fill_min), "[m]");
+            out.key("fill_max", floats(&g.fill_max), "[m]; H is its z");
             let outlet = match &g.outlet {
                 MeshOutlet::Disc {
                     centre,
@@ -225,21 +229,17 @@ fn geometry_lines(out: &mut String, geometry: &Geometry) {
                     floats(size)
                 ),
             };
-            let _ = writeln!(out, "outlet = {outlet}  # in the plane z = 0 [m]");
+            out.key("outlet", outlet, "in the plane z = 0 [m]");
             for wall in &g.walls {
-                let _ = writeln!(out, "\n[[geometry.walls]]");
-                let _ = writeln!(out, "name = {}", string(&wall.name));
-                let _ = writeln!(
-                    out,
-                    "file = {}  # {} triangles",
-                    string(&wall.file.to_string_lossy()),
-                    wall.triangles.len()
-                );
-                let _ = writeln!(out, "sha256 = {}", string(&wall.sha256));
-                let _ = writeln!(out, "scale = {}  # [m per file unit]", float(wall.scale));
-                let _ = writeln!(out, "rotate_axis = {}", floats(&wall.rotate_axis));
-                let _ = writeln!(out, "rotate_deg = {}  # [°]", float(wall.rotate_deg));
-                let _ = writeln!(out, "translate = {}  # [m]", floats(&wall.translate));
+                out.table("[[geometry.walls]]");
+                out.key("name", string(&wall.name), "");
+                let file = string(&wall.file.to_string_lossy());
+                out.key("file", file, &format!("{} triangles", wall.triangles.len()));
+                out.key("sha256", string(&wall.sha256), "");
+                out.float("scale", wall.scale, "[m per file unit]");
+                out.key("rotate_axis", floats(&wall.rotate_axis), "");
+                out.float("rotate_deg", wall.rotate_deg, "[°]");
+                out.key("translate", floats(&wall.translate), "[m]");
             }
         }
     }
@@ -251,18 +251,14 @@ impl Case {
     /// Reading the text back gives an identical case (tested), so a run directory can
     /// hold the exact case it ran.
     pub fn to_toml_string(&self) -> String {
-        let mut out = String::new();
-        let _ = writeln!(out, "# Resolved hopperflow case (SI units).");
-        let _ = writeln!(out, "version = {CASE_FORMAT_VERSION}");
-        let _ = writeln!(out, "seed = {}", self.seed);
+        let mut out = Lines(String::new());
+        out.line("# Resolved hopperflow case (SI units).");
+        out.key("version", CASE_FORMAT_VERSION, "");
+        out.key("seed", self.seed, "");
         // Written only when it differs from the default, so that a case of the default g
         // keeps the text, and so the configuration hash, it had before the key existed.
         if self.gravity != DEFAULT_GRAVITY {
-            let _ = writeln!(
-                out,
-                "gravity = {}  # g [m/s²], along −z",
-                float(self.gravity)
-            );
+            out.float("gravity", self.gravity, "g [m/s²], along −z");
         }
 
         geometry_lines(&mut out, &self.geometry);
@@ -272,16 +268,16 @@ impl Case {
         }
 
         let p = &self.particles;
-        let _ = writeln!(out, "\n[particles]");
-        let _ = writeln!(out, "count = {}", p.count);
+        out.table("[particles]");
+        out.key("count", p.count, "");
         match p.components.as_slice() {
             [one] => {
                 if let Some(name) = &one.material_name {
-                    let _ = writeln!(out, "material = \"{name}\"");
+                    out.word("material", name, "");
                 }
                 size_lines(&mut out, &one.size, "particles");
                 if one.material_name.is_none() {
-                    let _ = writeln!(out, "\n[particles.material]");
+                    out.table("[particles.material]");
                     material_lines(&mut out, &one.material);
                 }
             }
@@ -290,67 +286,55 @@ impl Case {
                     FractionBasis::Number => "number",
                     FractionBasis::Mass => "mass",
                 };
-                let _ = writeln!(out, "fraction_by = \"{basis}\"");
+                out.word("fraction_by", basis, "");
                 // Components without a name in [materials] share particles.material.
                 if let Some(shared) = components.iter().find(|c| c.material_name.is_none()) {
-                    let _ = writeln!(out, "\n[particles.material]");
+                    out.table("[particles.material]");
                     material_lines(&mut out, &shared.material);
                 }
                 for (c, n) in components.iter().zip(p.number_fractions()) {
-                    let _ = writeln!(out, "\n[[particles.components]]");
-                    let _ = writeln!(out, "name = \"{}\"", c.name);
+                    out.table("[[particles.components]]");
+                    out.word("name", &c.name, "");
                     if let Some(name) = &c.material_name {
-                        let _ = writeln!(out, "material = \"{name}\"");
+                        out.word("material", name, "");
                     }
-                    let _ = writeln!(
-                        out,
-                        "fraction = {}  # by {basis} [-]; {} by number",
-                        float(c.fraction),
-                        rounded(n)
-                    );
+                    let note = format!("by {basis} [-]; {} by number", rounded(n));
+                    out.float("fraction", c.fraction, &note);
                     size_lines(&mut out, &c.size, "particles.components");
                 }
             }
         }
 
         let w = &self.wall;
-        let _ = writeln!(out, "\n[wall]");
+        out.table("[wall]");
         match &w.material {
             WallMaterialSpec::SameAsParticle => {
-                let _ = writeln!(out, "material = \"same\"");
+                out.word("material", "same", "");
             }
             WallMaterialSpec::Rigid => {
-                let _ = writeln!(out, "material = \"rigid\"");
+                out.word("material", "rigid", "");
             }
             WallMaterialSpec::Named(name) => {
-                let _ = writeln!(out, "material = \"{name}\"  # coefficients from [[pairs]]");
+                out.word("material", name, "coefficients from [[pairs]]");
             }
             WallMaterialSpec::Custom(_) => {}
         }
         if !matches!(w.material, WallMaterialSpec::Named(_)) {
-            let _ = writeln!(out, "friction = {}", float(w.interaction.friction));
-            let _ = writeln!(
-                out,
-                "rolling_friction = {}",
-                float(w.interaction.rolling_friction)
-            );
-            let _ = writeln!(out, "restitution = {}", float(w.interaction.restitution));
+            out.float("friction", w.interaction.friction, "");
+            out.float("rolling_friction", w.interaction.rolling_friction, "");
+            out.float("restitution", w.interaction.restitution, "");
         }
         if let WallMaterialSpec::Custom(material) = &w.material {
-            let _ = writeln!(out, "\n[wall.material]");
+            out.table("[wall.material]");
             material_lines(&mut out, material);
         }
 
         let c = &self.contact;
-        let _ = writeln!(out, "\n[contact]");
+        out.table("[contact]");
         if self.materials.is_none() {
-            let _ = writeln!(out, "friction = {}", float(c.particle.friction));
-            let _ = writeln!(
-                out,
-                "rolling_friction = {}",
-                float(c.particle.rolling_friction)
-            );
-            let _ = writeln!(out, "restitution = {}", float(c.particle.restitution));
+            out.float("friction", c.particle.friction, "");
+            out.float("rolling_friction", c.particle.rolling_friction, "");
+            out.float("restitution", c.particle.restitution, "");
         }
         let tangential = match c.tangential {
             TangentialLawSpec::MindlinNoSlip => "mindlin_no_slip",
@@ -360,74 +344,50 @@ impl Case {
             RollingLawSpec::ConstantTorque => "constant_torque",
             RollingLawSpec::Epsd => "epsd",
         };
-        let _ = writeln!(out, "tangential = \"{tangential}\"");
-        let _ = writeln!(out, "rolling = \"{rolling}\"");
-        let _ = writeln!(out, "normal_clamp = {}", c.normal_clamp);
+        out.word("tangential", tangential, "");
+        out.word("rolling", rolling, "");
+        out.key("normal_clamp", c.normal_clamp, "");
 
-        let _ = writeln!(out, "\n[time]");
-        let _ = writeln!(
-            out,
-            "time_step = {}  # [s]; {:.4} Rayleigh times",
-            float(self.time_step),
-            self.rayleigh_fraction()
-        );
+        out.table("[time]");
+        let note = format!("[s]; {:.4} Rayleigh times", self.rayleigh_fraction());
+        out.float("time_step", self.time_step, &note);
 
         let pr = &self.protocol;
-        let _ = writeln!(out, "\n[protocol]");
-        let _ = writeln!(
-            out,
-            "settle_kinetic_energy = {}  # [J]",
-            float(pr.settle_kinetic_energy)
-        );
-        let _ = writeln!(
-            out,
-            "max_settle_time = {}  # [s]",
-            float(pr.max_settle_time)
-        );
-        let _ = writeln!(out, "fill_bottom = {}  # [m]", float(pr.fill_bottom));
-        let _ = writeln!(out, "fill_top = {}  # [m]", float(pr.fill_top));
-        let _ = writeln!(out, "fill_speed = {}  # [m/s]", float(pr.fill_speed));
-        let _ = writeln!(out, "deletion_depth = {}  # [m]", float(pr.deletion_depth));
-        let _ = writeln!(out, "clog_timeout = {}  # [s]", float(pr.clog_timeout));
-        let _ = writeln!(out, "time_limit = {}  # [s]", float(pr.time_limit));
-        let _ = writeln!(out, "stop_fraction = {}  # [-]", float(pr.stop_fraction));
+        out.table("[protocol]");
+        out.float("settle_kinetic_energy", pr.settle_kinetic_energy, "[J]");
+        out.float("max_settle_time", pr.max_settle_time, "[s]");
+        out.float("fill_bottom", pr.fill_bottom, "[m]");
+        out.float("fill_top", pr.fill_top, "[m]");
+        out.float("fill_speed", pr.fill_speed, "[m/s]");
+        out.float("deletion_depth", pr.deletion_depth, "[m]");
+        out.float("clog_timeout", pr.clog_timeout, "[s]");
+        out.float("time_limit", pr.time_limit, "[s]");
+        out.float("stop_fraction", pr.stop_fraction, "[-]");
         // Written only when set, so that the resolved text (and the config hash) of every case
         // without a slip stays as it was.
         if pr.wall_slip > 0.0 {
-            let _ = writeln!(out, "wall_slip = {}  # [m]", float(pr.wall_slip));
+            out.float("wall_slip", pr.wall_slip, "[m]");
         }
 
         let m = &self.measure;
-        let _ = writeln!(out, "\n[measure]");
-        let _ = writeln!(out, "rate_bin_width = {}  # [s]", float(m.rate_bin_width));
-        let _ = writeln!(out, "x_bin_width = {}  # [m]", float(m.x_bin_width));
-        let _ = writeln!(out, "strip_height = {}  # [m]", float(m.strip_height));
-        let _ = writeln!(out, "frame_interval = {}  # [s]", float(m.frame_interval));
-        let _ = writeln!(
-            out,
-            "crossing_check_interval = {}  # [steps]",
-            m.crossing_check_interval
+        out.table("[measure]");
+        out.float("rate_bin_width", m.rate_bin_width, "[s]");
+        out.float("x_bin_width", m.x_bin_width, "[m]");
+        out.float("strip_height", m.strip_height, "[m]");
+        out.float("frame_interval", m.frame_interval, "[s]");
+        out.key(
+            "crossing_check_interval",
+            m.crossing_check_interval,
+            "[steps]",
         );
-        let _ = writeln!(
-            out,
-            "steady_start_fraction = {}",
-            float(m.steady_start_fraction)
-        );
-        let _ = writeln!(
-            out,
-            "steady_end_fraction = {}",
-            float(m.steady_end_fraction)
-        );
+        out.float("steady_start_fraction", m.steady_start_fraction, "");
+        out.float("steady_end_fraction", m.steady_end_fraction, "");
 
         let o = &self.output;
-        let _ = writeln!(out, "\n[output]");
-        let _ = writeln!(out, "vtu_interval = {}  # [s]", float(o.vtu_interval));
-        let _ = writeln!(
-            out,
-            "checkpoint_interval = {}  # [s]",
-            float(o.checkpoint_interval)
-        );
-        let _ = writeln!(out, "plots = {}", o.plots);
-        out
+        out.table("[output]");
+        out.float("vtu_interval", o.vtu_interval, "[s]");
+        out.float("checkpoint_interval", o.checkpoint_interval, "[s]");
+        out.key("plots", o.plots, "");
+        out.0
     }
 }

@@ -140,3 +140,38 @@ fn every_template_of_hopperflow_init_is_a_valid_case_with_its_files() {
         assert_eq!(case.geometry.kind(), kind, "template `{kind}`");
     }
 }
+
+/// The SHA-256 of each template's text, pinned so that building the templates from shared
+/// sections (in `template.rs`) cannot change a byte of what `hopperflow init` writes. A
+/// deliberate change to a template's text updates its digest here.
+const TEMPLATE_SHA256: [(&str, &str); 4] = [
+    (
+        "slab",
+        "56d0c766527df8cfbc00367b5347a84b0148799108b8569baceb743eef18c6e9",
+    ),
+    (
+        "cylinder",
+        "2e54675bd3a7fc9bfe25372522153daffba0c4b0fae7159dffdaef7b04b94a36",
+    ),
+    (
+        "box",
+        "e7ca4f437344adebd082984a83ae3d0913b077c03adafeba4b3c48f743b7d219",
+    ),
+    (
+        "mesh",
+        "d458940d6297b28944757fabdd653b2e35ca5b6c26d9fc5a8badf36ca3392583",
+    ),
+];
+
+#[test]
+fn every_template_keeps_its_text() {
+    use sha2::{Digest, Sha256};
+    for (kind, expected) in TEMPLATE_SHA256 {
+        let text = template(kind).unwrap_or_else(|| panic!("no template of kind `{kind}`"));
+        let digest: String = Sha256::digest(text.as_bytes())
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        assert_eq!(digest, expected, "template `{kind}` changed its text");
+    }
+}

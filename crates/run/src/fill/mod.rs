@@ -2,6 +2,7 @@
 //! sequential insertion in batches that fall under gravity (docs/physics.md §10.8); the slab's
 //! in its x–z outline, the 3D containers' in a band of their volume.
 
+mod batch;
 mod draw;
 mod silo;
 mod slab;

@@ -5,9 +5,10 @@
 
 use std::collections::HashMap;
 
-use dem::{DVec3, ParticleInit, Simulation};
+use dem::{DVec3, Simulation};
 use rand::Rng;
 
+use super::batch::{insert_batch, overlaps, Placed, GAP};
 use super::draw::{Draw, ParticleDraws};
 use super::slab::Inserted;
 use case::{CuboidGeometry, CylinderGeometry, MeshGeometry};
@@ -55,16 +56,13 @@ impl FillRegion for MeshGeometry {
     }
 }
 
-/// Clearance kept between inserted spheres and from the walls [m].
-const GAP: f64 = 1.0e-5;
-
 /// Spheres already placed, binned in cubic cells at least one largest diameter wide.
-struct Placed {
+struct Cells {
     cell: f64,
     cells: HashMap<(i64, i64, i64), Vec<(DVec3, f64)>>,
 }
 
-impl Placed {
+impl Cells {
     fn new(cell: f64) -> Self {
         Self {
             cell,
@@ -76,12 +74,9 @@ impl Placed {
         let k = |v: f64| (v / self.cell).floor() as i64;
         (k(x.x), k(x.y), k(x.z))
     }
+}
 
-    fn add(&mut self, x: DVec3, r: f64) {
-        let key = self.key(x);
-        self.cells.entry(key).or_default().push((x, r));
-    }
-
+impl Placed for Cells {
     /// Whether a sphere at `x` of radius `r` keeps the gap to every placed sphere: with cells
     /// one largest diameter wide, any sphere it could touch has its centre in a neighbour cell.
     fn is_free(&self, x: DVec3, r: f64) -> bool {
@@ -90,10 +85,7 @@ impl Placed {
             for dj in -1..=1 {
                 for dk in -1..=1 {
                     if let Some(list) = self.cells.get(&(i + di, j + dj, k + dk)) {
-                        if list
-                            .iter()
-                            .any(|(q, rq)| q.distance_squared(x) < (r + rq + GAP) * (r + rq + GAP))
-                        {
+                        if list.iter().any(|(q, rq)| overlaps(x, r, *q, *rq)) {
                             return false;
                         }
                     }
@@ -101,6 +93,11 @@ impl Placed {
             }
         }
         true
+    }
+
+    fn add(&mut self, x: DVec3, r: f64) {
+        let key = self.key(x);
+        self.cells.entry(key).or_default().push((x, r));
     }
 }
 
@@ -125,43 +122,30 @@ pub fn insert_silo_batch(
     // A band inside the region's z range is drawn from as it is (a silo's band always is).
     let band = (band.0.max(z0), band.1.min(z1));
     let max_radius = draws.max_radius();
-    let mut placed = Placed::new(2.0 * max_radius + GAP);
+    let mut placed = Cells::new(2.0 * max_radius + GAP);
     let p = sim.particles();
     for (x, r) in p.positions().iter().zip(p.radii()) {
         if x.z + r > band.0 - 2.0 * max_radius && x.z - r < band.1 + 2.0 * max_radius {
             placed.add(*x, *r);
         }
     }
-    let mut inserted = Vec::new();
     if band.0 >= band.1 {
-        return Ok(inserted);
+        return Ok(Vec::new());
     }
-    let mut attempts = 0;
-    while inserted.len() < count && attempts < max_attempts {
-        attempts += 1;
-        let drawn = *pending.get_or_insert_with(|| draws.draw(rng));
-        let r = drawn.radius;
-        let x = rng.gen_range(x0..x1);
-        let y = rng.gen_range(y0..y1);
-        let z = rng.gen_range(band.0..band.1);
-        if !region.holds(x, y, z, r, GAP) {
-            continue;
-        }
-        let c = DVec3::new(x, y, z);
-        if !placed.is_free(c, r) {
-            continue;
-        }
-        let tag = sim.add_particle(ParticleInit {
-            position: c,
-            velocity: v0,
-            angular_velocity: DVec3::ZERO,
-            radius: r,
-            material: drawn.material,
-            flags: 0,
-        })?;
-        *pending = None;
-        placed.add(c, r);
-        inserted.push((tag, drawn.component));
-    }
-    Ok(inserted)
+    insert_batch(
+        sim,
+        rng,
+        count,
+        draws,
+        pending,
+        v0,
+        max_attempts,
+        &mut placed,
+        |rng, r| {
+            let x = rng.gen_range(x0..x1);
+            let y = rng.gen_range(y0..y1);
+            let z = rng.gen_range(band.0..band.1);
+            region.holds(x, y, z, r, GAP).then(|| DVec3::new(x, y, z))
+        },
+    )
 }

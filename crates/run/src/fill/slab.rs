@@ -1,9 +1,10 @@
 //! Filling the hopper: random non-overlapping insertion in the upper part, in batches that
 //! fall under gravity (docs/physics.md §10.8: the paper does not describe its fill).
 
-use dem::{DVec3, ParticleInit, ParticleTag, Simulation};
+use dem::{DVec3, ParticleTag, Simulation};
 use rand::Rng;
 
+use super::batch::{insert_batch, overlaps, Placed, GAP};
 use super::draw::{Draw, ParticleDraws};
 use case::SlabGeometry;
 
@@ -61,43 +62,37 @@ pub fn insert_slab_batch(
         .filter(|(x, r)| x.z + **r > band.0 - 0.01 && x.z - **r < band.1 + 0.01)
         .map(|(x, r)| (*x, *r))
         .collect();
-    let mut inserted = Vec::new();
-    let mut attempts = 0;
-    let gap = 1.0e-5;
-    while inserted.len() < count && attempts < max_attempts {
-        attempts += 1;
-        let drawn = *pending.get_or_insert_with(|| draws.draw(rng));
-        let r = drawn.radius;
-        let x = rng.gen_range(-half + r..half - r);
-        let z = rng.gen_range(band.0..band.1);
-        // Quasi-2D slab: start on the mid-plane (docs/physics.md §5). A thick slab (room for half
-        // a diameter of play or more) gets a random depth.
-        let y = if geometry.thickness >= 3.0 * r {
-            rng.gen_range(r..geometry.thickness - r)
-        } else {
-            y_mid
-        };
-        if !inside_slab(geometry, x, z, r, gap) {
-            continue;
-        }
-        let c = DVec3::new(x, y, z);
-        if placed
-            .iter()
-            .any(|(q, rq)| q.distance_squared(c) < (r + rq + gap) * (r + rq + gap))
-        {
-            continue;
-        }
-        let tag = sim.add_particle(ParticleInit {
-            position: c,
-            velocity: v0,
-            angular_velocity: DVec3::ZERO,
-            radius: r,
-            material: drawn.material,
-            flags: 0,
-        })?;
-        *pending = None;
-        placed.push((c, r));
-        inserted.push((tag, drawn.component));
+    insert_batch(
+        sim,
+        rng,
+        count,
+        draws,
+        pending,
+        v0,
+        max_attempts,
+        &mut placed,
+        |rng, r| {
+            let x = rng.gen_range(-half + r..half - r);
+            let z = rng.gen_range(band.0..band.1);
+            // Quasi-2D slab: start on the mid-plane (docs/physics.md §5). A thick slab (room
+            // for half a diameter of play or more) gets a random depth.
+            let y = if geometry.thickness >= 3.0 * r {
+                rng.gen_range(r..geometry.thickness - r)
+            } else {
+                y_mid
+            };
+            inside_slab(geometry, x, z, r, GAP).then(|| DVec3::new(x, y, z))
+        },
+    )
+}
+
+/// The slab's record of placed particles: few enough for a list.
+impl Placed for Vec<(DVec3, f64)> {
+    fn is_free(&self, x: DVec3, r: f64) -> bool {
+        !self.iter().any(|(q, rq)| overlaps(x, r, *q, *rq))
     }
-    Ok(inserted)
+
+    fn add(&mut self, x: DVec3, r: f64) {
+        self.push((x, r));
+    }
 }

@@ -1,6 +1,7 @@
 //! Every integration test of `run` in one test binary: one link instead of one per
 //! file keeps the test command's build short. Each module is one file's tests.
 
+mod run_dir;
 mod tiny_hopper;
 
 mod bed;

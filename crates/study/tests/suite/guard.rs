@@ -1,41 +1,10 @@
 //! A study refuses a case folder that holds a run of other inputs before it writes anything.
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-
 use case::parse_sweep;
-use files::CHECKPOINT_FILE;
-use run::{run_case, RunError, RunOptions, RunOutcome};
+use run::RunError;
 use study::{check_study_dir, StudyError};
 
-/// Every file under `dir` with its bytes.
-fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).expect("read dir") {
-            let path = entry.expect("entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                out.insert(path.clone(), std::fs::read(&path).expect("read"));
-            }
-        }
-    }
-    out
-}
-
-/// Runs the tiny case for a few protocol chunks, leaving a checkpoint in the fill.
-fn interrupted(case: &case::Case, dir: &Path) {
-    let options = RunOptions {
-        chunk_limit: Some(3),
-        resume: false,
-        ..RunOptions::default()
-    };
-    let outcome = run_case(case, dir, &options).expect("the first chunks run");
-    assert!(matches!(outcome, RunOutcome::Interrupted));
-    assert!(dir.join(CHECKPOINT_FILE).is_file());
-}
+use crate::run_dir::{files, interrupted};
 
 #[test]
 fn study_refuses_a_case_folder_of_other_inputs_before_writing() {

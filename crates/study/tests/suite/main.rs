@@ -2,6 +2,9 @@
 //! file keeps the test command's build short. Each module is one file's tests.
 
 mod study_fake;
+// The guard tests' helpers, shared with `run`'s tests (the same file, not a copy).
+#[path = "../../../run/tests/suite/run_dir.rs"]
+mod run_dir;
 
 mod guard;
 mod report_build;
