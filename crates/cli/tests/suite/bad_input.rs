@@ -1,39 +1,15 @@
 //! The `hopperflow` binary refuses malformed case files and overrides with exit code 2,
 //! a message naming the file, the key and its line, and no output directory.
 
+use crate::bad_case_files::{bad_case_files, expectations};
 use crate::run_cli;
-use run_cli::hopperflow;
+use run_cli::{assert_refused, hopperflow, stderr_of};
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
 use proptest::prelude::*;
 
 /// Exit code the command line promises for bad input.
 const EXIT_BAD_INPUT: i32 = 2;
-
-fn stderr_of(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-/// Asserts a refusal: exit code 2, no panic, and every fragment present in stderr.
-fn assert_refused(output: &Output, what: &str, fragments: &[&str]) {
-    let stderr = stderr_of(output);
-    assert!(
-        !stderr.contains("panicked"),
-        "{what}: the binary panicked:\n{stderr}"
-    );
-    assert_eq!(
-        output.status.code(),
-        Some(EXIT_BAD_INPUT),
-        "{what}: wrong exit status; stderr:\n{stderr}"
-    );
-    for fragment in fragments {
-        assert!(
-            stderr.contains(fragment),
-            "{what}: stderr lacks `{fragment}`; it reads:\n{stderr}"
-        );
-    }
-}
 
 /// Runs `check FILE` and `run FILE --out DIR/out --quiet` on `file`; both must refuse it
 /// with the same fragments, and `run` must not create its output directory.
@@ -64,34 +40,13 @@ fn bad_case_directory() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../case/tests/data/bad_cases")
 }
 
-/// The `# expect: <fragment>` lines of a shared bad-case file (read lossily: one file is
-/// deliberately not UTF-8, its expectation line is ASCII).
-fn expectations(path: &Path) -> Vec<String> {
-    let bytes = std::fs::read(path).expect("readable bad case");
-    String::from_utf8_lossy(&bytes)
-        .lines()
-        .filter_map(|line| line.strip_prefix("# expect: "))
-        .map(str::to_string)
-        .collect()
-}
-
 #[test]
 fn shared_bad_case_files_exit_with_code_two_naming_file_key_and_line() {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(bad_case_directory())
-        .expect("the study crate's bad_cases directory")
-        .map(|e| e.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
+    let files = bad_case_files(&bad_case_directory());
     // The brief asks for at least ten malformed files through the binary.
     assert!(files.len() >= 10, "only {} shared bad cases", files.len());
     for path in &files {
         let expected = expectations(path);
-        assert!(
-            !expected.is_empty(),
-            "{} has no `# expect:` line",
-            path.display()
-        );
         // The fragments carry `file:line:column: key = value: message`, so matching them
         // checks that the file, the line and the key are all named.
         let fragments: Vec<&str> = expected.iter().map(String::as_str).collect();

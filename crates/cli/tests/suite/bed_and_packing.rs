@@ -22,19 +22,7 @@ fn tiny_case() -> String {
 
 /// Asserts exit code 2, no panic, every fragment in stderr, and that `out` was not created.
 fn assert_refused(output: &Output, out: &Path, what: &str, fragments: &[&str]) {
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(!stderr.contains("panicked"), "{what}: panicked:\n{stderr}");
-    assert_eq!(
-        output.status.code(),
-        Some(EXIT_BAD_INPUT),
-        "{what}: wrong exit status; stderr:\n{stderr}"
-    );
-    for fragment in fragments {
-        assert!(
-            stderr.contains(fragment),
-            "{what}: stderr lacks `{fragment}`; it reads:\n{stderr}"
-        );
-    }
+    run_cli::assert_refused(output, what, fragments);
     assert!(!out.exists(), "{what}: bad input created {}", out.display());
 }
 

@@ -9,9 +9,6 @@ use run_cli::{hopperflow, utf8};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-/// Exit code the command line promises for bad input.
-const EXIT_BAD_INPUT: i32 = 2;
-
 /// A small silo: a flat-bottomed cylinder of radius 20 mm with a 12 mm orifice (4 d), spheres
 /// of 3 mm of the paper's material (Δt = 2.5 µs). Through 4 d about 400 spheres leave per
 /// second (Beverloo), so a few hundred are still in it at the end of the benchmark's window
@@ -209,19 +206,7 @@ fn a_discharge_that_stops_inside_the_window_fails_instead_of_hanging() {
 /// Asserts exit code 2, no panic, every fragment in stderr, and that nothing was cached in
 /// `cache_dir`.
 fn assert_refused(output: &Output, cache_dir: &Path, what: &str, fragments: &[&str]) {
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(!stderr.contains("panicked"), "{what}: panicked:\n{stderr}");
-    assert_eq!(
-        output.status.code(),
-        Some(EXIT_BAD_INPUT),
-        "{what}: wrong exit status; stderr:\n{stderr}"
-    );
-    for fragment in fragments {
-        assert!(
-            stderr.contains(fragment),
-            "{what}: stderr lacks `{fragment}`; it reads:\n{stderr}"
-        );
-    }
+    run_cli::assert_refused(output, what, fragments);
     assert!(
         !cache_dir.exists(),
         "{what}: bad input wrote {}",

@@ -5,10 +5,9 @@
 //! must name the folder and leave it as it was.
 
 use crate::run_cli;
-use run_cli::{hopperflow, utf8};
+use run_cli::{assert_status, hopperflow, stderr_of, utf8};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Output;
 use std::time::SystemTime;
 
 /// Exit statuses the command line documents (main.rs, run_cmd.rs, study_cmd.rs,
@@ -17,25 +16,6 @@ const EXIT_OK: i32 = 0;
 const EXIT_FAILED: i32 = 1;
 const EXIT_BAD_INPUT: i32 = 2;
 const EXIT_CASE_FAILED: i32 = 3;
-
-fn stderr_of(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-/// Asserts the exit status and that the binary did not panic (a panic also exits with a
-/// status, 101, but is never an answer to bad input).
-fn assert_status(output: &Output, expected: i32, what: &str) {
-    let stderr = stderr_of(output);
-    assert!(
-        !stderr.contains("panicked"),
-        "{what}: the binary panicked:\n{stderr}"
-    );
-    assert_eq!(
-        output.status.code(),
-        Some(expected),
-        "{what}: wrong exit status; stderr:\n{stderr}"
-    );
-}
 
 /// Every file under `dir` with its bytes and modification time, to show that a refused
 /// command left the folder exactly as it was.

@@ -1,6 +1,8 @@
 //! Every integration test of `cli` in one test binary: one link instead of one per
 //! file keeps the test command's build short. Each module is one file's tests.
 
+#[path = "../../../case/tests/suite/bad_case_files.rs"]
+mod bad_case_files;
 mod run_cli;
 mod tiny;
 

@@ -17,31 +17,15 @@ use files::CHECKPOINT_FILE;
 /// time: 250 spheres of 3 mm, an 18 mm outlet, a checkpoint every 10 ms of simulated time
 /// (so that there are several in each phase to kill after), VTU snapshots and plots on (so
 /// that the snapshot series is part of what must resume identically).
-const TINY_CASE: &str = r#"
-version = 1
-seed = 11
-
-[geometry]
-width = 0.05
-height = 0.1
-outlet_width = 0.018
-
-[particles]
-count = 250
-diameter = 0.003
-
-[protocol]
-settle_kinetic_energy = 1.0e-8
-max_settle_time = 0.15
-fill_bottom = 0.07
-clog_timeout = 0.1
-time_limit = 0.6
-
+const TINY_CASE: &str = concat!(
+    include_str!("../../../run/tests/data/tiny.toml"),
+    "
 [output]
 checkpoint_interval = 0.01
 vtu_interval = 0.05
 plots = true
-"#;
+"
+);
 
 /// Upper bound on one phase of the tiny case in wall time; only a hung child reaches it.
 const PATIENCE: Duration = Duration::from_secs(120);

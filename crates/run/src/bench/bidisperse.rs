@@ -8,10 +8,7 @@
 //! fraction (π/6 over the site's volume, 0.51) with the same gap between neighbours, and
 //! settles the same way under gravity in a box of five planes before the timed steps.
 
-use dem::{
-    DVec3, DemError, Interaction, Material, ParticleInit, Simulation, SimulationConfig, Wall,
-    WallMaterial,
-};
+use dem::{DVec3, DemError, Interaction, Material, ParticleInit, Simulation, SimulationConfig};
 use rand::{Rng, SeedableRng};
 
 use super::{time_steps, BenchResult};
@@ -82,14 +79,7 @@ pub fn bidisperse_bed(bed: BidisperseBed, threads: usize) -> Result<Simulation, 
         (DVec3::new(0.0, width, 0.0), -DVec3::Y),
     ];
     for (point, normal) in planes {
-        let wall = Wall::plane(
-            point,
-            normal,
-            WallMaterial::Elastic(material),
-            Interaction::fan2023(),
-        )
-        .map_err(|e| DemError::InvalidInput(e.to_string()))?;
-        sim.add_wall(wall)?;
+        super::add_plane(&mut sim, point, normal, material)?;
     }
 
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);

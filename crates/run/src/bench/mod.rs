@@ -168,7 +168,7 @@ const PACKING_JITTER: f64 = 0.002;
 /// touches its six neighbours; six planes close the box tightly and gravity is off. Returns the
 /// simulation and the resident memory before it was built [bytes].
 pub fn dense_packing(count: usize, threads: usize) -> Result<(Simulation, Option<u64>), DemError> {
-    use dem::{DVec3, Interaction, Material, ParticleInit, SimulationConfig, Wall, WallMaterial};
+    use dem::{DVec3, Interaction, Material, ParticleInit, SimulationConfig};
     use rand::Rng;
     let before = process_memory("VmRSS:");
     let case = Case::paper_base();
@@ -188,14 +188,7 @@ pub fn dense_packing(count: usize, threads: usize) -> Result<(Simulation, Option
     let edge = side as f64 * spacing;
     for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
         for (point, normal) in [(DVec3::ZERO, axis), (edge * axis, -axis)] {
-            let wall = Wall::plane(
-                point,
-                normal,
-                WallMaterial::Elastic(material),
-                Interaction::fan2023(),
-            )
-            .map_err(|e| DemError::InvalidInput(e.to_string()))?;
-            sim.add_wall(wall)?;
+            add_plane(&mut sim, point, normal, material)?;
         }
     }
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
@@ -494,4 +487,23 @@ mod tests {
         assert!(p.other_ns >= 0.0, "{p:?}");
         assert_eq!(sim.phase_times().map(|t| t.steps), Some(30));
     }
+}
+
+/// Adds a plane through `point` with inward `normal` [m], of the benchmark's material and
+/// Table 1's interaction, to a benchmark bed.
+fn add_plane(
+    sim: &mut Simulation,
+    point: dem::DVec3,
+    normal: dem::DVec3,
+    material: dem::Material,
+) -> Result<(), DemError> {
+    let wall = dem::Wall::plane(
+        point,
+        normal,
+        dem::WallMaterial::Elastic(material),
+        dem::Interaction::fan2023(),
+    )
+    .map_err(|e| DemError::InvalidInput(e.to_string()))?;
+    sim.add_wall(wall)?;
+    Ok(())
 }

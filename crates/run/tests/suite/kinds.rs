@@ -3,6 +3,7 @@
 //! of the cylindrical silo's own triangles give that silo's walls and physics bit for bit
 //! (docs/physics.md §5.7–5.8, §7.8).
 
+use crate::run_dir::{self, table};
 use std::path::Path;
 
 use case::{load_case, parse_case, Case};
@@ -24,33 +25,7 @@ fn settings(fill_top: f64, time_limit: f64) -> String {
 }
 
 fn run(case: &Case, dir: &Path, threads: usize) -> CaseSummary {
-    run_drawing(case, dir, threads, false)
-}
-
-/// [`run`], writing the snapshots (walls.vtu, frames) when `pictures` is set.
-fn run_drawing(case: &Case, dir: &Path, threads: usize, pictures: bool) -> CaseSummary {
-    let options = RunOptions {
-        pictures,
-        threads,
-        ..RunOptions::default()
-    };
-    match run_case(case, dir, &options).expect("the case runs") {
-        RunOutcome::Finished(summary) => *summary,
-        RunOutcome::Interrupted => panic!("the run was interrupted"),
-    }
-}
-
-/// Rows of a CSV file as numbers (the header dropped).
-fn table(path: &Path) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(path).expect("a written table");
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            l.split(',')
-                .map(|v| v.parse().unwrap_or(f64::NAN))
-                .collect()
-        })
-        .collect()
+    run_dir::finished(case, dir, threads, false)
 }
 
 /// N(t) in remaining.csv falls by exactly the crossings counted before t: no particle comes
@@ -88,7 +63,7 @@ fn box_wedge_discharges_through_its_slot() {
     let case = parse_case(&text, "box.toml", &[]).expect("a valid box case");
     let root = tempfile::tempdir().unwrap();
     let dir = root.path().join("wedge");
-    let summary = run_drawing(&case, &dir, 1, true);
+    let summary = run_dir::finished(&case, &dir, 1, true);
     // walls.vtu holds the six faces (two side walls above the plates, front and back, two
     // plates); the frames of the vertical cut are drawn.
     let walls = std::fs::read_to_string(dir.join("snapshots/walls.vtu")).unwrap();
@@ -332,7 +307,7 @@ fn stl_silo_discharges_like_the_meshed_cylinder() {
     let dir = tempfile::tempdir().unwrap();
     let mesh_case = load_case(&mesh_copy_of_cylinder(dir.path(), segments), &[]).unwrap();
     let cylinder_case = parse_case(&cylinder_text(segments), "cylinder.toml", &[]).unwrap();
-    let mesh_summary = run_drawing(&mesh_case, &dir.path().join("mesh-run"), 1, true);
+    let mesh_summary = run_dir::finished(&mesh_case, &dir.path().join("mesh-run"), 1, true);
     // walls.vtu holds every triangle of the two files: 2 × 48 each.
     let walls = std::fs::read_to_string(dir.path().join("mesh-run/snapshots/walls.vtu")).unwrap();
     assert!(walls.contains("NumberOfCells=\"192\""));

@@ -4,6 +4,9 @@
 //! (`#[path]` in crates/study/tests/suite/main.rs): integration tests of two crates share no
 //! other module.
 
+// The study's tests include this file for its guard helpers alone.
+#![allow(dead_code)]
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -37,4 +40,36 @@ pub fn interrupted(case: &case::Case, dir: &Path) {
     let outcome = run_case(case, dir, &options).expect("the first chunks run");
     assert!(matches!(outcome, RunOutcome::Interrupted));
     assert!(dir.join(CHECKPOINT_FILE).is_file());
+}
+
+/// `case` run to its end in `dir` on `threads` threads, writing the snapshots (walls.vtu,
+/// frames) when `pictures` is set; its summary.
+pub fn finished(
+    case: &case::Case,
+    dir: &Path,
+    threads: usize,
+    pictures: bool,
+) -> files::CaseSummary {
+    let options = RunOptions {
+        pictures,
+        threads,
+        ..RunOptions::default()
+    };
+    match run_case(case, dir, &options).expect("the case runs") {
+        RunOutcome::Finished(summary) => *summary,
+        RunOutcome::Interrupted => panic!("the run was interrupted"),
+    }
+}
+
+/// Rows of a CSV file as numbers (the header dropped; a cell that is not a number is NaN).
+pub fn table(path: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).expect("a written table");
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect()
 }

@@ -1,11 +1,11 @@
 //! Runs of small cylindrical silos: the protocol works for the circular orifice, and what
 //! it writes obeys the invariants of a discharge (docs/physics.md §5.6, §7.6).
 
+use crate::run_dir::{self, table};
 use std::path::Path;
 
 use case::{parse_case, Case};
 use files::{CaseSummary, StopReason};
-use run::{run_case, RunOptions, RunOutcome};
 
 /// A silo of 40 mm radius holding 400 spheres of 4 mm (the paper's soft material, so that
 /// Δt = 5 µs is 0.15 Rayleigh times), a 20 mm orifice (5 d: at 4 d arches stop the flow
@@ -27,28 +27,7 @@ fn silo(extra: &str) -> Case {
 }
 
 fn run(case: &Case, dir: &Path, threads: usize) -> CaseSummary {
-    let options = RunOptions {
-        pictures: false,
-        threads,
-        ..RunOptions::default()
-    };
-    match run_case(case, dir, &options).expect("the silo runs") {
-        RunOutcome::Finished(summary) => *summary,
-        RunOutcome::Interrupted => panic!("the run was interrupted"),
-    }
-}
-
-/// Rows of a CSV file as numbers (the header dropped).
-fn table(path: &Path) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(path).expect("a written table");
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            l.split(',')
-                .map(|v| v.parse().unwrap_or(f64::NAN))
-                .collect()
-        })
-        .collect()
+    run_dir::finished(case, dir, threads, false)
 }
 
 /// The conical silo discharges: every crossing lies in the orifice disc, and N(t), the

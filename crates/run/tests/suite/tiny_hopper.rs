@@ -10,30 +10,14 @@ use std::path::Path;
 
 use case::{parse_case, Case};
 
-const TINY_CASE: &str = r#"
-version = 1
-seed = 11
-
-[geometry]
-width = 0.05
-height = 0.1
-outlet_width = 0.018
-
-[particles]
-count = 250
-diameter = 0.003
-
-[protocol]
-settle_kinetic_energy = 1.0e-8
-max_settle_time = 0.15
-fill_bottom = 0.07
-clog_timeout = 0.1
-time_limit = 0.6
-
+const TINY_CASE: &str = concat!(
+    include_str!("../data/tiny.toml"),
+    "
 [output]
 checkpoint_interval = 0.05
 plots = false
-"#;
+"
+);
 
 /// The tiny case, with `sets` (`key=value`, as `hopperflow run --set`) applied.
 pub fn tiny_case(sets: &[&str]) -> Case {

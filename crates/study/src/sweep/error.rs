@@ -2,35 +2,16 @@
 
 use std::path::PathBuf;
 
-use files::OutputError;
+use files::{OutputError, StudyFileError};
 
 /// A study-level failure. A single case failing is not one of these: it is recorded in
 /// `failures.json` and the results table, and the other cases go on.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
-    /// A directory could not be created or a file could not be read.
-    #[error("cannot access {path}: {source}")]
-    Io {
-        /// The file or directory involved.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
-    /// A writer failed (results table, manifest, failures list).
+    /// A file of the study could not be read, written or parsed: its manifest, its results
+    /// table, a directory, a summary.
     #[error(transparent)]
-    Output(#[from] OutputError),
-    /// The study's manifest or results table could not be read or written.
-    #[error(transparent)]
-    File(#[from] files::StudyFileError),
-    /// A results table or a summary could not be parsed.
-    #[error("cannot read {path}: {reason}")]
-    Parse {
-        /// The file involved.
-        path: PathBuf,
-        /// What is wrong with it.
-        reason: String,
-    },
+    File(#[from] StudyFileError),
     /// The output directory holds a different study, so resuming into it would mix results.
     #[error(
         "{path} holds study '{found_name}' with config hash {found_hash}, not '{expected_name}' \
@@ -91,9 +72,20 @@ pub enum StudyError {
 
 impl StudyError {
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Self::Io {
+        Self::File(StudyFileError::io(path, source))
+    }
+
+    /// A file of the study that was read but does not hold what it should.
+    pub(crate) fn parse(path: impl Into<PathBuf>, reason: impl Into<String>) -> Self {
+        Self::File(StudyFileError::Parse {
             path: path.into(),
-            source,
-        }
+            reason: reason.into(),
+        })
+    }
+}
+
+impl From<OutputError> for StudyError {
+    fn from(e: OutputError) -> Self {
+        Self::File(StudyFileError::Output(e))
     }
 }

@@ -91,9 +91,11 @@ pub fn prepare_study(plan: &SweepPlan, root: &Path) -> Result<(), StudyError> {
 /// The state of every case of the study in `root`, in the manifest's order. Reads only.
 pub fn case_states(root: &Path) -> Result<Vec<(String, CaseState)>, StudyError> {
     let paths = StudyPaths::new(root);
-    let manifest = StudyManifest::read(&paths.manifest())?.ok_or_else(|| StudyError::Parse {
-        path: paths.manifest(),
-        reason: "no study manifest: this folder holds no study".into(),
+    let manifest = StudyManifest::read(&paths.manifest())?.ok_or_else(|| {
+        StudyError::parse(
+            paths.manifest(),
+            "no study manifest: this folder holds no study",
+        )
     })?;
     Ok(manifest
         .cases
@@ -138,10 +140,10 @@ pub fn run_task(
         });
     };
     if !same_study(plan, &paths)? {
-        return Err(StudyError::Parse {
-            path: paths.manifest(),
-            reason: "no study manifest; the study must be prepared before its tasks run".into(),
-        });
+        return Err(StudyError::parse(
+            paths.manifest(),
+            "no study manifest; the study must be prepared before its tasks run",
+        ));
     }
     let dir = paths.case_dir(id);
     run::check_run_dir(&case.case, &dir).map_err(|source| StudyError::CaseFolder {
