@@ -6,34 +6,19 @@
 #
 # Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
 # pandas, matplotlib, pytest and mypy.
-#
-# `scripts/test-python.sh prepare` only makes the environment and installs the wheel;
-# `scripts/test-python.sh check` only runs the type check and the tests in it. scripts/test.sh
-# prepares while the Rust tests run, which leave a core idle much of the time; with no
-# argument this script does both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step=${1:-all}
 started=$(date +%s)
 venv=target/python-test-venv
 wheels=target/python-wheels
-if [ "$step" != check ]; then
-    python3 -m venv --clear "$venv"
-    "$venv/bin/python" -m pip install --quiet --upgrade pip
-    "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
+python3 -m venv --clear "$venv"
+"$venv/bin/python" -m pip install --quiet --upgrade pip
+"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
 
-    # A target folder of its own: a release build shares nothing with the tests' build,
-    # and cargo's lock on a target folder would otherwise hold this back until they end.
-    rm -rf "$wheels"
-    "$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels" \
-        --target-dir target/python-wheel-build
-    "$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
-    echo "Python environment and wheel: $(($(date +%s) - started)) s"
-fi
-if [ "$step" = prepare ]; then
-    exit 0
-fi
+rm -rf "$wheels"
+"$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels"
+"$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
 
 # The tests compare runs from Python with the command line's, byte for byte.
 # The CLI the tests compare with: scripts/test.sh passes the one its `cargo test` built;

@@ -16,39 +16,13 @@ cd "$(dirname "$0")/.."
 # Every later step reuses this build: the CLI binary it made (the test profile is optimised)
 # and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
 # package alone (`-p`) unifies features differently and compiles the CLI again.
-cargo test --workspace --locked --no-run
+cargo test --workspace --locked
 export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
-
-# The Python environment and wheel are prepared while the Rust tests run: the tests leave a
-# core idle much of the time (a suite waits on its longest test, tests wait on the binary
-# they start), and the preparation waits on the package index and the disk. Its output goes
-# to a log that is shown if it fails.
-python_log=$(mktemp -t hopperflow-python.XXXXXX)
-python_prep=
-if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" != 1 ]; then
-    scripts/test-python.sh prepare > "$python_log" 2>&1 &
-    python_prep=$!
-fi
-rust_status=0
-cargo test --workspace --locked || rust_status=$?
-python_status=0
-if [ -n "$python_prep" ]; then
-    wait "$python_prep" || python_status=$?
-    cat "$python_log"
-fi
-rm -f "$python_log"
-if [ "$rust_status" != 0 ]; then
-    exit "$rust_status"
-fi
-if [ "$python_status" != 0 ]; then
-    echo "the Python environment or wheel could not be prepared" >&2
-    exit "$python_status"
-fi
 
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
     echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
 else
-    scripts/test-python.sh check
+    scripts/test-python.sh
 fi
 
 if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
