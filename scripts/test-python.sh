@@ -16,8 +16,12 @@ python3 -m venv --clear "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
 
+# The wheel is built in the test profile, optimised like the release build but without its
+# link-time optimisation: it reuses every crate the Rust tests built (the features agree, as
+# no development dependency of the workspace changes them), so only pyo3 and the module
+# itself are compiled here. The results are the release build's to the bit.
 rm -rf "$wheels"
-"$venv/bin/maturin" build --release --locked -m crates/python/Cargo.toml -o "$wheels"
+"$venv/bin/maturin" build --profile test --locked -m crates/python/Cargo.toml -o "$wheels"
 "$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
 
 # The tests compare runs from Python with the command line's, byte for byte.

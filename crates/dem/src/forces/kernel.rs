@@ -180,7 +180,7 @@ impl Batch {
         // or a new batch's zeros) and are resolved too, their results never read. Otherwise
         // the compiler's scalar remainder loop would resolve a batch's last few contacts
         // one at a time, each chaining its square roots and divisions: about 25 ns a
-        // contact against 7 (`cargo bench -p hopperflow-dem --bench contact_kernel`,
+        // contact against 7 (`cargo bench --manifest-path bench/engine/Cargo.toml --bench contact_kernel`,
         // `batch_resolve_walls_short_batch`). Every pair run, wall run and step ends with
         // such a batch.
         let n = self.len.next_multiple_of(VECTOR).min(BATCH);
