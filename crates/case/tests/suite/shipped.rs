@@ -28,16 +28,20 @@ fn repository_root() -> PathBuf {
         .unwrap_or_else(|e| panic!("{}: {e}", root.display()))
 }
 
-/// Every `*.toml` file under `dir`, to any depth, sorted.
+/// Every `*.toml` file under `dir`, to any depth, sorted: Cargo's manifests (the engine's
+/// benchmarks under bench/ are a package) and build folders are not case files.
 fn toml_files(dir: &Path, found: &mut Vec<PathBuf>) {
     let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
     for entry in entries {
         let path = entry
             .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
             .path();
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         if path.is_dir() {
-            toml_files(&path, found);
-        } else if path.extension().is_some_and(|e| e == "toml") {
+            if name != "target" {
+                toml_files(&path, found);
+            }
+        } else if path.extension().is_some_and(|e| e == "toml") && name != "Cargo.toml" {
             found.push(path);
         }
     }
