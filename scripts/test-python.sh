@@ -16,12 +16,13 @@ python3 -m venv --clear "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
 
-# The wheel is built in the test profile, optimised like the release build but without its
-# link-time optimisation: it reuses every crate the Rust tests built (the features agree, as
-# no development dependency of the workspace changes them), so only pyo3 and the module
-# itself are compiled here. The results are the release build's to the bit.
+# The wheel is built in the dev profile, which the test profile inherits (optimised like the
+# release build, without its link-time optimisation): it reuses every crate the Rust tests
+# built (the features agree, as no development dependency of the workspace changes them),
+# so only pyo3 and the module itself are compiled here. Its results are the release
+# build's to the bit, which the tests' comparisons with the command line check.
 rm -rf "$wheels"
-"$venv/bin/maturin" build --profile test --locked -m crates/python/Cargo.toml -o "$wheels"
+"$venv/bin/maturin" build --profile dev --locked -m crates/python/Cargo.toml -o "$wheels"
 "$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl
 
 # The tests compare runs from Python with the command line's, byte for byte.
