@@ -30,6 +30,7 @@ mod resolve_mesh;
 mod resolve_particles;
 mod resolve_run;
 mod slab;
+mod sources;
 mod sweep;
 mod sweep_file;
 mod template;

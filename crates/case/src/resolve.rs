@@ -21,9 +21,10 @@ use super::mesh::MeshOutlet;
 use super::particles::MaterialSpec;
 use super::reader::Section;
 use super::resolve_materials::{read_materials, NamedMaterials};
-use super::resolve_particles::{read_material, read_particles, source};
+use super::resolve_particles::{read_material, read_particles};
 use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
 use super::slab::SlabGeometry;
+use super::sources::source;
 
 /// Pairs of keys that are alternatives: giving one through `--set` or a sweep axis
 /// removes the other, and giving both in a file is an error.
@@ -514,7 +515,7 @@ fn check_particles_fit(
         let located = geometry
             .float(name, unit, &mut Vec::new())
             .unwrap_or_else(|| geometry.default_value(name, value, unit));
-        super::resolve_particles::source(&located)
+        super::sources::source(&located)
     };
     let g = match &case.geometry {
         Geometry::Slab(g) => g,

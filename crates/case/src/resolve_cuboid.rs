@@ -5,7 +5,7 @@ use super::cuboid::{CuboidGeometry, CuboidOutlet};
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::limits::outlet_too_small;
 use super::reader::Section;
-use super::resolve_particles::source;
+use super::sources::source;
 use super::wall_surface::WallSurface;
 
 /// Keys of a rectangular silo's `[geometry]`.

@@ -5,7 +5,7 @@ use super::cylinder::CylinderGeometry;
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::limits::outlet_too_small;
 use super::reader::Section;
-use super::resolve_particles::source;
+use super::sources::source;
 use super::wall_surface::{WallSurface, DEFAULT_MESH_SEGMENTS, MESH_SEGMENTS_RANGE};
 
 /// Keys of a cylindrical silo's `[geometry]`.

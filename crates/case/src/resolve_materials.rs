@@ -14,7 +14,7 @@ use dem::{MaterialEntry, MaterialTable, MaterialTableError, PairEntry};
 use super::error::{number, ConfigError, ErrorKind, Location};
 use super::particles::MaterialSpec;
 use super::reader::{Located, Section};
-use super::resolve_particles::{source, MaterialSources};
+use super::sources::{source, MaterialSources};
 
 /// Words `wall.material` gives a meaning of its own, so no material may be named so.
 pub(crate) const RESERVED_NAMES: &[&str] = &["same", "rigid"];

@@ -8,32 +8,7 @@ use super::limits::MAX_PARTICLE_COUNT;
 use super::particles::{Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
 use super::resolve_materials::NamedMaterials;
-
-/// Where a value that a limit derives from was set: `key = value unit`, marked
-/// `(default)` when the user did not write it.
-pub(crate) fn source(value: &Located<f64>) -> String {
-    format!("{} = {}", value.key, value.shown())
-}
-
-/// Where the properties of a material table were set (see [`source`]).
-#[derive(Clone, Debug)]
-pub(crate) struct MaterialSources {
-    pub density: String,
-    pub shear_modulus: String,
-    pub poisson_ratio: String,
-}
-
-/// Where the particle properties that limits derive from were set, so that a check on a
-/// derived quantity (the Rayleigh time, D ≥ 3 d, Z ≥ d, …) can name its inputs.
-#[derive(Clone, Debug)]
-pub(crate) struct ParticleSources {
-    /// The material's density, shear modulus and Poisson's ratio.
-    pub material: MaterialSources,
-    /// The key that sets the smallest diameter, with its value.
-    pub smallest_diameter: String,
-    /// The key that sets the largest diameter, with its value.
-    pub largest_diameter: String,
-}
+use super::sources::{source, MaterialSources, ParticleSources};
 
 /// Reads a material table (density, shear modulus, Poisson's ratio).
 pub(crate) fn read_material(

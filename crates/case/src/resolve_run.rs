@@ -4,7 +4,7 @@ use super::case::{Case, MeasureSpec, OutputSpec, Protocol, MAX_RAYLEIGH_FRACTION
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::particles::ParticleSpec;
 use super::reader::Section;
-use super::resolve_particles::{source, ParticleSources};
+use super::sources::{source, ParticleSources};
 
 /// Largest number of steps between outlet-crossing checks: a particle moves < 4 µm per
 /// step, so 100 steps keep the linear interpolation of the crossing well below d/2
