@@ -19,8 +19,8 @@ python3 -m venv --clear "$venv"
 # The wheel is built in the dev profile, which the test profile inherits (optimised like the
 # release build, without its link-time optimisation): it reuses every crate the Rust tests
 # built (the features agree, as no development dependency of the workspace changes them),
-# so only pyo3 and the module itself are compiled here. Its results are the release
-# build's to the bit, which the tests' comparisons with the command line check.
+# so only pyo3 and the module itself are compiled here. The command line the tests compare
+# its results with, byte for byte, is the same build's.
 rm -rf "$wheels"
 "$venv/bin/maturin" build --profile dev --locked -m crates/python/Cargo.toml -o "$wheels"
 "$venv/bin/python" -m pip install --quiet "$wheels"/hopperflow-*.whl

@@ -5,7 +5,7 @@
 //!
 //! When an issue changes the physics or the measurements on purpose, this test fails.
 //! Then, and only then:
-//! 1. run `cargo test -p hopperflow-study --test suite golden:: -- --nocapture`; the failure lists
+//! 1. run `cargo test -p hopperflow-run --test suite golden:: -- --nocapture`; the failure lists
 //!    every value that moved with its new value;
 //! 2. replace the constants below with the new ones;
 //! 3. say in the commit message that the golden values were regenerated and which change

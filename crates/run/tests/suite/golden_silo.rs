@@ -7,7 +7,7 @@
 //!
 //! When an issue changes the physics or the measurements on purpose, this test fails.
 //! Then, and only then:
-//! 1. run `cargo test -p hopperflow-study --test suite golden_silo:: -- --nocapture`; the failure
+//! 1. run `cargo test -p hopperflow-run --test suite golden_silo:: -- --nocapture`; the failure
 //!    lists every file that moved with its new digest;
 //! 2. replace the constants below with the new ones;
 //! 3. say in the commit message that the golden values were regenerated and which change
