@@ -38,6 +38,9 @@ pub struct InteractionSpec {
     pub rolling_friction: f64,
     /// Coefficient of restitution e [-], in (0, 1].
     pub restitution: f64,
+    /// How the surfaces stick (docs/physics.md §2.4–2.6); dry by default.
+    #[serde(default)]
+    pub cohesion: dem::Cohesion,
 }
 
 impl InteractionSpec {
@@ -50,6 +53,7 @@ impl InteractionSpec {
             friction: table1.friction,
             rolling_friction: table1.rolling_friction,
             restitution: table1.restitution,
+            cohesion: table1.cohesion,
         }
     }
 }

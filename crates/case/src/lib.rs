@@ -23,6 +23,7 @@ mod overrides;
 mod particles;
 mod reader;
 mod resolve;
+mod resolve_cohesion;
 mod resolve_cuboid;
 mod resolve_cylinder;
 mod resolve_materials;

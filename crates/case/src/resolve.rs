@@ -19,7 +19,7 @@ use super::geometry::Geometry;
 use super::limits::outlet_too_small;
 use super::mesh::MeshOutlet;
 use super::particles::MaterialSpec;
-use super::reader::Section;
+use super::reader::{Located, Section};
 use super::resolve_materials::{read_materials, NamedMaterials};
 use super::resolve_particles::{read_material, read_particles};
 use super::resolve_run::{read_measure, read_output, read_protocol, read_time_step};
@@ -98,7 +98,9 @@ pub(crate) fn resolve_case(
         ));
     }
 
-    let named = read_materials(&mut root, &mut errors);
+    // Liquid bridge volumes, checked against the smallest sphere once it is known.
+    let mut volumes = Vec::new();
+    let named = read_materials(&mut root, &mut volumes, &mut errors);
     let particles = read_particles(
         &mut root.section("particles", &mut errors),
         named.as_ref(),
@@ -126,13 +128,18 @@ pub(crate) fn resolve_case(
         &mut root.section("wall", &mut errors),
         named.as_ref(),
         particle_materials.as_deref(),
+        &mut volumes,
         &mut errors,
     );
     let contact = read_contact(
         &mut root.section("contact", &mut errors),
         named.is_some(),
+        &mut volumes,
         &mut errors,
     );
+    if let Some((p, _)) = &particles {
+        super::resolve_cohesion::check_bridge_volumes(&volumes, p.min_diameter(), &mut errors);
+    }
     if let (Some(named), Some(names)) = (&named, &particle_materials) {
         // Every pair the run will meet must be listed or mixable (docs/physics.md §1.2).
         let mut pairs: Vec<(&str, &str)> = Vec::new();
@@ -227,6 +234,7 @@ pub(crate) fn resolve_case(
 /// Reads friction, rolling friction and restitution of one pair type.
 fn read_interaction(
     section: &mut Section<'_>,
+    volumes: &mut Vec<Located<f64>>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<InteractionSpec> {
     let paper = InteractionSpec::fan2023();
@@ -239,10 +247,13 @@ fn read_interaction(
         errors.push(restitution.error(ErrorKind::Invalid, "must lie in (0, 1]"));
         ok = false;
     }
-    ok.then_some(InteractionSpec {
+    let cohesion = super::resolve_cohesion::read_cohesion(section, volumes, errors);
+    ok &= cohesion.is_some();
+    ok.then(|| InteractionSpec {
         friction: friction.value,
         rolling_friction: rolling.value,
         restitution: restitution.value,
+        cohesion: cohesion.expect("checked"),
     })
 }
 
@@ -618,6 +629,7 @@ fn read_wall(
     section: &mut Section<'_>,
     named: Option<&NamedMaterials>,
     particle_materials: Option<&[String]>,
+    volumes: &mut Vec<Located<f64>>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<WallSpec> {
     let is_table = section
@@ -676,7 +688,7 @@ fn read_wall(
             }
         }
     };
-    let interaction = read_interaction(section, errors);
+    let interaction = read_interaction(section, volumes, errors);
     if matches!(material, Some(WallMaterialSpec::Named(_))) {
         refuse_pair_keys(
             section,
@@ -686,7 +698,13 @@ fn read_wall(
         );
     }
     section.finish(
-        &["material", "friction", "rolling_friction", "restitution"],
+        &[
+            "material",
+            "friction",
+            "rolling_friction",
+            "restitution",
+            "cohesion",
+        ],
         errors,
     );
     Some(WallSpec {
@@ -697,7 +715,7 @@ fn read_wall(
 
 /// Refuses the coefficient keys of `[contact]` or `[wall]` where `[[pairs]]` gives them.
 fn refuse_pair_keys(section: &mut Section<'_>, why: &str, errors: &mut Vec<ConfigError>) {
-    for key in ["friction", "rolling_friction", "restitution"] {
+    for key in ["friction", "rolling_friction", "restitution", "cohesion"] {
         if let Some(entry) = section.entry(key) {
             errors.push(ConfigError::new(
                 ErrorKind::Conflict,
@@ -715,6 +733,7 @@ fn refuse_pair_keys(section: &mut Section<'_>, why: &str, errors: &mut Vec<Confi
 fn read_contact(
     section: &mut Section<'_>,
     named: bool,
+    volumes: &mut Vec<Located<f64>>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<ContactSpec> {
     let before = errors.len();
@@ -726,7 +745,7 @@ fn read_contact(
             errors,
         );
     }
-    let interaction = read_interaction(section, errors);
+    let interaction = read_interaction(section, volumes, errors);
     let tangential = section.choice(
         "tangential",
         &[
@@ -751,6 +770,7 @@ fn read_contact(
             "friction",
             "rolling_friction",
             "restitution",
+            "cohesion",
             "tangential",
             "rolling",
             "normal_clamp",

@@ -28,7 +28,13 @@ const MATERIAL_KEYS: &[&str] = &[
 ];
 
 /// The keys of one `[[pairs]]` entry.
-const PAIR_KEYS: &[&str] = &["materials", "restitution", "friction", "rolling_friction"];
+const PAIR_KEYS: &[&str] = &[
+    "materials",
+    "restitution",
+    "friction",
+    "rolling_friction",
+    "cohesion",
+];
 
 /// A case's material table, read and checked, with where each value was written.
 #[derive(Debug, Clone)]
@@ -141,6 +147,7 @@ fn number_at(
 /// has no `[materials]` table (and then `[[pairs]]` is refused).
 pub(crate) fn read_materials(
     root: &mut Section<'_>,
+    volumes: &mut Vec<Located<f64>>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<NamedMaterials> {
     if !root.has("materials") {
@@ -266,6 +273,9 @@ pub(crate) fn read_materials(
         let restitution = number_at(&mut pair, "restitution", "", w, errors);
         let friction = number_at(&mut pair, "friction", "", w, errors);
         let rolling_friction = number_at(&mut pair, "rolling_friction", "", w, errors);
+        // An invalid cohesion is reported here; the pair stays dry for the table's checks.
+        let cohesion =
+            super::resolve_cohesion::read_cohesion(&mut pair, volumes, errors).unwrap_or_default();
         pair.finish(PAIR_KEYS, errors);
         let materials = match names.as_slice() {
             [a, b] => [a.value.clone(), b.value.clone()],
@@ -278,6 +288,7 @@ pub(crate) fn read_materials(
             restitution,
             friction,
             rolling_friction,
+            cohesion,
         });
     }
 
@@ -469,6 +480,7 @@ fn map_problems(
             }
             // Not among a table's own problems (they arise from its use); kept general.
             MaterialTableError::UnlistedPair { key, .. }
+            | MaterialTableError::UnmixableCohesion { key, .. }
             | MaterialTableError::RepeatedName { key, .. } => ConfigError::new(
                 ErrorKind::Invalid,
                 whole(key),

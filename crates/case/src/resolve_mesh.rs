@@ -351,6 +351,7 @@ fn read_wall(
         friction: 0.0,
         rolling_friction: 0.0,
         restitution: 1.0,
+        cohesion: dem::Cohesion::None,
     };
     if let Err(e) = dem::Wall::mesh(&mesh.triangles, dem::WallMaterial::Rigid, probe) {
         let reason = match e {

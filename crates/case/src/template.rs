@@ -26,6 +26,10 @@ macro_rules! contact_coefficients {
 friction = 0.5           # μ_s particle–particle [-], ≥ 0
 rolling_friction = 0.01  # μ_r particle–particle [-], ≥ 0
 restitution = 0.2        # e particle–particle [-], in (0, 1]
+# cohesion = { law = "jkr", work_of_adhesion = 0.05 }  # dry when absent (docs/physics.md
+#   §2.4–2.7): "jkr" with work_of_adhesion [J/m²]; "sjkr" with energy_density [J/m³]; or
+#   "liquid_bridge" with volume [m³], surface_tension [N/m], contact_angle_deg [0, 90].
+#   [wall] and [[pairs]] take the same key.
 "#
     };
 }
@@ -143,6 +147,7 @@ hopper_angle_deg = 90.0  # α [°], bottom plates from the vertical, in (0, 90];
 # restitution = 0.5      # e [-], in (0, 1]
 # friction = 0.3         # μ_s [-], ≥ 0
 # rolling_friction = 0.0 # μ_r [-], ≥ 0; default 0
+# cohesion = { law = "sjkr", energy_density = 3.0e5 }  # optional, as in [contact]
 
 [particles]
 count = 3000             # N, number of particles; they must fit below H (area fraction ≤ 0.885)

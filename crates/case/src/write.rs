@@ -23,6 +23,32 @@ fn float(x: f64) -> String {
     }
 }
 
+/// A cohesion as the inline table a case file gives it (`crate::resolve_cohesion`), in the
+/// syntax that reads back to the same bits; `None` for a dry contact, which writes nothing.
+fn cohesion(c: &dem::Cohesion) -> Option<String> {
+    match *c {
+        dem::Cohesion::None => None,
+        dem::Cohesion::Jkr { work_of_adhesion } => Some(format!(
+            "{{ law = \"jkr\", work_of_adhesion = {} }}",
+            float(work_of_adhesion)
+        )),
+        dem::Cohesion::SimplifiedJkr { energy_density } => Some(format!(
+            "{{ law = \"sjkr\", energy_density = {} }}",
+            float(energy_density)
+        )),
+        dem::Cohesion::LiquidBridge {
+            volume,
+            surface_tension,
+            contact_angle,
+        } => Some(format!(
+            "{{ law = \"liquid_bridge\", volume = {}, surface_tension = {}, contact_angle = {} }}",
+            float(volume),
+            float(surface_tension),
+            float(contact_angle)
+        )),
+    }
+}
+
 /// A case file being written, a line at a time: every key as `key = value`, then its note
 /// (a unit, a symbol, a derived value) as a comment, two spaces before the `#`.
 struct Lines(String);
@@ -167,6 +193,9 @@ fn material_table_lines(out: &mut Lines, table: &MaterialTable) {
             if let Some(value) = value {
                 out.float(key, value, "");
             }
+        }
+        if let Some(text) = cohesion(&pair.cohesion) {
+            out.key("cohesion", text, "");
         }
     }
 }
@@ -323,6 +352,9 @@ impl Case {
             out.float("friction", w.interaction.friction, "");
             out.float("rolling_friction", w.interaction.rolling_friction, "");
             out.float("restitution", w.interaction.restitution, "");
+            if let Some(text) = cohesion(&w.interaction.cohesion) {
+                out.key("cohesion", text, "");
+            }
         }
         if let WallMaterialSpec::Custom(material) = &w.material {
             out.table("[wall.material]");
@@ -335,6 +367,9 @@ impl Case {
             out.float("friction", c.particle.friction, "");
             out.float("rolling_friction", c.particle.rolling_friction, "");
             out.float("restitution", c.particle.restitution, "");
+            if let Some(text) = cohesion(&c.particle.cohesion) {
+                out.key("cohesion", text, "");
+            }
         }
         let tangential = match c.tangential {
             TangentialLawSpec::MindlinNoSlip => "mindlin_no_slip",

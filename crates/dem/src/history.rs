@@ -16,6 +16,9 @@ pub(crate) const LIVE: u8 = 1;
 /// Bit of [`HistoryArrays::live`]: [`LIVE`] as it was before this evaluation's filter, which
 /// the gather of a touching contact reads.
 pub(crate) const WAS_LIVE: u8 = 2;
+/// Bit of [`HistoryArrays::live`]: the pair is bonded by a cohesion that acts beyond contact
+/// ([`ContactHistory::bonded`]); meaningful only with [`LIVE`].
+pub(crate) const BONDED: u8 = 4;
 /// An entry of [`HistoryArrays::carry_from`]'s sources: no earlier contact, no history.
 pub(crate) const NO_SOURCE: u32 = u32::MAX;
 
@@ -65,7 +68,7 @@ impl HistoryArrays {
     pub(crate) fn push(&mut self, h: ContactHistory) {
         self.tangential.push(h.tangential);
         self.rolling.push(h.rolling);
-        self.live.push(LIVE);
+        self.live.push(if h.bonded { LIVE | BONDED } else { LIVE });
     }
 
     /// Appends contact `k` of `from` as stored, live flags included: a copy that the force
@@ -83,7 +86,8 @@ impl HistoryArrays {
 
     /// Replaces the contents with, for each entry of `source`, the history of contact
     /// `source[k]` of `old` (as [`HistoryArrays::get`] reads it), or none where it is
-    /// [`NO_SOURCE`]; every entry is live. Array by array, for the list rebuilds.
+    /// [`NO_SOURCE`]; every entry is live, and bonded where its source was. Array by array,
+    /// for the list rebuilds.
     ///
     /// Without a branch on the outcome: whether a history is kept (a source, and live
     /// there) varies from entry to entry, and a branch on it is mispredicted often enough
@@ -116,7 +120,10 @@ impl HistoryArrays {
             let (at, mask) = keep(c);
             masked(old.rolling[at], mask)
         }));
-        self.live.resize(source.len(), LIVE);
+        self.live.extend(source.iter().map(|&c| {
+            let (at, mask) = keep(c);
+            LIVE | (old.live[at] & BONDED & mask as u8)
+        }));
     }
 
     /// History of contact `k`.
@@ -128,6 +135,7 @@ impl HistoryArrays {
         ContactHistory {
             tangential: self.tangential[k],
             rolling: self.rolling[k],
+            bonded: self.live[k] & BONDED != 0,
         }
     }
 
@@ -136,12 +144,13 @@ impl HistoryArrays {
         (0..self.len()).map(|k| self.get(k))
     }
 
-    /// Both arrays, mutably, with every history that is not live written as zero, for the
-    /// loops that clear separated contacts themselves (the scalar laws, tests).
-    pub(crate) fn split_mut(&mut self) -> (&mut [DVec3], &mut [DVec3]) {
+    /// The three arrays, mutably, with every history that is not live written as zero and
+    /// every flag live (bonded where it was), for the loops that clear separated contacts
+    /// themselves (the scalar laws, tests).
+    pub(crate) fn split_mut(&mut self) -> (&mut [DVec3], &mut [DVec3], &mut [u8]) {
         let (tangential, rolling, live) = self.parts_mut();
         settle(tangential, rolling, live);
-        (tangential, rolling)
+        (tangential, rolling, live)
     }
 
     /// The three arrays as they are, for the force loops that read [`HistoryArrays::live`].
@@ -150,8 +159,9 @@ impl HistoryArrays {
     }
 }
 
-/// Writes zero into every history whose contact is not live and marks all live: afterwards
-/// the arrays hold exactly what [`HistoryArrays::get`] returns.
+/// Writes zero into every history whose contact is not live and marks all live, keeping
+/// [`BONDED`] where the contact was live: afterwards the arrays hold exactly what
+/// [`HistoryArrays::get`] returns.
 pub(crate) fn settle(tangential: &mut [DVec3], rolling: &mut [DVec3], live: &mut [u8]) {
     for ((t, r), l) in tangential
         .iter_mut()
@@ -160,8 +170,10 @@ pub(crate) fn settle(tangential: &mut [DVec3], rolling: &mut [DVec3], live: &mut
     {
         if *l & LIVE == 0 {
             (*t, *r) = (DVec3::ZERO, DVec3::ZERO);
+            *l = LIVE;
+        } else {
+            *l &= LIVE | BONDED;
         }
-        *l = LIVE;
     }
 }
 
@@ -232,6 +244,7 @@ mod tests {
             .map(|k| ContactHistory {
                 tangential: DVec3::new(k as f64, -1.5, 2e-6),
                 rolling: DVec3::new(0.0, k as f64 * 1e-3, -7.0),
+                bonded: k % 2 == 1,
             })
             .collect();
         let old = postcard::to_allocvec(&records).unwrap();
@@ -249,6 +262,7 @@ mod tests {
             .map(|k| ContactHistory {
                 tangential: DVec3::splat(k as f64),
                 rolling: DVec3::splat(-(k as f64)),
+                bonded: false,
             })
             .collect();
         let mut lazy: HistoryArrays = records.iter().copied().collect();
@@ -264,7 +278,7 @@ mod tests {
             postcard::to_allocvec(&lazy).unwrap(),
             postcard::to_allocvec(&eager).unwrap()
         );
-        let (t, r) = lazy.split_mut();
+        let (t, r, _) = lazy.split_mut();
         assert_eq!((t[2], r[2]), (DVec3::ZERO, DVec3::ZERO));
         assert_eq!(t[3], records[3].tangential);
         assert!(lazy.live.iter().all(|&l| l == LIVE));

@@ -27,7 +27,8 @@ mod timing;
 pub mod wall;
 mod watch;
 
-pub use contact::{ContactLaws, RollingLaw, TangentialLaw};
+pub use contact::liquid_bridge::LARGEST_VOLUME_RATIO as LARGEST_BRIDGE_VOLUME_RATIO;
+pub use contact::{Cohesion, ContactLaws, RollingLaw, TangentialLaw};
 pub use error::DemError;
 pub use forces::loads::{ElementLoad, SurfaceLoads, WallLoad};
 pub use forces::ContactCount;

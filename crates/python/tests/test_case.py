@@ -126,6 +126,35 @@ def test_bad_values_raise_case_error_naming_the_key(key, value, words):
     assert err.errors and err.errors[0]["key"] == key
 
 
+def test_cohesion_is_a_table_of_keys_like_any_other():
+    # docs/physics.md §2.4–2.7: the law and its parameters, set together or key by key.
+    case = hf.Case.paper()
+    case["contact.cohesion"] = {"law": "jkr", "work_of_adhesion": 0.05}
+    assert case["contact.cohesion"] == {"law": "jkr", "work_of_adhesion": 0.05}
+    case["wall.cohesion"] = {
+        "law": "liquid_bridge",
+        "volume": 1e-12,
+        "surface_tension": 0.072,
+        "contact_angle_deg": 20.0,
+    }
+    # The resolved case gives the angle in radians and reads back to an equal case.
+    assert math.isclose(case["wall.cohesion.contact_angle"], math.radians(20.0))
+    assert hf.Case.from_toml(case.to_toml()) == case
+    # Bad values are refused naming the key and the allowed range, the case unchanged.
+    for key, value, words in [
+        ("wall.cohesion.volume", 1e-9, "holds at most 0.1 R³"),
+        ("wall.cohesion.contact_angle_deg", 120.0, "must lie in [0°, 90°]"),
+        ("contact.cohesion.work_of_adhesion", -1.0, "must be a finite number > 0"),
+        ("contact.cohesion.law", "glue", 'must be one of "none", "jkr"'),
+    ]:
+        before = case.to_toml()
+        with pytest.raises(hf.CaseError) as info:
+            case[key] = value
+        assert info.value.key == key, str(info.value)
+        assert words in str(info.value), str(info.value)
+        assert case.to_toml() == before
+
+
 def test_set_error_text_is_the_command_lines(cli, tiny):
     # `hopperflow check FILE --set geometry.outlet_width=-1` prints the same error text.
     proc = subprocess.run(

@@ -29,10 +29,10 @@ use super::time_spent::TimeSpent;
 use files::StartRecord;
 use files::{write_atomic, OutputError};
 
-/// The first eight bytes of every checkpoint: a name and the layout's version (8: the
-/// header records how the run started, [`CheckpointHeader::start`], and the state each
-/// particle's component).
-pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x08";
+/// The first eight bytes of every checkpoint: a name and the layout's version (9: each
+/// contact's history says whether the pair is bonded by its cohesion, and the state how far
+/// beyond contact its neighbour lists reach).
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x09";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;
 /// Bytes of the trailing SHA-256.

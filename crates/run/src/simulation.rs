@@ -26,6 +26,7 @@ fn engine_interaction(i: &case::InteractionSpec) -> dem::Interaction {
         friction: i.friction,
         rolling_friction: i.rolling_friction,
         restitution: i.restitution,
+        cohesion: i.cohesion,
     }
 }
 

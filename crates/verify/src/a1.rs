@@ -28,6 +28,7 @@ fn block(incline_deg: f64, speed: f64) -> Surface {
             friction: FRICTION,
             rolling_friction: 0.0,
             restitution: 0.2,
+            cohesion: dem::Cohesion::None,
         },
         laws: ContactLaws::default(),
         speed,

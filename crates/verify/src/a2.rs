@@ -47,6 +47,7 @@ fn one_launch(v0: f64, rows: &mut Vec<Row>) -> Result<(), VerifyError> {
             friction: FRICTION,
             rolling_friction: ROLLING_FRICTION,
             restitution: 0.2,
+            cohesion: dem::Cohesion::None,
         },
         laws: ContactLaws {
             rolling: RollingLaw::ConstantTorque { limiter: false },

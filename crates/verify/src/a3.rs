@@ -47,6 +47,7 @@ fn sphere(theta_deg: f64, rolling: RollingLaw) -> Surface {
             friction: FRICTION,
             rolling_friction: ROLLING_FRICTION,
             restitution: 0.2,
+            cohesion: dem::Cohesion::None,
         },
         laws: ContactLaws {
             rolling,

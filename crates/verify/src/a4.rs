@@ -84,6 +84,7 @@ pub fn held_contact(
         friction,
         rolling_friction: 0.0,
         restitution: 0.2,
+        cohesion: dem::Cohesion::None,
     };
     let mut config = SimulationConfig::new(time_step);
     config.gravity = DVec3::ZERO;

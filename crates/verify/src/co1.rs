@@ -24,6 +24,7 @@ const ELASTIC: Interaction = Interaction {
     friction: 0.0,
     rolling_friction: 0.0,
     restitution: 1.0,
+    cohesion: dem::Cohesion::None,
 };
 
 /// Runs CO1 for glass and limestone.

@@ -53,6 +53,7 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
                 friction: 0.0,
                 rolling_friction: 0.0,
                 restitution: 1.0,
+                cohesion: dem::Cohesion::None,
             },
             laws: ContactLaws::default(),
             target: Target::Plane(WallMaterial::Rigid),

@@ -63,6 +63,7 @@ fn frictionless(restitution: f64) -> Interaction {
         friction: 0.0,
         rolling_friction: 0.0,
         restitution,
+        cohesion: dem::Cohesion::None,
     }
 }
 

@@ -78,6 +78,7 @@ fn impact(
             friction: FRICTION,
             rolling_friction: 0.0,
             restitution: RESTITUTION,
+            cohesion: dem::Cohesion::None,
         },
         ContactLaws {
             tangential: law,

@@ -56,6 +56,7 @@ fn impact(material: Material, slip: f64, res: Resolution) -> Result<Oblique, Ver
             friction: FRICTION,
             rolling_friction: 0.0,
             restitution: RESTITUTION,
+            cohesion: dem::Cohesion::None,
         },
         ContactLaws::default(),
         0.0,

@@ -99,6 +99,7 @@ const FRICTIONAL: Interaction = Interaction {
     friction: 0.3,
     rolling_friction: 0.0,
     restitution: 1.0,
+    cohesion: dem::Cohesion::None,
 };
 
 /// Normal impact speed V_n of every series [m/s].

@@ -170,6 +170,7 @@ fn pairs() -> Result<[Pair; 2], VerifyError> {
         friction: 0.0,
         rolling_friction: 0.0,
         restitution,
+        cohesion: dem::Cohesion::None,
     };
     let table1 = Material::fan2023();
     let unequal = Pair {

@@ -1,7 +1,7 @@
 //! Verification suite of the DEM engine: the single-impact benchmarks of Chung & Ooi (2011),
 //! Thornton's normalised oblique impacts, Hertz impacts of unequal and of dissimilar spheres
-//! (H1), the analytic sliding/rolling cases and the walls of any shape (W1–W6) of
-//! docs/physics.md §9, each reported as rows of expected and measured values.
+//! (H1), the analytic sliding/rolling cases, the walls of any shape (W1–W6) and the cohesion
+//! laws (J1–J4) of docs/physics.md §9, each reported as rows of expected and measured values.
 //!
 //! Every case lives in its own file whose module documentation gives the set-up, the
 //! expected values and their source, and the tolerance with its reason.
@@ -10,6 +10,7 @@ pub mod a1;
 pub mod a2;
 pub mod a3;
 pub mod a4;
+mod adhesion;
 pub mod co1;
 pub mod co2;
 pub mod co3;
@@ -19,6 +20,10 @@ pub mod cot;
 mod error;
 pub mod h1;
 pub mod impact;
+pub mod j1;
+pub mod j2;
+pub mod j3;
+pub mod j4;
 mod meshes;
 pub mod p1;
 mod resolution;
@@ -44,7 +49,7 @@ type Case = (
 );
 
 /// Every case of docs/physics.md §9 that this crate implements, in the order of the spec.
-const CASES: [Case; 18] = [
+const CASES: [Case; 22] = [
     ("CO1", co1::run),
     ("CO2", co2::run),
     ("CO3", co3::run),
@@ -63,6 +68,10 @@ const CASES: [Case; 18] = [
     ("W4", w4::run),
     ("W5", w5::run),
     ("W6", w6::run),
+    ("J1", j1::run),
+    ("J2", j2::run),
+    ("J3", j3::run),
+    ("J4", j4::run),
 ];
 
 /// Runs every case at `resolution` and returns all rows, in the order of docs/physics.md §9.

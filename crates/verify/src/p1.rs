@@ -34,6 +34,7 @@ fn impact(target: Target, restitution: f64, res: Resolution) -> Impact {
             friction: 0.0,
             rolling_friction: 0.0,
             restitution,
+            cohesion: dem::Cohesion::None,
         },
         laws: ContactLaws::default(),
         target,

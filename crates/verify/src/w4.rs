@@ -24,6 +24,7 @@ pub fn run(res: Resolution) -> Result<Vec<Row>, VerifyError> {
         friction: 0.0,
         rolling_friction: 0.0,
         restitution: 1.0,
+        cohesion: dem::Cohesion::None,
     };
     let mut config = SimulationConfig::new(TIME_STEP);
     config.resort_every = 0;

@@ -55,6 +55,22 @@ fn the_rows_with_tolerances_from_the_step_count_pass_at_full_resolution() {
 }
 
 #[test]
+fn the_cohesion_rows_pass_at_full_resolution() {
+    // J1–J3 tie their tolerances for the break, the rupture and the impact energies to the
+    // step of the sweep or the impact, 1/N; `hopperflow verify` runs the full N.
+    let mut rows = Vec::new();
+    for case in [verify::j1::run, verify::j2::run, verify::j3::run] {
+        match case(Resolution::Full) {
+            Ok(r) => rows.extend(r),
+            Err(e) => rows.push(Row::failed("full", &e.to_string())),
+        }
+    }
+    assert_eq!(rows.len(), 14);
+    let failed = failures(&rows);
+    assert!(failed.is_empty(), "failing rows:\n{failed}");
+}
+
+#[test]
 fn every_case_reports_exactly_its_rows() {
     // A case that silently dropped rows (an early return, a skipped loop) would still pass the
     // test above. Each count follows from the case's structure, which its module documents.
@@ -96,6 +112,14 @@ fn every_case_reports_exactly_its_rows() {
         ("W5", 4),
         // per-triangle sum against the total, normal force against the weight.
         ("W6", 2),
+        // curve, no force before touching, least force, break, loop energy.
+        ("J1", 5),
+        // stick at 0.9 v_s, part at 1.1 v_s, parting speed and v_s at 2 v_s.
+        ("J2", 4),
+        // no force before touching, overlapping and gap curves, rupture, impact energy.
+        ("J3", 5),
+        // curve, no force across the gap, parting speed.
+        ("J4", 3),
     ];
     let rows = fast_rows();
     for (case, n) in expected {

@@ -4,6 +4,7 @@
 mod bad_case_files;
 mod bad_cases;
 mod case_file;
+mod cohesion;
 mod fuzz;
 mod kinds;
 mod materials;

@@ -151,7 +151,7 @@ fn every_template_of_hopperflow_init_is_a_valid_case_with_its_files() {
 const TEMPLATE_SHA256: [(&str, &str); 4] = [
     (
         "slab",
-        "56d0c766527df8cfbc00367b5347a84b0148799108b8569baceb743eef18c6e9",
+        "74df33b3d83f14d87e28ac66177c5b513f9d017fd29df786dc1973d195900300",
     ),
     (
         "cylinder",
@@ -159,11 +159,11 @@ const TEMPLATE_SHA256: [(&str, &str); 4] = [
     ),
     (
         "box",
-        "e7ca4f437344adebd082984a83ae3d0913b077c03adafeba4b3c48f743b7d219",
+        "86756353cc1ca8d7d4c72110abf3296cd978c001260d8fc3c412a26548fca023",
     ),
     (
         "mesh",
-        "d458940d6297b28944757fabdd653b2e35ca5b6c26d9fc5a8badf36ca3392583",
+        "184fb50a34771b34b1a34330f3b6239db3fd21aea6a0ff1833fd5c5b2ba0efd4",
     ),
 ];
 

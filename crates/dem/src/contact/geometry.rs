@@ -51,6 +51,7 @@ pub fn sphere_sphere(d: DVec3, dist2: f64, i: &Sphere, j: &Sphere) -> ContactGeo
         arm_j: lever_arm(rj, overlap),
         inertia: [i.inertia, j.inertia],
         mass_radius2: [i.mass * ri * ri, j.mass * rj * rj],
+        radius: [ri, rj],
     }
 }
 
@@ -77,5 +78,6 @@ pub fn sphere_wall(normal: DVec3, dist: f64, i: &Sphere) -> ContactGeometry {
         arm_j: 0.0,
         inertia: [i.inertia, f64::INFINITY],
         mass_radius2: [i.mass * ri * ri, f64::INFINITY],
+        radius: [ri, f64::INFINITY],
     }
 }

@@ -3,16 +3,22 @@
 //!
 //! Each stage is a pure function in its own file; this module only orders them.
 
+pub mod cohesion;
 pub mod damping;
 pub mod geometry;
+pub mod jkr;
+pub mod liquid_bridge;
 pub mod normal;
 pub mod rolling;
+pub mod sjkr;
 pub mod tangential;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::material::PairCoefficients;
+pub use cohesion::Cohesion;
+use cohesion::NormalOutcome;
 pub use rolling::RollingLaw;
 pub use tangential::TangentialLaw;
 
@@ -48,6 +54,8 @@ pub struct ContactGeometry {
     pub inertia: [f64; 2],
     /// m R² of i and j [kg m²] (j: infinite for a wall), for EPSD's rolling inertia.
     pub mass_radius2: [f64; 2],
+    /// Radii R_i and R_j [m] (j: infinite for a wall), for the simplified JKR's area.
+    pub radius: [f64; 2],
 }
 
 impl ContactGeometry {
@@ -81,13 +89,16 @@ pub struct ContactHistory {
     pub tangential: DVec3,
     /// EPSD spring torque on i [N m].
     pub rolling: DVec3,
+    /// The pair is bonded by a cohesion that acts beyond contact (a JKR contact or a liquid
+    /// bridge that formed on touching and has not broken).
+    pub bonded: bool,
 }
 
 impl ContactHistory {
     /// True when the contact remembers nothing.
     #[inline]
     pub fn is_empty(&self) -> bool {
-        self.tangential == DVec3::ZERO && self.rolling == DVec3::ZERO
+        self.tangential == DVec3::ZERO && self.rolling == DVec3::ZERO && !self.bonded
     }
 }
 
@@ -120,25 +131,48 @@ impl ContactLaws {
         let v_n = v_rel.dot(n);
         let v_t = v_rel - v_n * n;
 
-        // Normal: Hertz (Eq. 6 elastic part) plus the restitution dashpot (§2.1).
-        let hertz = normal::hertz(c.e_star, g.r_eff, g.overlap);
-        let gamma_n = damping::dashpot(c.damping, hertz.stiffness, g.m_eff);
-        let mut f_n = hertz.force - gamma_n * v_n;
-        if self.normal_clamp && f_n < 0.0 {
-            f_n = 0.0;
+        // Normal (§2): Hertz (Eq. 6 elastic part), or the pair's cohesive law, then the
+        // restitution dashpot (§2.1).
+        let normal = match cohesion::normal_stage(g, c, history.bonded) {
+            NormalOutcome::Contact(normal) => normal,
+            NormalOutcome::BridgeOnly(pull) => {
+                // A bridge across a gap: no solid contact, nothing for friction to remember.
+                *history = ContactHistory {
+                    bonded: true,
+                    ..ContactHistory::default()
+                };
+                return ContactForce {
+                    force: -pull * n,
+                    ..ContactForce::default()
+                };
+            }
+            NormalOutcome::Apart => {
+                *history = ContactHistory::default();
+                return ContactForce::default();
+            }
+        };
+        history.bonded = c.cohesion.bonds();
+        let gamma_n = damping::dashpot(c.damping, normal.stiffness, g.m_eff);
+        let mut f_n = normal.elastic - gamma_n * v_n;
+        if self.normal_clamp && f_n < normal.floor {
+            f_n = normal.floor;
+        }
+        if normal.pull != 0.0 {
+            f_n -= normal.pull;
         }
 
         // Tangential (§3): history rotated into the current tangent plane first.
-        let cap = tangential::coulomb_limit(c.friction, hertz.force);
+        let cap = tangential::coulomb_limit(c.friction, normal.load);
         history.tangential = tangential::rotate_into_plane(history.tangential, n);
         let f_t = match self.tangential {
             TangentialLaw::MindlinNoSlip => {
-                let s_t = tangential::mindlin_stiffness(c.g_star, hertz.contact_radius);
+                let s_t = tangential::mindlin_stiffness(c.g_star, normal.contact_radius);
                 let gamma_t = tangential::no_slip_dashpot(gamma_n, c.stiffness_ratio_sqrt);
                 tangential::mindlin_no_slip(&mut history.tangential, v_t, dt, s_t, cap, gamma_t)
             }
             TangentialLaw::MindlinDeresiewicz => {
-                let slip = tangential::slip_distance(c.friction, g.overlap, c.e_star, c.g_star);
+                let slip =
+                    tangential::slip_distance(c.friction, normal.overlap, c.e_star, c.g_star);
                 tangential::mindlin_deresiewicz(
                     &mut history.tangential,
                     v_t,
@@ -155,14 +189,14 @@ impl ContactLaws {
         // M_j = −a_j (n × F_t): one cross product serves both.
         let n_cross_ft = n.cross(f_t);
 
-        // Rolling (§4), on the relative spin and the elastic normal force.
+        // Rolling (§4), on the relative spin and the normal load.
         let omega_rel = i.omega - j.omega;
         let (mut torque_i, mut torque_j) = match self.rolling {
             // Eq. 8 folded into the same levers: one division instead of three and no
             // second cross product.
             RollingLaw::ConstantTorque { limiter: false } => {
                 let w2 = omega_rel.length_squared();
-                let s = rolling::constant_torque_scale(c.rolling_friction, hertz.force, w2);
+                let s = rolling::constant_torque_scale(c.rolling_friction, normal.load, w2);
                 rolling::constant_torque_levers(n_cross_ft, s, omega_rel, (g.arm_i, g.arm_j))
             }
             RollingLaw::None
@@ -175,7 +209,7 @@ impl ContactLaws {
                 RollingLaw::ConstantTorque { limiter: true } => {
                     let limit =
                         rolling::constant_torque_limit(g.inertia_reduced(), omega_rel.length(), dt);
-                    let m = c.rolling_friction * hertz.force;
+                    let m = c.rolling_friction * normal.load;
                     let (mi, mj) =
                         rolling::constant_torque(omega_rel, m * g.arm_i, m * g.arm_j, limit);
                     torque_i += mi;
@@ -185,8 +219,8 @@ impl ContactLaws {
                     let omega_roll = omega_rel - omega_rel.dot(n) * n;
                     history.rolling = tangential::rotate_into_plane(history.rolling, n);
                     let mu_r = c.rolling_friction;
-                    let k_r = rolling::epsd_stiffness(hertz.force, g.overlap, mu_r, g.r_eff);
-                    let cap_r = rolling::epsd_limit(mu_r, g.r_eff, hertz.force);
+                    let k_r = rolling::epsd_stiffness(normal.load, normal.overlap, mu_r, g.r_eff);
+                    let cap_r = rolling::epsd_limit(mu_r, g.r_eff, normal.load);
                     let eta = rolling::epsd_dashpot(viscous_damping, g.rolling_inertia(), k_r);
                     let m = rolling::epsd(&mut history.rolling, omega_roll, dt, k_r, cap_r, eta);
                     torque_i += m;

@@ -21,7 +21,7 @@ use super::accumulator::Accumulator;
 use super::loads::LoadSum;
 use super::walls::{prepare_wall_batch, wall_pieces, wall_probes, wall_runs, WallPiece};
 use super::{add_surface_contacts, pair_loop, ContactCount, Evaluation, ForceBuffers, KernelInput};
-use crate::contact::{ContactForce, ContactLaws};
+use crate::contact::ContactForce;
 use crate::neighbour::{PairList, WallPairList};
 use crate::ranges::pair_start;
 
@@ -50,7 +50,7 @@ pub(crate) fn evaluate_chunk(
     elements: &mut [super::loads::SurfaceLoads],
 ) -> Evaluation {
     assert!(
-        *input.laws == ContactLaws::default(),
+        input.batched(),
         "chunked evaluation needs the batched wall loop of the paper's laws"
     );
     let n = input.particles.len();
@@ -179,7 +179,7 @@ mod tests {
         // counts and worst overlaps must be the same bits. Exact equality: the chunks
         // promise each body the same additions in the same order. One and two materials,
         // equal and unequal spheres.
-        let laws = ContactLaws::default();
+        let laws = crate::contact::ContactLaws::default();
         for (materials, poly) in [(1, false), (2, true)] {
             let jumble = Jumble::new(materials, poly);
             let input = jumble_input(&jumble, &laws);

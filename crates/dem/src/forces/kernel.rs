@@ -526,10 +526,12 @@ mod tests {
                 arm_j: rj - 0.5 * overlap,
                 inertia: [0.4 * mi * ri * ri, 0.4 * mj * rj * rj],
                 mass_radius2: [mi * ri * ri, mj * rj * rj],
+                radius: [ri, rj],
             };
             let mut h = ContactHistory {
                 tangential: xi,
                 rolling: DVec3::ZERO,
+                bonded: false,
             };
             let bi = BodyMotion {
                 velocity: vi,

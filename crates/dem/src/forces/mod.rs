@@ -55,6 +55,18 @@ pub(crate) struct KernelInput<'a> {
     pub dt: f64,
     /// The quanta of the walls' fixed-point loads.
     pub quanta: LoadQuanta,
+    /// Some pair is cohesive: every contact goes through `ContactLaws::resolve`.
+    pub cohesive: bool,
+    /// How far beyond contact [m] a bonded pair may still interact (0 without cohesion).
+    pub reach: f64,
+}
+
+impl KernelInput<'_> {
+    /// Whether the contacts go through the batched kernel: the paper's laws, dry.
+    #[inline(always)]
+    pub(crate) fn batched(&self) -> bool {
+        *self.laws == ContactLaws::default() && !self.cohesive
+    }
 }
 
 /// The largest overlap seen, as a fraction of the smaller radius, and where.
@@ -320,7 +332,7 @@ fn planar_contacts(
         torque[i] += cf.torque_i;
     };
     let wall_ids = (&wall_pairs.particle[..], &wall_pairs.wall[..]);
-    let (worst_wall, wall_contacts) = if *input.laws == ContactLaws::default() {
+    let (worst_wall, wall_contacts) = if input.batched() {
         let (tangential, _, live) = wall_pairs.history.parts_mut();
         batched_wall_loop(
             input,
@@ -367,12 +379,19 @@ fn pair_loop(
     scratch: (&mut Vec<u32>, &mut Batch),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
-    if *input.laws == ContactLaws::default() {
+    if input.batched() {
         // The paper's laws keep no rolling history: only ξ is passed.
         batched_pair_loop(input, ids, base, (tangential, live), scratch, sink)
     } else {
         // The scalar laws clear separated histories themselves, from arrays that hold them.
         settle(tangential, rolling, live);
-        pair_loop_with(input, *input.laws, ids, base, (tangential, rolling), sink)
+        pair_loop_with(
+            input,
+            *input.laws,
+            ids,
+            base,
+            (tangential, rolling, live),
+            sink,
+        )
     }
 }

@@ -43,7 +43,7 @@ use super::{
     loads, pair_loop, surfaces, surfaces_parallel, ContactCount, Evaluation, ForceBuffers,
     KernelInput, KernelScratch, PairSink, WorstOverlap,
 };
-use crate::contact::{ContactForce, ContactLaws};
+use crate::contact::ContactForce;
 use crate::neighbour::{PairList, WallPairList};
 use crate::ranges::{cost_bounds, pair_start};
 
@@ -144,7 +144,7 @@ pub(super) fn evaluate(
         (pool, PARALLEL_COPY),
     );
 
-    let batched_walls = *input.laws == ContactLaws::default();
+    let batched_walls = input.batched();
     let with_surfaces = batched_walls && crate::wall::any_resolved_one_by_one(input.walls);
     wall_probes(input.walls, &mut buffers.wall_probes);
     let WallPairList {
@@ -563,7 +563,7 @@ mod tests {
         // pass, split by range) and other laws (the scalar wall loop after the ranges), one
         // and two materials, equal and unequal spheres; and twice in a row, so that scratch
         // left by one evaluation cannot leak into the next.
-        let other = ContactLaws {
+        let other = crate::contact::ContactLaws {
             normal_clamp: true,
             tangential: TangentialLaw::default(),
             rolling: RollingLaw::Epsd {
@@ -579,7 +579,7 @@ mod tests {
                     .expect("a pool")
             })
             .collect();
-        for laws in [ContactLaws::default(), other] {
+        for laws in [crate::contact::ContactLaws::default(), other] {
             for (materials, poly) in [(1, false), (2, true)] {
                 let jumble = Jumble::new(materials, poly);
                 let input = jumble_input(&jumble, &laws);

@@ -343,6 +343,8 @@ mod tests {
             uniform_body: None,
             dt: 2.5e-6,
             quanta: Default::default(),
+            cohesive: false,
+            reach: 0.0,
         };
         let close = |a: DVec3, b: DVec3, scale: f64| (a - b).length() <= 1e-12 * scale;
         for (w, ids) in ids.iter().enumerate() {

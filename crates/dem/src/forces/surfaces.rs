@@ -15,7 +15,7 @@ use glam::DVec3;
 use super::loads::{add_load, LoadQuanta, LoadSum, SurfaceLoads};
 use super::{walls, KernelInput, WorstOverlap};
 use crate::contact::geometry::{sphere_wall, Sphere};
-use crate::contact::{BodyMotion, ContactHistory, ContactLaws};
+use crate::contact::{BodyMotion, ContactHistory};
 use crate::history::{SurfaceContact, SurfaceSlot};
 use crate::wall::{MeshContact, MeshScratch, Wall};
 
@@ -140,7 +140,7 @@ pub(super) fn resolve_stretch(
     worst: &mut WorstOverlap,
     book: &mut impl FnMut(u32, DVec3, DVec3),
 ) -> usize {
-    if *input.laws == ContactLaws::default() {
+    if input.batched() {
         return super::surface_batch::resolve_batched(input, stretch, sinks, scratch, worst, book);
     }
     resolve_one_by_one(input, stretch, sinks, scratch, worst, book)
@@ -213,9 +213,11 @@ fn resolve_candidate(
 ) -> usize {
     let p = input.particles;
     let (x, r) = (p.position[i], p.radius[i]);
+    // With cohesion, the places within its reach of the surface: a bonded contact may act
+    // across a gap (docs/physics.md §2.4, §2.6).
     touching(
         wall,
-        (x, r),
+        (x, r + input.reach),
         bands,
         slot,
         (&mut scratch.mesh, &mut scratch.contacts),
@@ -236,15 +238,25 @@ fn resolve_candidate(
         velocity: p.velocity[i],
         omega: p.omega[i],
     };
+    let mut count = 0;
     for contact in &scratch.contacts {
         let g = sphere_wall(contact.normal, contact.distance, &sphere);
-        worst.see(g.overlap / r, k);
         let mut h = continued(contact.normal, &scratch.previous, &mut scratch.taken);
+        if g.overlap <= 0.0 && !h.bonded {
+            // Within the cohesion's reach but never touched: no bond.
+            continue;
+        }
+        worst.see(g.overlap / r, k);
         let bw = BodyMotion {
             velocity: wall.velocity_at(contact.point),
             omega: wall.angular_velocity,
         };
         let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
+        if g.overlap <= 0.0 && !h.bonded {
+            // The bond broke this step.
+            continue;
+        }
+        count += 1;
         *target.force += cf.force;
         *target.torque += cf.torque_i;
         add_load(target.sum, target.quanta, x, &cf);
@@ -254,7 +266,7 @@ fn resolve_candidate(
             history: h,
         });
     }
-    scratch.contacts.len()
+    count
 }
 
 /// The contacts of a sphere at `x` with radius `r` [m] with `wall`, into

@@ -152,6 +152,7 @@ fn split_plane_filter_matches_the_per_candidate_test() {
                     .map(|&t| ContactHistory {
                         tangential: t,
                         rolling: DVec3::ZERO,
+                        bonded: false,
                     })
                     .collect::<Vec<_>>(),
             ),
@@ -292,8 +293,8 @@ impl Jumble {
             &mut crate::neighbour::ListScratch::default(),
         );
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(9);
-        let (t, r) = pairs.history.split_mut();
-        let (wt, wr) = wall_pairs.history.split_mut();
+        let (t, r, _) = pairs.history.split_mut();
+        let (wt, wr, _) = wall_pairs.history.split_mut();
         for h in t.iter_mut().chain(wt.iter_mut()) {
             *h = DVec3::new(rng.gen(), rng.gen(), rng.gen()) * 2e-6;
         }
@@ -316,6 +317,8 @@ pub(super) fn jumble_input<'a>(jumble: &'a Jumble, laws: &'a ContactLaws) -> Ker
         uniform_body: (!jumble.poly).then(|| (jumble.set.radius[0], jumble.set.mass[0])),
         dt: 2.5e-6,
         quanta: Default::default(),
+        cohesive: false,
+        reach: 0.0,
     }
 }
 

@@ -10,8 +10,14 @@
 //!   MercuryDPM's default mixed species (`BaseSpecies::average`). It lies between the two,
 //!   nearer the smaller, and is 0 when either is 0: a frictionless surface stays frictionless
 //!   against every material.
+//! - Cohesion: JKR works of adhesion and simplified-JKR energy densities mix by the
+//!   geometric mean, the combining rule of surface energies w_ab = √(w_aa w_bb) (Israelachvili
+//!   2011, Intermolecular and Surface Forces §17.3), which is 0 when either surface is dry.
+//!   Two different laws, or liquid bridges that differ, have no rule: such a pair must be
+//!   listed.
 
 use super::Interaction;
+use crate::contact::Cohesion;
 
 /// Restitution of an unlisted pair from the two self-pairs' restitutions [-]:
 /// e_ab = √(e_aa e_bb).
@@ -29,13 +35,44 @@ pub fn mixed_friction(mu_aa: f64, mu_bb: f64) -> f64 {
     }
 }
 
-/// The interaction of two materials mixed from their self-interactions `aa` and `bb`.
-pub fn mixed_interaction(aa: &Interaction, bb: &Interaction) -> Interaction {
-    Interaction {
+/// Cohesion of an unlisted pair from the two self-pairs' cohesions, or `None` where no rule
+/// mixes them (two different laws, unequal liquid bridges, a bridge and a dry surface).
+pub fn mixed_cohesion(aa: &Cohesion, bb: &Cohesion) -> Option<Cohesion> {
+    use Cohesion::*;
+    match (*aa, *bb) {
+        (None, None) => Some(None),
+        (
+            Jkr {
+                work_of_adhesion: a,
+            },
+            Jkr {
+                work_of_adhesion: b,
+            },
+        ) => Some(Jkr {
+            work_of_adhesion: (a * b).sqrt(),
+        }),
+        (SimplifiedJkr { energy_density: a }, SimplifiedJkr { energy_density: b }) => {
+            Some(SimplifiedJkr {
+                energy_density: (a * b).sqrt(),
+            })
+        }
+        (None, Jkr { .. } | SimplifiedJkr { .. }) | (Jkr { .. } | SimplifiedJkr { .. }, None) => {
+            Some(None)
+        }
+        (a @ LiquidBridge { .. }, b @ LiquidBridge { .. }) if a == b => Some(a),
+        _ => Option::None,
+    }
+}
+
+/// The interaction of two materials mixed from their self-interactions `aa` and `bb`, or
+/// `None` where their cohesions do not mix ([`mixed_cohesion`]).
+pub fn mixed_interaction(aa: &Interaction, bb: &Interaction) -> Option<Interaction> {
+    Some(Interaction {
         friction: mixed_friction(aa.friction, bb.friction),
         rolling_friction: mixed_friction(aa.rolling_friction, bb.rolling_friction),
         restitution: mixed_restitution(aa.restitution, bb.restitution),
-    }
+        cohesion: mixed_cohesion(&aa.cohesion, &bb.cohesion)?,
+    })
 }
 
 #[cfg(test)]
@@ -82,17 +119,47 @@ mod tests {
             friction: 0.3,
             rolling_friction: 0.02,
             restitution: 0.5,
+            cohesion: crate::contact::Cohesion::None,
         };
         let bb = Interaction {
             friction: 0.6,
             rolling_friction: 0.0,
             restitution: 0.2,
+            cohesion: crate::contact::Cohesion::None,
         };
-        let ab = mixed_interaction(&aa, &bb);
+        let ab = mixed_interaction(&aa, &bb).unwrap();
         assert_relative_eq!(ab.friction, 0.4, max_relative = ROUND_OFF);
         assert_eq!(ab.rolling_friction, 0.0);
         assert_relative_eq!(ab.restitution, 0.1f64.sqrt(), max_relative = ROUND_OFF);
         // Symmetric: the order of the two materials does not matter.
-        assert_eq!(mixed_interaction(&bb, &aa), ab);
+        assert_eq!(mixed_interaction(&bb, &aa), Some(ab));
+    }
+
+    #[test]
+    fn cohesion_mixes_by_the_geometric_mean_or_not_at_all() {
+        // √(0.04 × 0.09) = 0.06 and √(1e5 × 4e5) = 2e5: exact up to the square root.
+        let jkr = |w| Cohesion::Jkr {
+            work_of_adhesion: w,
+        };
+        assert_eq!(mixed_cohesion(&jkr(0.04), &jkr(0.09)), Some(jkr(0.06)));
+        let sjkr = |k| Cohesion::SimplifiedJkr { energy_density: k };
+        assert_eq!(mixed_cohesion(&sjkr(1e5), &sjkr(4e5)), Some(sjkr(2e5)));
+        // A dry surface makes a dry pair; different laws do not mix.
+        assert_eq!(
+            mixed_cohesion(&jkr(0.04), &Cohesion::None),
+            Some(Cohesion::None)
+        );
+        assert_eq!(mixed_cohesion(&jkr(0.04), &sjkr(1e5)), None);
+        let bridge = |v| Cohesion::LiquidBridge {
+            volume: v,
+            surface_tension: 0.072,
+            contact_angle: 0.0,
+        };
+        assert_eq!(
+            mixed_cohesion(&bridge(1e-12), &bridge(1e-12)),
+            Some(bridge(1e-12))
+        );
+        assert_eq!(mixed_cohesion(&bridge(1e-12), &bridge(2e-12)), None);
+        assert_eq!(mixed_cohesion(&bridge(1e-12), &Cohesion::None), None);
     }
 }

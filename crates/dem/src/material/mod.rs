@@ -7,7 +7,8 @@ mod table_error;
 
 use serde::{Deserialize, Serialize};
 
-pub use mixing::{mixed_friction, mixed_interaction, mixed_restitution};
+use crate::contact::Cohesion;
+pub use mixing::{mixed_cohesion, mixed_friction, mixed_interaction, mixed_restitution};
 pub use table::{MaterialEntry, MaterialTable, PairEntry};
 pub use table_error::{MaterialTableError, MODULUS_TOLERANCE};
 
@@ -71,6 +72,9 @@ pub struct Interaction {
     pub rolling_friction: f64,
     /// Coefficient of restitution e [-], in (0, 1].
     pub restitution: f64,
+    /// How the surfaces stick (docs/physics.md §2.4–2.6); dry by default.
+    #[serde(default)]
+    pub cohesion: Cohesion,
 }
 
 impl Interaction {
@@ -81,7 +85,13 @@ impl Interaction {
             friction: 0.5,
             rolling_friction: 0.01,
             restitution: 0.2,
+            cohesion: Cohesion::None,
         }
+    }
+
+    /// The same interaction with cohesion `cohesion`.
+    pub fn with_cohesion(self, cohesion: Cohesion) -> Self {
+        Self { cohesion, ..self }
     }
 }
 
@@ -120,6 +130,8 @@ pub struct PairCoefficients {
     pub damping: f64,
     /// √(S_t/S_n) = √(4G*/E*) [-], relating the tangential and normal dashpots.
     pub stiffness_ratio_sqrt: f64,
+    /// Cohesion of the pair (docs/physics.md §2.4–2.6).
+    pub cohesion: Cohesion,
 }
 
 impl PairCoefficients {
@@ -135,6 +147,7 @@ impl PairCoefficients {
             rolling_friction: interaction.rolling_friction,
             restitution: interaction.restitution,
             damping: crate::contact::damping::dashpot_prefactor(interaction.restitution),
+            cohesion: interaction.cohesion,
         }
     }
 

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::mixing::mixed_interaction;
 use super::table_error::{MaterialTableError, MODULUS_TOLERANCE};
 use super::{Interaction, Material, PairCoefficients, WallMaterial};
+use crate::contact::Cohesion;
 
 /// One named material of a [`MaterialTable`]; every property is optional here so that an
 /// absent one is reported with its key instead of failing to parse.
@@ -71,6 +72,9 @@ pub struct PairEntry {
     /// Rolling friction coefficient μ_r [-], ≥ 0; absent means 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rolling_friction: Option<f64>,
+    /// How the two surfaces stick (docs/physics.md §2.4–2.6); dry by default.
+    #[serde(default, skip_serializing_if = "Cohesion::is_none")]
+    pub cohesion: Cohesion,
 }
 
 impl PairEntry {
@@ -81,6 +85,7 @@ impl PairEntry {
             restitution: Some(interaction.restitution),
             friction: Some(interaction.friction),
             rolling_friction: Some(interaction.rolling_friction),
+            cohesion: interaction.cohesion,
         }
     }
 
@@ -90,6 +95,7 @@ impl PairEntry {
             friction: self.friction.unwrap_or(0.0),
             rolling_friction: self.rolling_friction.unwrap_or(0.0),
             restitution: self.restitution.unwrap_or(1.0),
+            cohesion: self.cohesion,
         }
     }
 }
@@ -248,6 +254,7 @@ impl MaterialTable {
                     friction,
                     rolling_friction: 0.0,
                     restitution,
+                    cohesion: crate::contact::Cohesion::None,
                 },
             )
         };
@@ -325,6 +332,21 @@ impl MaterialTable {
                 |v| v >= 0.0,
                 p,
             );
+            for (name, value, allowed) in pair.cohesion.problems() {
+                problems.push(if value.is_finite() {
+                    MaterialTableError::OutOfRange {
+                        key: format!("{key}.cohesion.{name}"),
+                        value,
+                        allowed,
+                    }
+                } else {
+                    MaterialTableError::NotFinite {
+                        key: format!("{key}.cohesion.{name}"),
+                        value,
+                        allowed,
+                    }
+                });
+            }
         }
         problems
     }
@@ -392,7 +414,12 @@ impl MaterialTable {
                     missing: m.to_owned(),
                 })
         };
-        Ok(mixed_interaction(&self_pair(a)?, &self_pair(b)?))
+        let (aa, bb) = (self_pair(a)?, self_pair(b)?);
+        mixed_interaction(&aa, &bb).ok_or_else(|| MaterialTableError::UnmixableCohesion {
+            key: "pairs".to_owned(),
+            a: a.to_owned(),
+            b: b.to_owned(),
+        })
     }
 
     /// Everything the contact law needs about the pair (a, b): E*, G* from the two materials

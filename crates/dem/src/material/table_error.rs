@@ -107,6 +107,19 @@ pub enum MaterialTableError {
         /// The material whose self-pair is missing.
         missing: String,
     },
+    /// An unlisted pair whose self-pairs' cohesions have no mixing rule.
+    #[error(
+        "{key}: the pair ({a}, {b}) is not listed and the cohesions of ({a}, {a}) and ({b}, {b}) \
+         do not mix (different laws, or liquid bridges that differ); list the pair"
+    )]
+    UnmixableCohesion {
+        /// The key of the pair list (`pairs`).
+        key: String,
+        /// The first material.
+        a: String,
+        /// The second material.
+        b: String,
+    },
     /// A name given twice where each must appear once (a list of particle materials).
     #[error("{key}: material \"{name}\" is named twice (first as {first})")]
     RepeatedName {

@@ -139,5 +139,6 @@ pub(super) fn negate(h: ContactHistory) -> ContactHistory {
     ContactHistory {
         tangential: -h.tangential,
         rolling: -h.rolling,
+        bonded: h.bonded,
     }
 }

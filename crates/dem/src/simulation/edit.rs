@@ -361,6 +361,11 @@ impl Simulation {
             }
         }
         self.wall_coeffs = wall_coeffs;
+        self.cohesive = self
+            .pair_coeffs
+            .iter()
+            .chain(&self.wall_coeffs)
+            .any(|c| !c.cohesion.is_none());
         if let Some(t_r) = self.rayleigh_time() {
             let fraction = s.config.time_step / t_r;
             if fraction > s.config.max_rayleigh_fraction {
@@ -392,6 +397,10 @@ impl Simulation {
         self.state.load_quanta = Some(quanta);
         self.load_quanta = quanta;
         self.new_quanta = false;
+        if self.cohesion_reach() > self.state.list_reach {
+            // A cohesion that now reaches farther than the lists were built for.
+            self.state.needs_rebuild = true;
+        }
         self.prepared = true;
         Ok(())
     }

@@ -101,6 +101,10 @@ pub struct SimulationState {
     /// Largest wall displacement since the last build [m].
     wall_drift: f64,
     skin: f64,
+    /// How far beyond contact [m] the cohesion of the lists' last build reached (the lists
+    /// hold the pairs closer than R_i + R_j + skin + this); 0 without cohesion.
+    #[serde(default)]
+    list_reach: f64,
     time: f64,
     steps: u64,
     rebuilds: u64,
@@ -141,6 +145,9 @@ pub struct Simulation {
     buffers: ForceBuffers,
     pair_coeffs: Vec<PairCoefficients>,
     wall_coeffs: Vec<PairCoefficients>,
+    /// Whether any pair of materials, or any material and wall, is cohesive (found with the
+    /// coefficients): cohesive contacts are resolved one at a time (`forces::general`).
+    cohesive: bool,
     /// Radius [m] and mass [kg] shared by every particle, when they are all alike; found at
     /// each list rebuild (which every addition or removal of a particle forces).
     uniform_body: Option<(f64, f64)>,
@@ -231,6 +238,7 @@ impl Simulation {
             reference: Vec::new(),
             wall_drift: 0.0,
             skin: config.skin,
+            list_reach: 0.0,
             time: 0.0,
             steps: 0,
             rebuilds: 0,
@@ -257,6 +265,7 @@ impl Simulation {
             buffers: ForceBuffers::default(),
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
+            cohesive: false,
             uniform_body: None,
             uniform_free: None,
             prepared: false,

@@ -14,7 +14,13 @@ impl Simulation {
         if s.skin == 0.0 {
             s.skin = 0.2 * r_max;
         }
-        let cell = 2.0 * r_max + s.skin;
+        let reach = self.cohesion_reach();
+        let s = &mut self.state;
+        s.list_reach = reach;
+        // Pairs are listed out to the skin beyond their cohesion's reach: a bonded pair stays
+        // in the list as long as it can interact (docs/physics.md §6.2).
+        let search_skin = s.skin + reach;
+        let cell = 2.0 * r_max + search_skin;
         let resort =
             s.config.resort_every > 0 && s.rebuilds.is_multiple_of(s.config.resort_every as u64);
         // A re-sort changes indices again: new body k was body `order[k]` before it.
@@ -36,7 +42,7 @@ impl Simulation {
         // the largest sphere, serves (and the re-sort above keeps its cell order either way).
         let search = if SizeClasses::pays_for(&s.particles.radius) {
             self.size_classes
-                .rebuild(&s.particles.position, &s.particles.radius, s.skin);
+                .rebuild(&s.particles.position, &s.particles.radius, search_skin);
             PairSearch::Classes(&self.size_classes)
         } else {
             self.grid
@@ -51,7 +57,7 @@ impl Simulation {
             search,
             &s.particles,
             &s.walls,
-            s.skin,
+            search_skin,
             &old_pairs,
             &mut old_walls,
             carry,
@@ -71,6 +77,26 @@ impl Simulation {
         s.wall_drift = 0.0;
         s.rebuilds += 1;
         s.needs_rebuild = false;
+    }
+
+    /// How far beyond contact [m] the most far-reaching cohesive pair interacts, for the
+    /// largest particle present (JKR's reach grows with R*): 0 without cohesion.
+    pub(super) fn cohesion_reach(&self) -> f64 {
+        if !self.cohesive {
+            return 0.0;
+        }
+        let r_max = self
+            .state
+            .particles
+            .radius
+            .iter()
+            .copied()
+            .fold(0.0, f64::max);
+        self.pair_coeffs
+            .iter()
+            .chain(&self.wall_coeffs)
+            .map(|c| c.cohesion.reach(c.e_star, r_max))
+            .fold(0.0, f64::max)
     }
 
     /// Whether a contact may have formed that the lists, built with the skin s [m], do not

@@ -22,6 +22,7 @@ fn elastic_gas() -> Gas {
             friction: 0.0,
             rolling_friction: 0.0,
             restitution: 1.0,
+            cohesion: dem::Cohesion::None,
         },
         config,
         seed: 11,
@@ -59,6 +60,7 @@ fn damped_gas_never_gains_energy() {
         friction: 0.5,
         rolling_friction: 0.01,
         restitution: 0.2,
+        cohesion: dem::Cohesion::None,
     };
     gas.config.laws.rolling = RollingLaw::ConstantTorque { limiter: false };
     let mut sim = gas.build();
@@ -149,6 +151,7 @@ fn a_piston_does_the_work_the_elastic_gas_gains_and_no_less_than_a_damped_gas_ga
         friction: 0.5,
         rolling_friction: 0.01,
         restitution: 0.2,
+        cohesion: dem::Cohesion::None,
     };
     gas.config.laws.rolling = RollingLaw::ConstantTorque { limiter: false };
     let (work, e0, e1) = squeezed(&gas);

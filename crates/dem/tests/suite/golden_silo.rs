@@ -66,6 +66,7 @@ fn table() -> MaterialTable {
                 friction,
                 rolling_friction,
                 restitution,
+                cohesion: dem::Cohesion::None,
             },
         )
     };

@@ -4,6 +4,7 @@
 mod common;
 
 mod checkpoint;
+mod cohesion;
 mod determinism;
 mod energy;
 mod errors;

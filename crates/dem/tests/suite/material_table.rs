@@ -24,6 +24,7 @@ fn pair(a: &str, b: &str, restitution: f64, friction: f64) -> PairEntry {
             friction,
             rolling_friction: 0.0,
             restitution,
+            cohesion: dem::Cohesion::None,
         },
     )
 }
@@ -177,6 +178,7 @@ fn unlisted_pairs_are_mixed_from_their_self_pairs() {
                 friction: 0.3,
                 rolling_friction: 0.02,
                 restitution: 0.5,
+                cohesion: dem::Cohesion::None,
             },
         ))
         .with_pair(PairEntry::new(
@@ -186,6 +188,7 @@ fn unlisted_pairs_are_mixed_from_their_self_pairs() {
                 friction: 0.4,
                 rolling_friction: 0.01,
                 restitution: 0.4,
+                cohesion: dem::Cohesion::None,
             },
         ));
     let mixed = table.interaction("M1", "M2").expect("mixable");
@@ -680,6 +683,7 @@ fn wall_interactions_are_set_per_material_and_refused_for_unknown_handles() {
         friction: 0.1,
         rolling_friction: 0.0,
         restitution: 0.9,
+        cohesion: dem::Cohesion::None,
     };
     sim.set_wall_interaction(wall, b, slippery)
         .expect("valid interaction");

@@ -1,0 +1,258 @@
+//! The cohesion of a material pair (docs/physics.md §2.4–2.6): none, JKR adhesion, the
+//! simplified JKR of LIGGGHTS, or a pendular liquid bridge. Each law is a pure function in
+//! its own file ([`super::jkr`], [`super::sjkr`], [`super::liquid_bridge`]); this file holds
+//! the choice, its parameters' allowed ranges and how far beyond contact it reaches.
+
+use serde::{Deserialize, Serialize};
+
+use super::normal::hertz;
+use super::{jkr, liquid_bridge, sjkr, ContactGeometry};
+use crate::material::PairCoefficients;
+
+/// How two surfaces stick.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub enum Cohesion {
+    /// Dry, cohesionless contact.
+    #[default]
+    None,
+    /// Johnson–Kendall–Roberts adhesion ([`super::jkr`]): the contact forms on touching,
+    /// holds in tension and breaks at δ_c < 0.
+    Jkr {
+        /// Work of adhesion w = Δγ [J/m²], > 0 (2γ for like surfaces of surface energy γ).
+        work_of_adhesion: f64,
+    },
+    /// Simplified JKR ([`super::sjkr`]): an attraction k_c A while the surfaces overlap.
+    SimplifiedJkr {
+        /// Cohesion energy density k_c [J/m³], > 0.
+        energy_density: f64,
+    },
+    /// A pendular liquid bridge ([`super::liquid_bridge`]), formed on touching and broken at
+    /// the rupture distance.
+    LiquidBridge {
+        /// Volume of liquid in the bridge V [m³], > 0.
+        volume: f64,
+        /// Surface tension of the liquid γ [N/m], > 0.
+        surface_tension: f64,
+        /// Contact angle θ of the liquid on the solid [rad], in [0, π/2].
+        contact_angle: f64,
+    },
+}
+
+impl Cohesion {
+    /// True for a dry contact.
+    #[inline(always)]
+    pub fn is_none(&self) -> bool {
+        matches!(self, Cohesion::None)
+    }
+
+    /// True when the law acts beyond contact, so that a pair must remember whether it is
+    /// bonded (JKR and liquid bridges).
+    #[inline(always)]
+    pub fn bonds(&self) -> bool {
+        matches!(self, Cohesion::Jkr { .. } | Cohesion::LiquidBridge { .. })
+    }
+
+    /// The largest surface separation [m] at which a bonded pair of effective modulus
+    /// `e_star` [Pa] and effective radius up to `r_eff` [m] still interacts: |δ_c| for JKR
+    /// (which grows with R*), S_c for a bridge, 0 for the others.
+    pub fn reach(&self, e_star: f64, r_eff: f64) -> f64 {
+        match *self {
+            Cohesion::None | Cohesion::SimplifiedJkr { .. } => 0.0,
+            Cohesion::Jkr { work_of_adhesion } => {
+                -jkr::breaking_overlap(e_star, r_eff, work_of_adhesion)
+            }
+            Cohesion::LiquidBridge {
+                volume,
+                contact_angle,
+                ..
+            } => liquid_bridge::rupture_distance(volume, contact_angle),
+        }
+    }
+
+    /// Each parameter's key, value and allowed range where it is out of range, for the
+    /// table checks: (key, value, allowed).
+    pub fn problems(&self) -> Vec<(&'static str, f64, &'static str)> {
+        let mut out = Vec::new();
+        let mut need = |key, value: f64, ok: bool, allowed| {
+            if !(value.is_finite() && ok) {
+                out.push((key, value, allowed));
+            }
+        };
+        match *self {
+            Cohesion::None => {}
+            Cohesion::Jkr { work_of_adhesion } => need(
+                "work_of_adhesion",
+                work_of_adhesion,
+                work_of_adhesion > 0.0,
+                "> 0 J/m²",
+            ),
+            Cohesion::SimplifiedJkr { energy_density } => need(
+                "energy_density",
+                energy_density,
+                energy_density > 0.0,
+                "> 0 J/m³",
+            ),
+            Cohesion::LiquidBridge {
+                volume,
+                surface_tension,
+                contact_angle,
+            } => {
+                need("volume", volume, volume > 0.0, "> 0 m³");
+                need(
+                    "surface_tension",
+                    surface_tension,
+                    surface_tension > 0.0,
+                    "> 0 N/m",
+                );
+                need(
+                    "contact_angle",
+                    contact_angle,
+                    (0.0..=std::f64::consts::FRAC_PI_2).contains(&contact_angle),
+                    "[0, π/2] rad",
+                );
+            }
+        }
+        out
+    }
+}
+
+/// The normal stage of a contact (docs/physics.md §2): what the dashpot, the tangential and
+/// the rolling laws read, for a dry or a cohesive contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalStage {
+    /// Elastic normal force [N], positive when repulsive (Hertz, or the JKR curve).
+    pub elastic: f64,
+    /// Stiffness S_n [N/m] the dashpot is built from.
+    pub stiffness: f64,
+    /// Contact radius a [m] of the tangential stiffness.
+    pub contact_radius: f64,
+    /// Normal load [N] that caps friction and rolling resistance: the elastic force, and for
+    /// JKR F + 2F_c (Thornton & Yin 1991, Powder Technol. 65, 153).
+    pub load: f64,
+    /// The overlap [m] of a Hertz contact of that radius, a²/R*, for the laws that read an
+    /// overlap (Mindlin–Deresiewicz's slip distance, EPSD's stiffness); the overlap itself
+    /// when dry.
+    pub overlap: f64,
+    /// Cohesive attraction [N] subtracted from the normal force after the dashpot (the
+    /// simplified JKR and a bridge over touching surfaces).
+    pub pull: f64,
+    /// Least normal force [N] that the optional clamp allows: 0, or for JKR the elastic force
+    /// where it is tensile, so that the clamp limits the dashpot only.
+    pub floor: f64,
+}
+
+/// What the cohesion makes of a candidate contact at its current overlap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NormalOutcome {
+    /// The surfaces bear on each other (or, for JKR, are bonded): the full pipeline runs.
+    Contact(NormalStage),
+    /// Only a liquid bridge acts across a gap: a pure attraction [N] along the normal.
+    BridgeOnly(f64),
+    /// The bond has broken, or there never was one: no force, no memory.
+    Apart,
+}
+
+/// The normal stage of a contact of geometry `g` with coefficients `c`. A dry contact must
+/// overlap; a cohesive one may be apart, and `bonded` tells whether it bonded earlier.
+#[inline(always)]
+pub fn normal_stage(g: &ContactGeometry, c: &PairCoefficients, bonded: bool) -> NormalOutcome {
+    let touching = g.overlap > 0.0;
+    let dry = |pull: f64| {
+        let h = hertz(c.e_star, g.r_eff, g.overlap);
+        NormalStage {
+            elastic: h.force,
+            stiffness: h.stiffness,
+            contact_radius: h.contact_radius,
+            load: h.force,
+            overlap: g.overlap,
+            pull,
+            floor: 0.0,
+        }
+    };
+    match c.cohesion {
+        Cohesion::None => NormalOutcome::Contact(dry(0.0)),
+        Cohesion::SimplifiedJkr { energy_density } if touching => {
+            let area = sjkr::intersection_area(g.radius[0], g.radius[1], g.overlap);
+            NormalOutcome::Contact(dry(sjkr::sjkr_force(energy_density, area)))
+        }
+        Cohesion::Jkr { work_of_adhesion } if touching || bonded => {
+            match jkr::jkr(c.e_star, g.r_eff, work_of_adhesion, g.overlap) {
+                Some(j) => NormalOutcome::Contact(NormalStage {
+                    elastic: j.force,
+                    stiffness: j.stiffness,
+                    contact_radius: j.contact_radius,
+                    load: j.force + 2.0 * jkr::pull_off_force(work_of_adhesion, g.r_eff),
+                    overlap: j.contact_radius * j.contact_radius / g.r_eff,
+                    pull: 0.0,
+                    floor: j.force.min(0.0),
+                }),
+                None => NormalOutcome::Apart,
+            }
+        }
+        Cohesion::LiquidBridge {
+            volume,
+            surface_tension,
+            contact_angle,
+        } if touching || bonded => {
+            let pull = liquid_bridge::bridge_force(
+                g.r_eff,
+                volume,
+                surface_tension,
+                contact_angle,
+                -g.overlap,
+            );
+            if touching {
+                NormalOutcome::Contact(dry(pull))
+            } else if pull > 0.0 {
+                NormalOutcome::BridgeOnly(pull)
+            } else {
+                NormalOutcome::Apart
+            }
+        }
+        _ => NormalOutcome::Apart,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_jkr_and_bridges_reach_beyond_contact() {
+        let jkr = Cohesion::Jkr {
+            work_of_adhesion: 0.05,
+        };
+        assert!(jkr.bonds() && jkr.reach(1e8, 1e-3) > 0.0);
+        let bridge = Cohesion::LiquidBridge {
+            volume: 1e-12,
+            surface_tension: 0.072,
+            contact_angle: 0.0,
+        };
+        // S_c = V^{1/3} at θ = 0: 10⁻⁴ m, exact up to the cube root's rounding.
+        assert!((bridge.reach(1e8, 1e-3) - 1e-4).abs() < 1e-18);
+        let sjkr = Cohesion::SimplifiedJkr {
+            energy_density: 1e5,
+        };
+        assert!(!sjkr.bonds() && sjkr.reach(1e8, 1e-3) == 0.0);
+        assert!(!Cohesion::None.bonds() && Cohesion::None.is_none());
+    }
+
+    #[test]
+    fn out_of_range_parameters_are_named() {
+        let bad = Cohesion::LiquidBridge {
+            volume: -1.0,
+            surface_tension: 0.07,
+            contact_angle: 2.0,
+        };
+        let keys: Vec<_> = bad.problems().iter().map(|p| p.0).collect();
+        assert_eq!(keys, ["volume", "contact_angle"]);
+        assert!(
+            Cohesion::Jkr {
+                work_of_adhesion: f64::NAN
+            }
+            .problems()
+            .len()
+                == 1
+        );
+    }
+}
