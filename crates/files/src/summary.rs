@@ -34,6 +34,20 @@ pub enum StopReason {
     Fraction,
 }
 
+/// Where the arch over a clogged orifice stands (`arch.csv` lists its grains): heights of
+/// its grains' centres above the outlet line [m].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ArchSummary {
+    /// Grains in the arch [-].
+    pub particles: usize,
+    /// The highest grain's centre above the outlet line, the apex [m].
+    pub apex_height: f64,
+    /// The lowest grain's centre above the outlet line, at the arch's feet [m].
+    pub lowest_height: f64,
+    /// The grains' mean centre height above the outlet line [m].
+    pub mean_height: f64,
+}
+
 /// The summary of one run (`summary.json`). Rates in kg/s for the whole slab.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CaseSummary {
@@ -149,6 +163,9 @@ pub struct CaseSummary {
     /// by SHA-256 (`run::StartRecord`); absent for a run that filled its container.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start: Option<crate::StartRecord>,
+    /// The arch over the orifice when the run clogged; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arch: Option<ArchSummary>,
 }
 
 /// Janssen's law p_w(h) = p_sat (1 − exp(−2Kμ_w h/R)) fitted to the settled bed's wall

@@ -10,6 +10,7 @@
 //! - [`OutletSummary`]: v_c, φ_c, φ_max and the flux check W = (2/3) ρ_p d ∫ φ v dx (§7.4).
 //! - [`VelocityFieldProbe`] → [`VelocityFieldRecord`]: coarse-grained velocity maps (Fig. 9).
 //! - [`BulkProbe`]: settled φ_B and bed height.
+//! - [`find_arch`]: the arch over a clogged orifice.
 //!
 //! Sign convention: v_z < 0 is downward; every reported speed is downward positive.
 
@@ -18,6 +19,7 @@
 #![warn(missing_docs)]
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod arch;
 mod block_error;
 mod bulk;
 mod crossing;
@@ -32,6 +34,7 @@ mod summary;
 mod velocity_field;
 mod x_profile;
 
+pub use arch::{find_arch, Arch, ArchMember};
 pub use block_error::ERROR_BLOCKS;
 pub use bulk::{sphere_volume_below, BulkMeasurement, BulkProbe, ContainerOutline, CrossSection};
 pub use crossing::{

@@ -130,7 +130,7 @@ fn wall_template(
                 friction: i.friction,
                 rolling_friction: i.rolling_friction,
                 restitution: i.restitution,
-                cohesion: dem::Cohesion::None,
+                cohesion: i.cohesion,
             },
             per_material: Vec::new(),
         };

@@ -12,7 +12,7 @@ use analysis::selfsimilar::{
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
 use super::composition::{composition_columns, composition_rows};
-use super::protocol::{outlet_depth, CaseRun, Phase};
+use super::protocol::{outlet_depth, outlet_geometry, CaseRun, Phase};
 use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
@@ -28,7 +28,7 @@ use files::{
     write_particles_vtu, write_walls_vtu, Cell, FittedCurve, FrameParticle, FrameViewport,
     ParticleFields, Profile, PvdCollection, PvdEntry, WallSegment,
 };
-use files::{CaseSummary, ProfileRow, RadialFit, StopReason};
+use files::{ArchSummary, CaseSummary, ProfileRow, RadialFit, StopReason};
 use measure::{
     radial_profiles, x_profiles, CrossingRecord, OutletBins, OutletSummary, RadialBin, TimeWindow,
     XProfileBin,
@@ -39,6 +39,7 @@ pub(crate) const RESULT_FILES: &[&str] = &[
     "flow.csv",
     "wall_forces.csv",
     "remaining.csv",
+    "arch.csv",
     "wall_pressure.csv",
     "crossings.csv",
     "composition.csv",
@@ -444,6 +445,13 @@ pub fn finish(
         )?;
     }
 
+    // arch.csv: where the arch over a clogged orifice stands.
+    let arch = if reason == StopReason::Clogged {
+        write_arch(&out_dir.join("arch.csv"), run)?
+    } else {
+        None
+    };
+
     // remaining.csv: N(t), the particles still above the orifice plane.
     write_csv_table(
         out_dir.join("remaining.csv"),
@@ -660,7 +668,54 @@ pub fn finish(
         janssen,
         janssen_not_fitted,
         start: None,
+        arch,
     })
+}
+
+/// Columns of `arch.csv`: each arch grain's id, centre [m] and radius [m].
+const ARCH_COLUMNS: [&str; 5] = ["id", "x", "y", "z", "radius"];
+
+/// Finds the arch over the clogged orifice in the run's last state (`measure::find_arch`),
+/// writes its grains to `path` and returns where it stands; `None` (and no file) when no
+/// grain is over the opening.
+fn write_arch(path: &Path, run: &CaseRun) -> Result<Option<ArchSummary>, RunError> {
+    let p = run.simulation().particles();
+    let ids: Vec<u64> = p.tags().to_vec();
+    let positions: Vec<[f64; 3]> = p.positions().iter().map(|x| x.to_array()).collect();
+    let velocities: Vec<[f64; 3]> = p.velocities().iter().map(|v| v.to_array()).collect();
+    let snapshot = measure::Snapshot {
+        time: run.simulation().time(),
+        ids: &ids,
+        positions: &positions,
+        velocities: &velocities,
+        radii: p.radii(),
+        density: run.case.particles.density(),
+        masses: None,
+    };
+    let Some(arch) = measure::find_arch(&snapshot, &outlet_geometry(&run.case)) else {
+        return Ok(None);
+    };
+    let rows: Vec<Vec<Cell>> = arch
+        .members
+        .iter()
+        .map(|m| {
+            let [x, y, z] = m.position;
+            vec![
+                Cell::Text(m.id.to_string()),
+                x.into(),
+                y.into(),
+                z.into(),
+                m.radius.into(),
+            ]
+        })
+        .collect();
+    write_csv_table(path, &ARCH_COLUMNS, &rows)?;
+    Ok(Some(ArchSummary {
+        particles: arch.members.len(),
+        apex_height: arch.apex_height(),
+        lowest_height: arch.lowest_height(),
+        mean_height: arch.mean_height(),
+    }))
 }
 
 /// The last five columns of `profiles.csv` in a 3D container: v [m/s] with its error, the

@@ -185,6 +185,19 @@ fn a_clogged_run_reads_back_as_finished() {
     assert!(first.clogged, "the 3.2 d outlet clogs, as this test needs");
     let text = String::from_utf8(tiny_hopper::read(dir.path(), "summary.json")).expect("utf-8");
     assert!(text.contains("\"discharge_rate\": null"), "{text}");
+    // The arch stands over the 9.5 mm slot: at least two 3 mm grains span it, every
+    // centre above the outlet line and below D + d, and arch.csv lists them.
+    let arch = first
+        .arch
+        .expect("a clogged run says where its arch stands");
+    assert!(arch.particles >= 2, "{arch:?}");
+    assert!(
+        arch.lowest_height > 0.0 && arch.apex_height < 0.0095 + 0.003,
+        "{arch:?}"
+    );
+    assert!(arch.lowest_height <= arch.mean_height && arch.mean_height <= arch.apex_height);
+    let listed = String::from_utf8(tiny_hopper::read(dir.path(), "arch.csv")).expect("utf-8");
+    assert_eq!(listed.lines().count(), arch.particles + 1, "{listed}");
     let again = run_case(&case, dir.path(), &RunOptions::default()).expect("resume");
     let RunOutcome::Finished(again) = again else {
         panic!("read back as finished")

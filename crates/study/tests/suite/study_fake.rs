@@ -250,6 +250,7 @@ fn common_summary(
         janssen: None,
         janssen_not_fitted: None,
         start: None,
+        arch: None,
     }
 }
 
