@@ -54,11 +54,6 @@ pub fn force_at(e_star: f64, r_eff: f64, w: f64, a: f64) -> f64 {
     4.0 * e_star * a3 / (3.0 * r_eff) - (8.0 * PI * w * e_star * a3).sqrt()
 }
 
-/// Newton steps at most when inverting δ(a). From the starts chosen below the iteration
-/// decreases monotonically after at most one step and converges quadratically; 60 steps is
-/// far more than the five or so that 16 digits take from the Hertz start, and bounds the loop.
-const MAX_NEWTON_STEPS: usize = 60;
-
 /// Whether a bonded contact at `overlap` [m] still holds: δ ≥ δ_c, compared without the cube
 /// root as (−δ)³ ≤ (27/64) π² w² R*/E*² where δ < 0.
 #[inline]
@@ -73,45 +68,35 @@ pub fn holds(e_star: f64, r_eff: f64, w: f64, overlap: f64) -> bool {
 /// The contact radius a [m] of a bonded contact at overlap `overlap` [m]: the largest root of
 /// δ(a) = overlap, or `None` below the breaking overlap, where the contact has no state.
 ///
-/// In s = √a the equation is g(s) = s⁴/R* − c s − δ = 0 with c = √(2π w/E*); g is convex for
-/// s > 0 and increasing right of s_f = (c R*/4)^{1/3}, the breaking radius's √a. Newton's
-/// method from any point right of s_f converges to the largest root, monotonically from the
-/// first step on (a tangent of a convex function crosses zero right of the root). The start
-/// is Hertz's s_H = (R*δ)^{1/4}, left of the root, when it lies right of s_f; otherwise (a
-/// shallow or stretched contact) s₀ = max((2R*δ⁺)^{1/4}, (2R* c)^{1/3}), where g ≥ 0
-/// because each term bounds half of s₀⁴/R*.
+/// In s = √a the equation is the depressed quartic s⁴ − cR* s − δR* = 0, c = √(2πw/E*),
+/// solved in closed form (Ferrari): with m the positive root of the resolvent cubic
+/// m³ + δR* m − c²R*²/8 = 0, (s² + m)² = 2m (s − cR*/(4m))², and the largest root is
+/// s = (√(2m) + √(2cR*/√(2m) − 2m))/2. The cubic's discriminant (c²R*²/16)² + (δR*/3)³ is
+/// ≥ 0 exactly where δ ≥ δ_c, so Cardano's real form gives m = u − δR*/(3u),
+/// u = ∛(c²R*²/16 + √disc). One Newton step on the quartic then removes the cancellation
+/// in m at large overlaps, leaving the root to round-off.
 #[inline]
 pub fn contact_radius(e_star: f64, r_eff: f64, w: f64, overlap: f64) -> Option<f64> {
     if !holds(e_star, r_eff, w, overlap) {
         return None;
     }
     let c = (2.0 * PI * w / e_star).sqrt();
-    let hertz = (r_eff * overlap.max(0.0)).sqrt().sqrt();
-    let mut s = if 4.0 * hertz * hertz * hertz > c * r_eff {
-        hertz
+    let p = overlap * r_eff;
+    let half_q = c * c * r_eff * r_eff / 16.0;
+    let third_p = p / 3.0;
+    let disc = (half_q * half_q + third_p * third_p * third_p).max(0.0).sqrt();
+    let u = (half_q + disc).cbrt();
+    let m = u - third_p / u;
+    let root_2m = (2.0 * m).sqrt();
+    let s = 0.5 * (root_2m + (2.0 * c * r_eff / root_2m - 2.0 * m).max(0.0).sqrt());
+    let s3 = s * s * s;
+    let slope = 4.0 * s3 / r_eff - c;
+    // At the breaking overlap the root is where the slope vanishes: no step there.
+    let s = if slope > 0.0 {
+        s - (s3 * s / r_eff - c * s - overlap) / slope
     } else {
-        (2.0 * r_eff * overlap.max(0.0))
-            .sqrt()
-            .sqrt()
-            .max((2.0 * r_eff * c).cbrt())
+        s
     };
-    let mut first = true;
-    for _ in 0..MAX_NEWTON_STEPS {
-        let s3 = s * s * s;
-        let g = s3 * s / r_eff - c * s - overlap;
-        let slope = 4.0 * s3 / r_eff - c;
-        // At the breaking overlap the root is where the slope vanishes: stop there.
-        if !(slope > 0.0) {
-            break;
-        }
-        let next = s - g / slope;
-        // After the first step the iterates decrease; a step that does not is round-off.
-        if !(next < s) && !first {
-            break;
-        }
-        first = false;
-        s = next;
-    }
     Some(s * s)
 }
 
