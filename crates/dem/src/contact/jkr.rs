@@ -84,7 +84,9 @@ pub fn contact_radius(e_star: f64, r_eff: f64, w: f64, overlap: f64) -> Option<f
     let p = overlap * r_eff;
     let half_q = c * c * r_eff * r_eff / 16.0;
     let third_p = p / 3.0;
-    let disc = (half_q * half_q + third_p * third_p * third_p).max(0.0).sqrt();
+    let disc = (half_q * half_q + third_p * third_p * third_p)
+        .max(0.0)
+        .sqrt();
     let u = (half_q + disc).cbrt();
     let m = u - third_p / u;
     let root_2m = (2.0 * m).sqrt();

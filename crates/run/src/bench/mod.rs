@@ -462,6 +462,25 @@ fn ended_before(
     })
 }
 
+/// Adds a plane through `point` with inward `normal` [m], of the benchmark's material and
+/// Table 1's interaction, to a benchmark bed.
+fn add_plane(
+    sim: &mut Simulation,
+    point: dem::DVec3,
+    normal: dem::DVec3,
+    material: dem::Material,
+) -> Result<(), DemError> {
+    let wall = dem::Wall::plane(
+        point,
+        normal,
+        dem::WallMaterial::Elastic(material),
+        dem::Interaction::fan2023(),
+    )
+    .map_err(|e| DemError::InvalidInput(e.to_string()))?;
+    sim.add_wall(wall)?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -487,23 +506,4 @@ mod tests {
         assert!(p.other_ns >= 0.0, "{p:?}");
         assert_eq!(sim.phase_times().map(|t| t.steps), Some(30));
     }
-}
-
-/// Adds a plane through `point` with inward `normal` [m], of the benchmark's material and
-/// Table 1's interaction, to a benchmark bed.
-fn add_plane(
-    sim: &mut Simulation,
-    point: dem::DVec3,
-    normal: dem::DVec3,
-    material: dem::Material,
-) -> Result<(), DemError> {
-    let wall = dem::Wall::plane(
-        point,
-        normal,
-        dem::WallMaterial::Elastic(material),
-        dem::Interaction::fan2023(),
-    )
-    .map_err(|e| DemError::InvalidInput(e.to_string()))?;
-    sim.add_wall(wall)?;
-    Ok(())
 }
