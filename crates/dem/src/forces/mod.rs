@@ -22,6 +22,7 @@ use pairs::batched_pair_loop;
 use walls::{batched_wall_loop, WallProbe};
 
 mod accumulator;
+pub(crate) mod area_cohesion;
 mod chunked;
 mod compact;
 mod filter;
@@ -55,8 +56,12 @@ pub(crate) struct KernelInput<'a> {
     pub dt: f64,
     /// The quanta of the walls' fixed-point loads.
     pub quanta: LoadQuanta,
-    /// Some pair is cohesive: every contact goes through `ContactLaws::resolve`.
-    pub cohesive: bool,
+    /// Some pair bonds beyond contact (JKR, a liquid bridge): every contact goes through
+    /// `ContactLaws::resolve`.
+    pub bonds: bool,
+    /// Some pair has the simplified JKR's attraction, added to the batched kernel's dry
+    /// forces ([`area_cohesion`]).
+    pub area_cohesion: bool,
     /// How far beyond contact [m] a bonded pair may still interact (0 without cohesion).
     pub reach: f64,
 }
@@ -65,7 +70,7 @@ impl KernelInput<'_> {
     /// Whether the contacts go through the batched kernel: the paper's laws, dry.
     #[inline(always)]
     pub(crate) fn batched(&self) -> bool {
-        *self.laws == ContactLaws::default() && !self.cohesive
+        *self.laws == ContactLaws::default() && !self.bonds
     }
 }
 

@@ -127,6 +127,13 @@ pub(super) fn batched_pair_loop(
             Some((r, m)) => batch.resolve_pairs_uniform(input.dt, r, m),
             None => batch.resolve_pairs(input.dt),
         }
+        if input.area_cohesion {
+            super::area_cohesion::pairs(batch, group.len(), |m| {
+                let k = group[m] as usize;
+                let (i, j) = (pi[k] as usize, pj[k] as usize);
+                &input.pair_coeffs[material[i] as usize * input.materials + material[j] as usize]
+            });
+        }
         worst.see_batch(batch, group.iter().map(|&k| base + k as usize));
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);

@@ -110,18 +110,20 @@ pub(super) fn resolve_batched(
             });
             count += 1;
             if pending.len() == BATCH {
-                hand_out(input, batch, pending, slots, sinks, book);
+                hand_out(input, w, batch, pending, slots, sinks, book);
             }
         }
     }
-    hand_out(input, batch, pending, slots, sinks, book);
+    hand_out(input, w, batch, pending, slots, sinks, book);
     count
 }
 
-/// Resolves the batch of `pending` and hands each contact's force out in order: to its
-/// particle, to the wall's load and to `book`; its new history goes to its slot.
+/// Resolves the batch of `pending` (contacts with wall `w`) and hands each contact's force
+/// out in order: to its particle, to the wall's load and to `book`; its new history goes to
+/// its slot.
 fn hand_out(
     input: &KernelInput,
+    w: usize,
     batch: &mut Batch,
     pending: &mut Vec<Pending>,
     slots: &mut [SurfaceSlot],
@@ -133,6 +135,13 @@ fn hand_out(
     }
     batch.len = pending.len();
     batch.resolve_walls(input.dt);
+    if input.area_cohesion {
+        let material = &input.particles.material;
+        super::area_cohesion::walls(batch, pending.len(), |m| {
+            let i = pending[m].particle as usize;
+            &input.wall_coeffs[w * input.materials + material[i] as usize]
+        });
+    }
     for (m, q) in pending.iter().enumerate() {
         let cf = batch_force(batch, m);
         let i = q.particle as usize;
@@ -343,7 +352,8 @@ mod tests {
             uniform_body: None,
             dt: 2.5e-6,
             quanta: Default::default(),
-            cohesive: false,
+            bonds: false,
+            area_cohesion: false,
             reach: 0.0,
         };
         let close = |a: DVec3, b: DVec3, scale: f64| (a - b).length() <= 1e-12 * scale;

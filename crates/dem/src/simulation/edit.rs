@@ -361,11 +361,10 @@ impl Simulation {
             }
         }
         self.wall_coeffs = wall_coeffs;
-        self.cohesive = self
-            .pair_coeffs
-            .iter()
-            .chain(&self.wall_coeffs)
-            .any(|c| !c.cohesion.is_none());
+        let mut coefficients = self.pair_coeffs.iter().chain(&self.wall_coeffs);
+        self.bonds = coefficients.clone().any(|c| c.cohesion.bonds());
+        self.area_cohesion =
+            coefficients.any(|c| matches!(c.cohesion, crate::Cohesion::SimplifiedJkr { .. }));
         if let Some(t_r) = self.rayleigh_time() {
             let fraction = s.config.time_step / t_r;
             if fraction > s.config.max_rayleigh_fraction {

@@ -145,9 +145,12 @@ pub struct Simulation {
     buffers: ForceBuffers,
     pair_coeffs: Vec<PairCoefficients>,
     wall_coeffs: Vec<PairCoefficients>,
-    /// Whether any pair of materials, or any material and wall, is cohesive (found with the
-    /// coefficients): cohesive contacts are resolved one at a time (`forces::general`).
-    cohesive: bool,
+    /// Whether any pair of materials, or any material and wall, bonds beyond contact (JKR, a
+    /// liquid bridge; found with the coefficients): then every contact is resolved one at a
+    /// time (`forces::general`).
+    bonds: bool,
+    /// Whether any pair has the simplified JKR's attraction, which the batched kernel adds.
+    area_cohesion: bool,
     /// Radius [m] and mass [kg] shared by every particle, when they are all alike; found at
     /// each list rebuild (which every addition or removal of a particle forces).
     uniform_body: Option<(f64, f64)>,
@@ -265,7 +268,8 @@ impl Simulation {
             buffers: ForceBuffers::default(),
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
-            cohesive: false,
+            bonds: false,
+            area_cohesion: false,
             uniform_body: None,
             uniform_free: None,
             prepared: false,

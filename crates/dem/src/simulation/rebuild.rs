@@ -82,7 +82,7 @@ impl Simulation {
     /// How far beyond contact [m] the most far-reaching cohesive pair interacts, for the
     /// largest particle present (JKR's reach grows with R*): 0 without cohesion.
     pub(super) fn cohesion_reach(&self) -> f64 {
-        if !self.cohesive {
+        if !self.bonds {
             return 0.0;
         }
         let r_max = self

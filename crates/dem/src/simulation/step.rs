@@ -219,7 +219,7 @@ impl Simulation {
         self.pool.is_none()
             && self.state.particles.len() > FUSE_BODIES
             && self.state.config.laws == ContactLaws::default()
-            && !self.cohesive
+            && !self.bonds
     }
 
     /// The evaluation of the step's forces cut into chunks of bodies
@@ -280,7 +280,8 @@ impl Simulation {
             uniform_body: self.uniform_body,
             dt,
             quanta: self.load_quanta,
-            cohesive: self.cohesive,
+            bonds: self.bonds,
+            area_cohesion: self.area_cohesion,
             reach: s.list_reach,
         };
         let (pairs, walls, buffers) = (&mut s.pairs, &mut s.wall_pairs, &mut self.buffers);

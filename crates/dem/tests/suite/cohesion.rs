@@ -127,6 +127,74 @@ fn a_bond_breaks_at_the_same_gap_behind_a_plane_a_cylinder_and_a_mesh() {
 }
 
 #[test]
+fn the_simplified_jkr_pulls_alike_on_a_plane_a_cylinder_and_a_mesh() {
+    // The plane's contact goes through the batched wall loop, the cylinder's and the mesh's
+    // through the surface batch: each adds the attraction k_c π(2Rδ − δ²) to the same dry
+    // force, so a held sphere 1 µm into each feels the same force, to the 1e-9 relative
+    // that the cylinder's curvature (radius 1 m) leaves in the overlap's computation.
+    let r = common::RADIUS;
+    let k = 1e6;
+    let interaction = sticky(Cohesion::SimplifiedJkr { energy_density: k });
+    let z0 = -r + 1e-6;
+    let plane = Wall::plane(
+        DVec3::new(0.0, 0.0, z0),
+        DVec3::Z,
+        WallMaterial::Rigid,
+        interaction,
+    )
+    .expect("plane");
+    let cylinder = Wall::cylinder(
+        DVec3::new(-0.5, 0.0, z0 + 1.0),
+        DVec3::X,
+        1.0,
+        1.0,
+        WallMaterial::Rigid,
+        interaction,
+    )
+    .expect("cylinder");
+    let s = 0.01;
+    let c = [
+        DVec3::new(-s, -s, z0),
+        DVec3::new(s, -s, z0),
+        DVec3::new(s, s, z0),
+        DVec3::new(-s, s, z0),
+    ];
+    let mesh = Wall::mesh(
+        &[[c[0], c[1], c[2]], [c[0], c[2], c[3]]],
+        WallMaterial::Rigid,
+        interaction,
+    )
+    .expect("mesh");
+    let force_on = |wall: Wall| {
+        let mut config = SimulationConfig::new(1e-7);
+        config.gravity = DVec3::ZERO;
+        let mut sim = Simulation::new(config).expect("valid configuration");
+        let id = sim
+            .add_material(table1(), interaction)
+            .expect("valid material");
+        sim.add_wall(wall).expect("valid wall");
+        sim.add_particle(ParticleInit {
+            flags: FLAG_FROZEN,
+            ..ParticleInit::at_rest(DVec3::ZERO, r, id)
+        })
+        .expect("valid particle");
+        sim.step().expect("step");
+        sim.particles().forces()[0].z
+    };
+    let e_star = effective_youngs_modulus(&table1(), None);
+    let d: f64 = 1e-6;
+    let expected = 4.0 / 3.0 * e_star * r.sqrt() * d.powf(1.5)
+        - k * std::f64::consts::PI * (2.0 * r * d - d * d);
+    for (name, wall) in [("plane", plane), ("cylinder", cylinder), ("mesh", mesh)] {
+        let f = force_on(wall);
+        assert!(
+            (f - expected).abs() <= 1e-9 * expected.abs(),
+            "{name}: {f} N against {expected} N"
+        );
+    }
+}
+
+#[test]
 fn a_bridge_longer_than_the_skin_holds_until_its_rupture_distance() {
     // V = 0.1 R³ and θ = 0: S_c = V^{1/3} = 0.464 R, more than twice the default skin
     // (0.2 R). Two spheres parting at 0.5 m/s, four times the speed whose kinetic energy
