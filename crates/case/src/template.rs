@@ -268,6 +268,8 @@ poisson_ratio = 0.2      # ν [-]
 friction = 0.3           # μ_s particle–particle [-], ≥ 0
 rolling_friction = 0.0   # μ_r particle–particle [-], ≥ 0
 restitution = 0.5        # e particle–particle [-], in (0, 1]
+# cohesion = { law = "jkr", work_of_adhesion = 0.05 }  # dry when absent: "jkr", "sjkr" or
+#   "liquid_bridge", as `hopperflow init` explains (docs/physics.md §2.4–2.7); [wall] too
 "#,
     contact_laws!(),
     r#"

@@ -155,7 +155,7 @@ const TEMPLATE_SHA256: [(&str, &str); 4] = [
     ),
     (
         "cylinder",
-        "2e54675bd3a7fc9bfe25372522153daffba0c4b0fae7159dffdaef7b04b94a36",
+        "a87b1e71065bf6cdd08b940deda95f4cb3866891842cf38c5fa256502d67a4b9",
     ),
     (
         "box",
