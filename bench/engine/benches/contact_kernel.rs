@@ -3,9 +3,10 @@
 //! (sphere pairs, and sphere–wall contacts like those on the slab's faces).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
-use dem::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
+use dem::contact::geometry::{sphere_sphere, Sphere};
+use dem::contact::{BodyMotion, ContactHistory, ContactLaws};
 use dem::internals::{Batch, BATCH};
-use dem::material::{harmonic, Interaction, Material, PairCoefficients};
+use dem::material::{Interaction, Material, PairCoefficients};
 use dem::DVec3;
 
 /// Time step of the paper's base case [s].
@@ -58,25 +59,19 @@ fn kernels(c: &mut Criterion) {
 
     group.bench_function("scalar_resolve_one_batch", |b| {
         let laws = ContactLaws::default();
+        let sphere = Sphere {
+            radius: r,
+            mass,
+            inertia: 0.4 * mass * r * r,
+        };
         b.iter(|| {
             let mut sum = DVec3::ZERO;
             for k in 0..BATCH {
                 let (d, dv, wi, wj, xi) = contact(k);
-                let dist = d.length();
-                let overlap = 2.0 * r - dist;
-                let g = ContactGeometry {
-                    normal: d / dist,
-                    overlap,
-                    r_eff: harmonic(r, r),
-                    m_eff: harmonic(mass, mass),
-                    arm_i: r - 0.5 * overlap,
-                    arm_j: r - 0.5 * overlap,
-                    inertia: [0.4 * mass * r * r; 2],
-                    mass_radius2: [mass * r * r; 2],
-                };
+                let g = sphere_sphere(d, d.length_squared(), &sphere, &sphere);
                 let mut h = ContactHistory {
                     tangential: xi,
-                    rolling: DVec3::ZERO,
+                    ..ContactHistory::default()
                 };
                 let bi = BodyMotion {
                     velocity: dv,
