@@ -187,12 +187,8 @@ fn positive(
     errors: &mut Vec<ConfigError>,
 ) -> Option<f64> {
     let value = table.float(key, unit, errors);
-    let allowed = match unit {
-        "J/m²" => "> 0 J/m²",
-        "J/m³" => "> 0 J/m³",
-        _ => "> 0 N/m",
-    };
-    (required(table, key, &value, allowed, errors)
+    let allowed = format!("> 0 {unit}");
+    (required(table, key, &value, &allowed, errors)
         && value.as_ref().is_some_and(|v| v.require_positive(errors)))
     .then(|| value.expect("checked").value)
 }

@@ -119,7 +119,6 @@ pub fn find_arch(snapshot: &Snapshot, outlet: &OutletGeometry) -> Option<Arch> {
             .partial_cmp(&(b.position[0], b.position[1], b.id))
             .unwrap_or(std::cmp::Ordering::Equal)
     });
-    members.dedup_by_key(|m| m.id);
     Some(Arch {
         members,
         outlet_height: o.outlet_height,

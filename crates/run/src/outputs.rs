@@ -12,7 +12,7 @@ use analysis::selfsimilar::{
 use analysis::series::{find_steady_window, mean_rate, RateSeries, SteadyWindowOptions};
 
 use super::composition::{composition_columns, composition_rows};
-use super::protocol::{outlet_depth, outlet_geometry, CaseRun, Phase};
+use super::protocol::{outlet_depth, outlet_geometry, CaseRun, OwnedSnapshot, Phase};
 use super::remaining::REMAINING_COLUMNS;
 use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
@@ -679,19 +679,9 @@ const ARCH_COLUMNS: [&str; 5] = ["id", "x", "y", "z", "radius"];
 /// writes its grains to `path` and returns where it stands; `None` (and no file) when no
 /// grain is over the opening.
 fn write_arch(path: &Path, run: &CaseRun) -> Result<Option<ArchSummary>, RunError> {
-    let p = run.simulation().particles();
-    let ids: Vec<u64> = p.tags().to_vec();
-    let positions: Vec<[f64; 3]> = p.positions().iter().map(|x| x.to_array()).collect();
-    let velocities: Vec<[f64; 3]> = p.velocities().iter().map(|v| v.to_array()).collect();
-    let snapshot = measure::Snapshot {
-        time: run.simulation().time(),
-        ids: &ids,
-        positions: &positions,
-        velocities: &velocities,
-        radii: p.radii(),
-        density: run.case.particles.density(),
-        masses: None,
-    };
+    let sim = run.simulation();
+    let particles = OwnedSnapshot::of(&sim.watched(), |_| true);
+    let snapshot = particles.view(sim.time(), run.case.particles.density());
     let Some(arch) = measure::find_arch(&snapshot, &outlet_geometry(&run.case)) else {
         return Ok(None);
     };

@@ -4,6 +4,8 @@
 //! head-on (the dynamics of a bond). Gravity is off and the contact frictionless and elastic
 //! (e = 1): the force is the cohesive law's alone.
 
+use std::f64::consts::PI;
+
 use dem::material::{effective_youngs_modulus, harmonic};
 use dem::{
     Cohesion, ContactLaws, DVec3, Interaction, Material, ParticleInit, Simulation,
@@ -48,6 +50,43 @@ pub fn pair_modulus() -> f64 {
 pub fn pair_mass() -> f64 {
     let m = sphere_mass(&SOFT, RADIUS);
     harmonic(m, m)
+}
+
+/// The JKR closed forms J1 and J2 check the engine against, written out here rather than
+/// taken from `dem::contact::jkr` (Johnson 1985, §5.5), for E* `e` [Pa], R* `r` [m] and work
+/// of adhesion `w` [J/m²].
+pub struct JkrReference {
+    /// Pull-off force F_c = (3/2)π w R* [N].
+    pub pull_off: f64,
+    /// Breaking overlap δ_c = −(3/4)(π² w² R*/E*²)^{1/3} [m].
+    pub breaking_overlap: f64,
+    /// The loop's energy ∫_{δ_c}^{0} (−F) dδ [J]: ∫ F δ'(a) da between the breaking radius
+    /// a_f = (πwR*²/(8E*))^{1/3} and the touching radius a_1 = (2πwR*²/E*)^{1/3}, with F δ' a
+    /// polynomial in √a.
+    pub loop_energy: f64,
+}
+
+impl JkrReference {
+    /// The closed forms for E* `e` [Pa], R* `r` [m] and w `w` [J/m²].
+    pub fn new(e: f64, r: f64, w: f64) -> Self {
+        let (ca, cb, cc) = (
+            4.0 * e / (3.0 * r),
+            (8.0 * PI * w * e).sqrt(),
+            (2.0 * PI * w / e).sqrt(),
+        );
+        let primitive = |a: f64| {
+            2.0 * ca / (5.0 * r) * a.powi(5)
+                - (ca * cc / 2.0 + 2.0 * cb / r) * (2.0 / 7.0) * a.powf(3.5)
+                + cb * cc / 4.0 * a * a
+        };
+        let a_touch = (2.0 * PI * w * r * r / e).cbrt();
+        let a_break = (PI * w * r * r / (8.0 * e)).cbrt();
+        Self {
+            pull_off: 1.5 * PI * w * r,
+            breaking_overlap: -0.75 * (PI * PI * w * w * r / (e * e)).cbrt(),
+            loop_energy: primitive(a_break) - primitive(a_touch),
+        }
+    }
 }
 
 /// One sample of a quasi-static cycle.

@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 
 use dem::Cohesion;
 
-use crate::adhesion::{plane_modulus, pressed, RADIUS};
+use crate::adhesion::{plane_modulus, pressed, JkrReference, RADIUS};
 use crate::{Resolution, Row, VerifyError};
 
 const TEST: &str = "J1";
@@ -72,8 +72,8 @@ fn radius_of(e: f64, r: f64, d: f64) -> f64 {
 /// Runs J1.
 pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
     let (e, r) = (plane_modulus(), RADIUS);
-    let fc = 1.5 * PI * WORK * r;
-    let dc = -0.75 * (PI * PI * WORK * WORK * r / (e * e)).cbrt();
+    let reference = JkrReference::new(e, r, WORK);
+    let (fc, dc) = (reference.pull_off, reference.breaking_overlap);
     let n = match resolution {
         Resolution::Full => 20_000.0,
         Resolution::Fast => 2_000.0,
@@ -115,21 +115,7 @@ pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
             }
         }
     }
-    // The loop's energy in closed form: ∫ F δ'(a) da between the breaking radius a_f and the
-    // touching radius a_1 = (2πwR*²/E*)^{1/3}, with F δ' a polynomial in √a.
-    let (ca, cb, cc) = (
-        4.0 * e / (3.0 * r),
-        (8.0 * PI * WORK * e).sqrt(),
-        (2.0 * PI * WORK / e).sqrt(),
-    );
-    let primitive = |a: f64| {
-        2.0 * ca / (5.0 * r) * a.powi(5)
-            - (ca * cc / 2.0 + 2.0 * cb / r) * (2.0 / 7.0) * a.powf(3.5)
-            + cb * cc / 4.0 * a * a
-    };
-    let a_touch = (2.0 * PI * WORK * r * r / e).cbrt();
-    let a_break = (PI * WORK * r * r / (8.0 * e)).cbrt();
-    let loop_energy = primitive(a_break) - primitive(a_touch);
+    let loop_energy = reference.loop_energy;
 
     Ok(vec![
         Row::bounded(

@@ -29,7 +29,7 @@ use std::f64::consts::PI;
 
 use dem::Cohesion;
 
-use crate::adhesion::{meeting, pair_mass, pair_modulus, RADIUS};
+use crate::adhesion::{meeting, pair_mass, pair_modulus, JkrReference, RADIUS};
 use crate::{Resolution, Row, VerifyError};
 
 const TEST: &str = "J2";
@@ -40,23 +40,10 @@ const WORK: f64 = 0.1;
 /// Runs J2.
 pub fn run(resolution: Resolution) -> Result<Vec<Row>, VerifyError> {
     let (e, r, m) = (pair_modulus(), 0.5 * RADIUS, pair_mass());
-    let fc = 1.5 * PI * WORK * r;
-    let dc = -0.75 * (PI * PI * WORK * WORK * r / (e * e)).cbrt();
     // The loop's energy, the closed form of J1 for this pair.
-    let (ca, cb, cc) = (
-        4.0 * e / (3.0 * r),
-        (8.0 * PI * WORK * e).sqrt(),
-        (2.0 * PI * WORK / e).sqrt(),
-    );
-    let primitive = |a: f64| {
-        2.0 * ca / (5.0 * r) * a.powi(5)
-            - (ca * cc / 2.0 + 2.0 * cb / r) * (2.0 / 7.0) * a.powf(3.5)
-            + cb * cc / 4.0 * a * a
-    };
-    let a_touch = (2.0 * PI * WORK * r * r / e).cbrt();
-    let a_break = (PI * WORK * r * r / (8.0 * e)).cbrt();
-    let loop_energy = primitive(a_break) - primitive(a_touch);
-    let v_s = (2.0 * loop_energy / m).sqrt();
+    let reference = JkrReference::new(e, r, WORK);
+    let (fc, dc) = (reference.pull_off, reference.breaking_overlap);
+    let v_s = (2.0 * reference.loop_energy / m).sqrt();
 
     let n = match resolution {
         Resolution::Full => 4000.0,

@@ -24,6 +24,28 @@ fn density(c: &PairCoefficients) -> Option<f64> {
     }
 }
 
+/// Subtracts k_c A n from the force of each slot `0..len` of a resolved batch whose pair
+/// (`coefficients(m)`) has the simplified JKR; `geometry(batch, m)` gives the slot's area A
+/// [m²] and unit normal n (towards i).
+#[inline(always)]
+fn attract<'a>(
+    batch: &mut Batch,
+    len: usize,
+    coefficients: impl Fn(usize) -> &'a PairCoefficients,
+    geometry: impl Fn(&Batch, usize) -> (f64, [f64; 3]),
+) {
+    for m in 0..len.min(BATCH) {
+        let Some(k) = density(coefficients(m)) else {
+            continue;
+        };
+        let (area, normal) = geometry(batch, m);
+        let pull = sjkr_force(k, area);
+        for (a, n) in normal.into_iter().enumerate() {
+            batch.force[a][m] -= pull * n;
+        }
+    }
+}
+
 /// Subtracts the attraction from slots `0..len` of a resolved particle–particle batch, whose
 /// `d` holds x_i − x_j and `dist2` its square; `coefficients(m)` gives slot m's pair.
 #[inline(never)]
@@ -32,18 +54,13 @@ pub(super) fn pairs<'a>(
     len: usize,
     coefficients: impl Fn(usize) -> &'a PairCoefficients,
 ) {
-    for m in 0..len.min(BATCH) {
-        let Some(k) = density(coefficients(m)) else {
-            continue;
-        };
-        let (ri, rj) = (batch.radius[0][m], batch.radius[1][m]);
-        let dist = batch.dist2[m].sqrt();
-        let pull = sjkr_force(k, intersection_area(ri, rj, ri + rj - dist));
+    attract(batch, len, coefficients, |b, m| {
+        let (ri, rj) = (b.radius[0][m], b.radius[1][m]);
+        let dist = b.dist2[m].sqrt();
         let inv = 1.0 / dist;
-        for a in 0..3 {
-            batch.force[a][m] -= pull * (batch.d[a][m] * inv);
-        }
-    }
+        let normal = [b.d[0][m] * inv, b.d[1][m] * inv, b.d[2][m] * inv];
+        (intersection_area(ri, rj, ri + rj - dist), normal)
+    });
 }
 
 /// Subtracts the attraction from slots `0..len` of a resolved particle–wall batch, whose
@@ -55,14 +72,8 @@ pub(super) fn walls<'a>(
     len: usize,
     coefficients: impl Fn(usize) -> &'a PairCoefficients,
 ) {
-    for m in 0..len.min(BATCH) {
-        let Some(k) = density(coefficients(m)) else {
-            continue;
-        };
-        let area = intersection_area(batch.radius[0][m], f64::INFINITY, batch.overlap[m]);
-        let pull = sjkr_force(k, area);
-        for a in 0..3 {
-            batch.force[a][m] -= pull * batch.d[a][m];
-        }
-    }
+    attract(batch, len, coefficients, |b, m| {
+        let area = intersection_area(b.radius[0][m], f64::INFINITY, b.overlap[m]);
+        (area, [b.d[0][m], b.d[1][m], b.d[2][m]])
+    });
 }

@@ -86,7 +86,7 @@ pub(super) fn pair_loop_with(
         };
         let cf = laws.resolve(&g, &bi, &bj, c, &mut h, input.dt);
         store(&h, (t, r, l));
-        if g.overlap <= 0.0 && cf == ContactForce::default() {
+        if g.overlap <= 0.0 && !h.bonded {
             // A bond that broke this step carries no force.
             continue;
         }
@@ -148,7 +148,8 @@ pub(super) fn wall_loop(
         };
         let cf = input.laws.resolve(&g, &bi, &bw, c, &mut h, input.dt);
         store(&h, (t, r, l));
-        if g.overlap <= 0.0 && cf == ContactForce::default() {
+        if g.overlap <= 0.0 && !h.bonded {
+            // A bond that broke this step carries no force.
             continue;
         }
         add_load(&mut loads[w], &input.quanta, x, &cf);

@@ -337,6 +337,56 @@ fn summed(n: usize, contacts: Vec<(u32, u32, ContactForce)>) -> (Vec<DVec3>, Vec
     (force, torque)
 }
 
+/// The batched path on one thread over `pairs` and `wall_pairs`, from zero forces: its sums
+/// and what it found.
+fn batched_forces(
+    input: &KernelInput,
+    pairs: &mut PairList,
+    wall_pairs: &mut WallPairList,
+) -> (ForceBuffers, Evaluation) {
+    let mut buffers = ForceBuffers::default();
+    start(input.particles, DVec3::ZERO, &mut buffers);
+    let eval = evaluate(input, pairs, wall_pairs, &mut buffers, None, &mut []);
+    (buffers, eval)
+}
+
+/// The scalar path under `laws` over `pairs` and then `wall_pairs`, in list order: each
+/// body's force and torque, and the worst pair overlap it saw.
+fn scalar_forces(
+    input: &KernelInput,
+    laws: ContactLaws,
+    pairs: &mut PairList,
+    wall_pairs: &mut WallPairList,
+) -> (Vec<DVec3>, Vec<DVec3>, WorstOverlap) {
+    let ids = (&pairs.i.clone()[..], &pairs.j.clone()[..]);
+    let mut contacts = Vec::new();
+    let worst = pair_loop_with(
+        input,
+        laws,
+        ids,
+        0,
+        pairs.history.split_mut(),
+        &mut contacts,
+    );
+    let (mut force, mut torque) = summed(input.particles.len(), contacts);
+    let wids = (
+        &wall_pairs.particle.clone()[..],
+        &wall_pairs.wall.clone()[..],
+    );
+    let mut loads = vec![Default::default(); input.walls.len()];
+    wall_loop(
+        input,
+        wids,
+        wall_pairs.history.split_mut(),
+        &mut loads,
+        |a, cf| {
+            force[a] += cf.force;
+            torque[a] += cf.torque_i;
+        },
+    );
+    (force, torque, worst)
+}
+
 /// The batched path's sums in `buffers` against the scalar path's: the same formulas
 /// with a few operations regrouped, so agreement to 1e-12 of each body's own force or
 /// torque.
@@ -388,23 +438,11 @@ fn bodies_beyond_the_prefetch_size_get_the_scalar_laws_forces() {
     let (mut pairs, mut wall_pairs) = big.lists();
     let laws = ContactLaws::default();
     let input = jumble_input(&big, &laws);
-    let mut p2 = pairs.clone();
-    let mut buffers = ForceBuffers::default();
-    start(&big.set, DVec3::ZERO, &mut buffers);
-    let eval = evaluate(
-        &input,
-        &mut pairs,
-        &mut wall_pairs,
-        &mut buffers,
-        None,
-        &mut [],
-    );
+    let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
+    let (buffers, eval) = batched_forces(&input, &mut pairs, &mut wall_pairs);
     assert!(eval.count.particle_particle > copies * 100);
 
-    let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
-    let mut contacts = Vec::new();
-    pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
-    let (force, torque) = summed(big.set.len(), contacts);
+    let (force, torque, _) = scalar_forces(&input, laws, &mut p2, &mut w2);
     assert_close(&buffers, &force, &torque);
 
     let pool = rayon::ThreadPoolBuilder::new()
@@ -432,37 +470,18 @@ fn batched_kernels_match_the_scalar_contact_laws() {
     // operations regrouped: agreement to 1e-12 of each body's largest force or torque.
     for (materials, poly) in [(1, false), (2, true)] {
         let jumble = Jumble::new(materials, poly);
-        let set = &jumble.set;
         let (mut pairs, mut wall_pairs) = jumble.lists();
         let laws = ContactLaws::default();
         let input = jumble_input(&jumble, &laws);
         let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
-        let mut buffers = ForceBuffers::default();
-        start(set, DVec3::ZERO, &mut buffers);
-        let eval = evaluate(
-            &input,
-            &mut pairs,
-            &mut wall_pairs,
-            &mut buffers,
-            None,
-            &mut [],
-        );
+        let (buffers, eval) = batched_forces(&input, &mut pairs, &mut wall_pairs);
         assert!(eval.count.particle_particle > 100 && eval.count.particle_wall > 10);
         assert!(
             eval.count.particle_particle < p2.len(),
             "some candidates must be apart"
         );
 
-        let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
-        let mut contacts = Vec::new();
-        let worst = pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
-        let (mut force, mut torque) = summed(set.len(), contacts);
-        let wids = (&w2.particle.clone()[..], &w2.wall.clone()[..]);
-        let mut loads = vec![Default::default(); input.walls.len()];
-        wall_loop(&input, wids, w2.history.split_mut(), &mut loads, |a, cf| {
-            force[a] += cf.force;
-            torque[a] += cf.torque_i;
-        });
+        let (force, torque, worst) = scalar_forces(&input, laws, &mut p2, &mut w2);
         assert_eq!(eval.worst_pair.index, worst.index);
         assert_close(&buffers, &force, &torque);
         for (a, b) in pairs
@@ -496,40 +515,19 @@ fn the_simplified_jkr_added_to_batches_matches_the_scalar_contact_laws() {
         for w in 0..jumble.walls.len() {
             jumble.wall_coeffs[w * materials].cohesion = sticky;
         }
-        let set = &jumble.set;
         let (mut pairs, mut wall_pairs) = jumble.lists();
         let laws = ContactLaws::default();
         let mut input = jumble_input(&jumble, &laws);
         input.area_cohesion = true;
         assert!(input.batched());
         let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
-        let mut buffers = ForceBuffers::default();
-        start(set, DVec3::ZERO, &mut buffers);
-        evaluate(
-            &input,
-            &mut pairs,
-            &mut wall_pairs,
-            &mut buffers,
-            None,
-            &mut [],
-        );
-        let ids = (&p2.i.clone()[..], &p2.j.clone()[..]);
-        let mut contacts = Vec::new();
-        pair_loop_with(&input, laws, ids, 0, p2.history.split_mut(), &mut contacts);
-        let (mut force, mut torque) = summed(set.len(), contacts);
-        let wids = (&w2.particle.clone()[..], &w2.wall.clone()[..]);
-        let mut loads = vec![Default::default(); input.walls.len()];
-        wall_loop(&input, wids, w2.history.split_mut(), &mut loads, |a, cf| {
-            force[a] += cf.force;
-            torque[a] += cf.torque_i;
-        });
+        let (buffers, _) = batched_forces(&input, &mut pairs, &mut wall_pairs);
+        let (force, torque, _) = scalar_forces(&input, laws, &mut p2, &mut w2);
         assert_close(&buffers, &force, &torque);
         // And the attraction is there: the dry batch differs by far more than round-off.
-        let mut dry = ForceBuffers::default();
-        start(set, DVec3::ZERO, &mut dry);
         let (mut p3, mut w3) = jumble.lists();
         input.area_cohesion = false;
-        evaluate(&input, &mut p3, &mut w3, &mut dry, None, &mut []);
+        let (dry, _) = batched_forces(&input, &mut p3, &mut w3);
         let moved = dry
             .force
             .iter()

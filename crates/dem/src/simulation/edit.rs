@@ -396,9 +396,18 @@ impl Simulation {
         self.state.load_quanta = Some(quanta);
         self.load_quanta = quanta;
         self.new_quanta = false;
-        if self.cohesion_reach() > self.state.list_reach {
-            // A cohesion that now reaches farther than the lists were built for.
-            self.state.needs_rebuild = true;
+        if self.bonds {
+            let r_max = self
+                .state
+                .particles
+                .radius
+                .iter()
+                .copied()
+                .fold(0.0, f64::max);
+            if self.cohesion_reach(r_max) > self.state.list_reach {
+                // A cohesion that now reaches farther than the lists were built for.
+                self.state.needs_rebuild = true;
+            }
         }
         self.prepared = true;
         Ok(())

@@ -14,11 +14,11 @@ impl Simulation {
         if s.skin == 0.0 {
             s.skin = 0.2 * r_max;
         }
-        let reach = self.cohesion_reach();
+        let reach = self.cohesion_reach(r_max);
         let s = &mut self.state;
         s.list_reach = reach;
         // Pairs are listed out to the skin beyond their cohesion's reach: a bonded pair stays
-        // in the list as long as it can interact (docs/physics.md §6.2).
+        // in the list as long as it can interact (docs/physics.md §2.7).
         let search_skin = s.skin + reach;
         let cell = 2.0 * r_max + search_skin;
         let resort =
@@ -80,18 +80,12 @@ impl Simulation {
     }
 
     /// How far beyond contact [m] the most far-reaching cohesive pair interacts, for the
-    /// largest particle present (JKR's reach grows with R*): 0 without cohesion.
-    pub(super) fn cohesion_reach(&self) -> f64 {
+    /// largest particle present, of radius `r_max` [m] (JKR's reach grows with R*): 0 without
+    /// a bonding cohesion.
+    pub(super) fn cohesion_reach(&self, r_max: f64) -> f64 {
         if !self.bonds {
             return 0.0;
         }
-        let r_max = self
-            .state
-            .particles
-            .radius
-            .iter()
-            .copied()
-            .fold(0.0, f64::max);
         self.pair_coeffs
             .iter()
             .chain(&self.wall_coeffs)

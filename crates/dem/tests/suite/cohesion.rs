@@ -9,7 +9,7 @@ use dem::contact::{jkr, liquid_bridge};
 use dem::material::effective_youngs_modulus;
 use dem::{
     Cohesion, DVec3, Interaction, Material, ParticleInit, Simulation, SimulationConfig,
-    SimulationState, Wall, WallMaterial, WallMotion, FLAG_FROZEN,
+    SimulationState, Wall, WallId, WallMaterial, WallMotion, FLAG_FROZEN,
 };
 
 /// Table 1's sphere material.
@@ -27,16 +27,14 @@ fn sticky(cohesion: Cohesion) -> Interaction {
     }
 }
 
-/// A held sphere of radius 1.5 mm at the origin with `wall` (rigid, through the sphere's
-/// surface below it at contact, moving away along −z at 1 mm/s); returns the surface gap
-/// [m] at the last step where the sphere felt a force, within 1 µm of travel.
-fn last_bonded_gap(wall: Wall, cohesion: Cohesion) -> f64 {
-    let dt = 1e-7;
-    let mut config = SimulationConfig::new(dt);
+/// A held sphere of radius 1.5 mm at the origin, of Table 1's material meeting `wall` with
+/// `interaction`, no gravity, Δt = 0.1 µs; returns the simulation and the wall's handle.
+fn held_sphere(wall: Wall, interaction: Interaction) -> (Simulation, WallId) {
+    let mut config = SimulationConfig::new(1e-7);
     config.gravity = DVec3::ZERO;
     let mut sim = Simulation::new(config).expect("valid configuration");
     let id = sim
-        .add_material(table1(), sticky(cohesion))
+        .add_material(table1(), interaction)
         .expect("valid material");
     let wall = sim.add_wall(wall).expect("valid wall");
     sim.add_particle(ParticleInit {
@@ -44,6 +42,14 @@ fn last_bonded_gap(wall: Wall, cohesion: Cohesion) -> f64 {
         ..ParticleInit::at_rest(DVec3::ZERO, common::RADIUS, id)
     })
     .expect("valid particle");
+    (sim, wall)
+}
+
+/// A held sphere of radius 1.5 mm at the origin with `wall` (rigid, through the sphere's
+/// surface below it at contact, moving away along −z at 1 mm/s); returns the surface gap
+/// [m] at the last step where the sphere felt a force, within 1 µm of travel.
+fn last_bonded_gap(wall: Wall, cohesion: Cohesion) -> f64 {
+    let (mut sim, wall) = held_sphere(wall, sticky(cohesion));
     // One step at rest touches and bonds; then the wall pulls away.
     sim.step().expect("step");
     assert!(sim.particles().forces()[0].z != 0.0, "the contact formed");
@@ -67,75 +73,10 @@ fn last_bonded_gap(wall: Wall, cohesion: Cohesion) -> f64 {
     last
 }
 
-#[test]
-fn a_bond_breaks_at_the_same_gap_behind_a_plane_a_cylinder_and_a_mesh() {
-    // The plane goes through the general wall loop, the cylinder and the mesh through the
-    // surface pass, which searches out to the cohesion's reach: all three must hold the bond
-    // to the same gap. A cylinder of radius 1 m around the sphere's low point is flat to
-    // 1e-6 m over the contact; the mesh is two triangles of the plane.
-    let r = common::RADIUS;
-    let w = 2.0;
-    let cohesion = Cohesion::Jkr {
-        work_of_adhesion: w,
-    };
-    let e_star = effective_youngs_modulus(&table1(), None);
-    let breaking = -jkr::breaking_overlap(e_star, r, w);
-    // The first step sits just inside contact, so the contact forms.
-    let z0 = -r + 1e-9;
-    let interaction = sticky(cohesion);
-    let plane = Wall::plane(
-        DVec3::new(0.0, 0.0, z0),
-        DVec3::Z,
-        WallMaterial::Rigid,
-        interaction,
-    )
-    .expect("plane");
-    let big = 1.0;
-    let cylinder = Wall::cylinder(
-        DVec3::new(-0.5, 0.0, z0 + big),
-        DVec3::X,
-        1.0,
-        big,
-        WallMaterial::Rigid,
-        interaction,
-    )
-    .expect("cylinder");
-    let s = 0.01;
-    let corners = [
-        DVec3::new(-s, -s, z0),
-        DVec3::new(s, -s, z0),
-        DVec3::new(s, s, z0),
-        DVec3::new(-s, s, z0),
-    ];
-    let mesh = Wall::mesh(
-        &[
-            [corners[0], corners[1], corners[2]],
-            [corners[0], corners[2], corners[3]],
-        ],
-        WallMaterial::Rigid,
-        interaction,
-    )
-    .expect("mesh");
-    // Each step moves the wall 1e-10 m: the last bonded gap is δ_c within that.
-    for (name, wall) in [("plane", plane), ("cylinder", cylinder), ("mesh", mesh)] {
-        let gap = last_bonded_gap(wall, cohesion);
-        assert!(
-            (gap - breaking).abs() <= 2e-10,
-            "{name}: bond broke at a gap of {gap:e} m, δ_c = {breaking:e} m"
-        );
-    }
-}
-
-#[test]
-fn the_simplified_jkr_pulls_alike_on_a_plane_a_cylinder_and_a_mesh() {
-    // The plane's contact goes through the batched wall loop, the cylinder's and the mesh's
-    // through the surface batch: each adds the attraction k_c π(2Rδ − δ²) to the same dry
-    // force, so a held sphere 1 µm into each feels the same force, to the 1e-9 relative
-    // that the cylinder's curvature (radius 1 m) leaves in the overlap's computation.
-    let r = common::RADIUS;
-    let k = 1e6;
-    let interaction = sticky(Cohesion::SimplifiedJkr { energy_density: k });
-    let z0 = -r + 1e-6;
+/// Three rigid floors at height `z0` [m] under a sphere at the origin, of `interaction`:
+/// a plane, the low side of a cylinder of radius 1 m along x (flat to 1e-6 m over a contact)
+/// and a mesh of two triangles of the plane.
+fn floors(z0: f64, interaction: Interaction) -> [(&'static str, Wall); 3] {
     let plane = Wall::plane(
         DVec3::new(0.0, 0.0, z0),
         DVec3::Z,
@@ -165,19 +106,46 @@ fn the_simplified_jkr_pulls_alike_on_a_plane_a_cylinder_and_a_mesh() {
         interaction,
     )
     .expect("mesh");
+    [("plane", plane), ("cylinder", cylinder), ("mesh", mesh)]
+}
+
+#[test]
+fn a_bond_breaks_at_the_same_gap_behind_a_plane_a_cylinder_and_a_mesh() {
+    // The plane goes through the general wall loop, the cylinder and the mesh through the
+    // surface pass, which searches out to the cohesion's reach: all three must hold the bond
+    // to the same gap (`floors`).
+    let r = common::RADIUS;
+    let w = 2.0;
+    let cohesion = Cohesion::Jkr {
+        work_of_adhesion: w,
+    };
+    let e_star = effective_youngs_modulus(&table1(), None);
+    let breaking = -jkr::breaking_overlap(e_star, r, w);
+    // The first step sits just inside contact, so the contact forms.
+    let z0 = -r + 1e-9;
+    let interaction = sticky(cohesion);
+    // Each step moves the wall 1e-10 m: the last bonded gap is δ_c within that.
+    for (name, wall) in floors(z0, interaction) {
+        let gap = last_bonded_gap(wall, cohesion);
+        assert!(
+            (gap - breaking).abs() <= 2e-10,
+            "{name}: bond broke at a gap of {gap:e} m, δ_c = {breaking:e} m"
+        );
+    }
+}
+
+#[test]
+fn the_simplified_jkr_pulls_alike_on_a_plane_a_cylinder_and_a_mesh() {
+    // The plane's contact goes through the batched wall loop, the cylinder's and the mesh's
+    // through the surface batch: each adds the attraction k_c π(2Rδ − δ²) to the same dry
+    // force, so a held sphere 1 µm into each feels the same force, to the 1e-9 relative
+    // that the cylinder's curvature (radius 1 m) leaves in the overlap's computation.
+    let r = common::RADIUS;
+    let k = 1e6;
+    let interaction = sticky(Cohesion::SimplifiedJkr { energy_density: k });
+    let z0 = -r + 1e-6;
     let force_on = |wall: Wall| {
-        let mut config = SimulationConfig::new(1e-7);
-        config.gravity = DVec3::ZERO;
-        let mut sim = Simulation::new(config).expect("valid configuration");
-        let id = sim
-            .add_material(table1(), interaction)
-            .expect("valid material");
-        sim.add_wall(wall).expect("valid wall");
-        sim.add_particle(ParticleInit {
-            flags: FLAG_FROZEN,
-            ..ParticleInit::at_rest(DVec3::ZERO, r, id)
-        })
-        .expect("valid particle");
+        let (mut sim, _) = held_sphere(wall, interaction);
         sim.step().expect("step");
         sim.particles().forces()[0].z
     };
@@ -185,7 +153,7 @@ fn the_simplified_jkr_pulls_alike_on_a_plane_a_cylinder_and_a_mesh() {
     let d: f64 = 1e-6;
     let expected = 4.0 / 3.0 * e_star * r.sqrt() * d.powf(1.5)
         - k * std::f64::consts::PI * (2.0 * r * d - d * d);
-    for (name, wall) in [("plane", plane), ("cylinder", cylinder), ("mesh", mesh)] {
+    for (name, wall) in floors(z0, interaction) {
         let f = force_on(wall);
         assert!(
             (f - expected).abs() <= 1e-9 * expected.abs(),
