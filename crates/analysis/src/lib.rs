@@ -13,6 +13,7 @@
 
 pub mod beverloo;
 pub mod beverloo3d;
+pub mod calibration;
 pub mod eccentric;
 mod error;
 mod estimate;

@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 mod builtin;
+mod calibration_file;
 mod case;
 mod cuboid;
 mod cylinder;
@@ -45,6 +46,10 @@ pub use builtin::{
     builtin_sweep, BUILTIN_SWEEP_NAMES, FAN2023_QUICK_SWEEP, FAN2023_SENSITIVITY_SWEEP,
     FAN2023_SWEEP,
 };
+pub use calibration_file::{
+    load_calibration, parse_calibration, CalibrationParameter, CalibrationPlan, CalibrationTarget,
+    CalibrationTest, MAX_CALIBRATION_PARAMETERS, MAX_CALIBRATION_TARGETS,
+};
 pub use case::{
     Case, ContactSpec, InteractionSpec, MeasureSpec, OutputSpec, Protocol, RollingLawSpec,
     TangentialLawSpec, WallMaterialSpec, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION,
@@ -60,7 +65,9 @@ pub use particles::{
     ParticleSpec, SizeDistribution,
 };
 pub use slab::SlabGeometry;
-pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
+pub use sweep::{
+    load_sweep, parse_sweep, replica_seed, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan,
+};
 pub use template::{
     template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, MESH_TEMPLATE,
 };

@@ -160,7 +160,7 @@ fn label_text(value: &NodeValue) -> String {
 /// Seed of one replica: the first 63 bits of SHA-256 over the base seed, the grid point's
 /// identifier and the replica index. Stable across runs and platforms, different for
 /// every point and replica, and independent of the order of the sweep.
-pub(crate) fn replica_seed(base_seed: u64, point_id: &str, replica: u32) -> u64 {
+pub fn replica_seed(base_seed: u64, point_id: &str, replica: u32) -> u64 {
     let mut hash = Sha256::new();
     hash.update(format!("hopperflow-seed|{base_seed}|{point_id}|{replica}").as_bytes());
     let digest = hash.finalize();

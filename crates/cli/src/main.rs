@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod bench_cmd;
+mod calibrate_cmd;
 mod exit_codes;
 mod report_cmd;
 mod run_cmd;
@@ -32,6 +33,8 @@ enum Command {
     Init(run_cmd::InitArgs),
     /// Run a parametric study: the paper's (`fan2023`) or a sweep file.
     Study(study_cmd::StudyArgs),
+    /// Find material parameters (e.g. rolling friction, cohesion) from lab targets.
+    Calibrate(calibrate_cmd::CalibrateArgs),
     /// Build the report of a finished study from its saved results.
     Report(report_cmd::ReportArgs),
     /// Time the engine (ns per particle-step).
@@ -73,6 +76,7 @@ fn main() {
         Command::Check(args) => run_cmd::check(args),
         Command::Init(args) => run_cmd::init(args),
         Command::Study(args) => study_cmd::run(args),
+        Command::Calibrate(args) => calibrate_cmd::run(args),
         Command::Report(args) => report_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
         Command::Verify(args) => verify_cmd::run(args),

@@ -3,6 +3,7 @@
 
 mod bad_case_files;
 mod bad_cases;
+mod calibration_file;
 mod case_file;
 mod cohesion;
 mod fuzz;

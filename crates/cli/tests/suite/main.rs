@@ -9,6 +9,7 @@ mod tiny;
 mod bad_input;
 mod bed_and_packing;
 mod bench_silo_inputs;
+mod calibrate_cli;
 mod doc_paths;
 mod exit_codes;
 mod quick_study;
