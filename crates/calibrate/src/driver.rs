@@ -74,21 +74,8 @@ fn io(path: &Path, e: impl std::fmt::Display) -> CalibrationError {
     }
 }
 
-/// Runs (or continues) the calibration `plan` in the folder `out`.
-///
-/// Each round is the study [`round_plan`] in [`round_dir`]; its finished runs are kept, so
-/// that a calibration run again after a kill repeats none of them and, its plans being
-/// functions of the finished runs only, ends with the same files. `stop`, when set (by a
-/// signal handler), ends the calibration after the running cases have checkpointed:
-/// [`CalibrationError::Stopped`] is returned and the command may be run again.
-pub fn run_calibration(
-    plan: &CalibrationPlan,
-    out: &Path,
-    runner: &dyn CaseRunner,
-    options: &CalibrationOptions,
-    observer: &(dyn Fn(CalibrationEvent<'_>) + Sync),
-    stop: Option<&AtomicBool>,
-) -> Result<CalibrationRecord, CalibrationError> {
+/// Refuses a folder that holds a calibration of other inputs; returns this plan's hash.
+fn check_folder(plan: &CalibrationPlan, out: &Path) -> Result<String, CalibrationError> {
     let hash = plan_hash(plan)?;
     let record_path = out.join(CALIBRATION_FILE);
     if let Ok(text) = std::fs::read_to_string(&record_path) {
@@ -108,61 +95,108 @@ pub fn run_calibration(
             });
         }
     }
-    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    Ok(hash)
+}
 
-    let k = plan.parameters.len();
-    let targets: Vec<Target> = plan
-        .targets
-        .iter()
-        .map(|t| Target {
-            value: t.value,
-            uncertainty: t.uncertainty,
+/// A round about to run.
+pub struct NextRound {
+    /// Its number, from 1.
+    pub round: u32,
+    /// Lower corner of its region (unit of each key).
+    pub lower: Vec<f64>,
+    /// Upper corner of its region.
+    pub upper: Vec<f64>,
+    /// Its study.
+    pub sweep: case::SweepPlan,
+}
+
+/// A calibration between rounds: everything the next round depends on, rebuilt from the
+/// finished runs alone.
+pub struct Calibration<'a> {
+    plan: &'a CalibrationPlan,
+    out: std::path::PathBuf,
+    targets: Vec<Target>,
+    record: CalibrationRecord,
+    rows: Vec<Vec<Cell>>,
+    measurements: Vec<Vec<(Vec<f64>, f64)>>,
+    region: Region,
+    previous: Option<RoundFit>,
+    done: bool,
+}
+
+impl<'a> Calibration<'a> {
+    /// Starts (or, before its rounds are replayed, continues) `plan` in `out`, refusing a
+    /// folder of another calibration.
+    pub fn open(plan: &'a CalibrationPlan, out: &Path) -> Result<Self, CalibrationError> {
+        let hash = check_folder(plan, out)?;
+        let targets = plan
+            .targets
+            .iter()
+            .map(|t| Target {
+                value: t.value,
+                uncertainty: t.uncertainty,
+            })
+            .collect();
+        Ok(Self {
+            plan,
+            out: out.to_path_buf(),
+            targets,
+            record: CalibrationRecord {
+                name: plan.name.clone(),
+                plan_hash: hash,
+                version: env!("CARGO_PKG_VERSION").to_string(),
+                replicates: plan.replicates,
+                rounds: Vec::new(),
+                converged: false,
+                runs: 0,
+                failed_runs: 0,
+                estimate: Vec::new(),
+                correlation: None,
+                matches: Vec::new(),
+                targets_met: false,
+            },
+            rows: Vec::new(),
+            measurements: vec![Vec::new(); plan.targets.len()],
+            region: Region::whole(plan.parameters.len()),
+            previous: None,
+            done: false,
         })
-        .collect();
-    let mut record = CalibrationRecord {
-        name: plan.name.clone(),
-        plan_hash: hash,
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        replicates: plan.replicates,
-        rounds: Vec::new(),
-        converged: false,
-        runs: 0,
-        failed_runs: 0,
-        estimate: Vec::new(),
-        correlation: None,
-        matches: Vec::new(),
-        targets_met: false,
-    };
-    let mut rows: Vec<Vec<Cell>> = Vec::new();
-    let mut measurements: Vec<Vec<(Vec<f64>, f64)>> = vec![Vec::new(); plan.targets.len()];
-    let mut region = Region::whole(k);
-    let mut previous: Option<RoundFit> = None;
-    for round in 1..=plan.max_rounds {
-        let design = region.design();
-        let sweep = round_plan(plan, round, &design)
-            .map_err(|source| CalibrationError::Case { round, source })?;
-        let dir = round_dir(out, round);
-        observer(CalibrationEvent::RoundStarted {
-            round,
-            runs: sweep.cases.len(),
-            lower: to_physical(plan, &region.lower()),
-            upper: to_physical(plan, &region.upper()),
-        });
-        let study_options = StudyOptions { jobs: options.jobs };
-        run_study(&sweep, &dir, runner, &study_options, &|event| {
-            observer(CalibrationEvent::Study(event));
-        })
-        .map_err(|source| CalibrationError::Study {
-            round,
-            source: Box::new(source),
-        })?;
-        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-            return Err(CalibrationError::Stopped);
+    }
+
+    /// The next round; `None` when the calibration has converged or used its rounds.
+    pub fn next_round(&self) -> Result<Option<NextRound>, CalibrationError> {
+        let round = self.record.rounds.len() as u32 + 1;
+        if self.done || round > self.plan.max_rounds {
+            return Ok(None);
         }
+        let sweep = round_plan(self.plan, round, &self.region.design())
+            .map_err(|source| CalibrationError::Case { round, source })?;
+        Ok(Some(NextRound {
+            round,
+            lower: to_physical(self.plan, &self.region.lower()),
+            upper: to_physical(self.plan, &self.region.upper()),
+            sweep,
+        }))
+    }
 
+    /// The record so far.
+    pub fn record(&self) -> &CalibrationRecord {
+        &self.record
+    }
+
+    /// Reads the finished runs of round `round` (whose study is `sweep`), fits it, writes
+    /// `calibration.json` and `runs.csv`, and moves the region on. Runs without a summary
+    /// count as failed.
+    pub fn fit_round(
+        &mut self,
+        round: u32,
+        sweep: &case::SweepPlan,
+    ) -> Result<&RoundRecord, CalibrationError> {
+        let plan = self.plan;
+        let design = self.region.design();
+        let dir = round_dir(&self.out, round);
         let mut failed = 0;
         let mut no_value = 0;
-        let mut counted_no_value = 0;
         for case in &sweep.cases {
             let point: usize = case.labels["point"].parse().unwrap_or(0);
             let replicate: u32 = case.labels["replica"].parse().unwrap_or(0);
@@ -187,80 +221,173 @@ pub fn run_calibration(
                     .into_iter()
                     .map(Cell::Number),
             );
+            let mut without_value = false;
             for (index, target) in plan.targets.iter().enumerate() {
-                if target.test != test {
-                    row.push(Cell::Text(String::new()));
-                    continue;
-                }
-                let Some(summary) = &summary else {
-                    row.push(Cell::Text(String::new()));
-                    continue;
+                let value = match &summary {
+                    Some(summary) if target.test == test => {
+                        if !has_measure(summary, &target.measure) {
+                            return Err(CalibrationError::MissingMeasure {
+                                run: summary_path,
+                                measure: target.measure.clone(),
+                                available: numeric_measures(summary).join(", "),
+                            });
+                        }
+                        // A run without a value (a clogged run's rate) adds no measurement.
+                        let value = measure_value(summary, &target.measure);
+                        without_value |= value.is_none();
+                        value
+                    }
+                    _ => None,
                 };
-                if !has_measure(summary, &target.measure) {
-                    return Err(CalibrationError::MissingMeasure {
-                        run: summary_path,
-                        measure: target.measure.clone(),
-                        available: numeric_measures(summary).join(", "),
-                    });
+                match value {
+                    Some(value) => {
+                        self.measurements[index].push((design[point].clone(), value));
+                        row.push(Cell::Number(value));
+                    }
+                    None => row.push(Cell::Text(String::new())),
                 }
-                // A run without a value (a clogged run's rate) adds no measurement.
-                let Some(value) = measure_value(summary, &target.measure) else {
-                    no_value += 1;
-                    row.push(Cell::Text(String::new()));
-                    continue;
-                };
-                measurements[index].push((design[point].clone(), value));
-                row.push(Cell::Number(value));
             }
-            if summary.is_none() {
-                failed += 1;
-            }
-            row.push(Cell::Text(
-                match (&summary, no_value > counted_no_value) {
-                    (None, _) => "failed",
-                    (Some(_), true) => "no value",
-                    (Some(_), false) => "finished",
-                }
-                .into(),
-            ));
-            counted_no_value = no_value;
+            failed += usize::from(summary.is_none());
+            no_value += usize::from(without_value);
+            let status = match (&summary, without_value) {
+                (None, _) => "failed",
+                (Some(_), true) => "no value",
+                (Some(_), false) => "finished",
+            };
+            row.push(Cell::Text(status.into()));
             row.push(Cell::Text(format!(
                 "rounds/round-{round:02}/cases/{}",
                 case.id
             )));
-            rows.push(row);
+            self.rows.push(row);
         }
-        record.runs += sweep.cases.len();
-        record.failed_runs += failed;
+        self.record.runs += sweep.cases.len();
+        self.record.failed_runs += failed;
 
-        let fit =
-            fit_round(&measurements, &targets, &region).map_err(|e| CalibrationError::Fit {
+        let fit = fit_round(&self.measurements, &self.targets, &self.region).map_err(|e| {
+            CalibrationError::Fit {
                 round,
                 reason: format!(
                     "the runs inside the region do not determine the response surfaces ({e}); \
-                 more replicates or a narrower range may help"
+                     more replicates or a narrower range may help"
                 ),
-            })?;
-        let mut round_record = describe_round(plan, round, &region, &design, &sweep, failed, &fit);
+            }
+        })?;
+        let mut round_record =
+            describe_round(plan, round, &self.region, &design, sweep, failed, &fit);
         round_record.without_value = no_value;
-        observer(CalibrationEvent::RoundFitted(&round_record));
-        let done = previous
+        let done = self
+            .previous
             .as_ref()
-            .is_some_and(|p| converged(&p.solution, &fit.solution, &region));
+            .is_some_and(|p| converged(&p.solution, &fit.solution, &self.region));
+        let record = &mut self.record;
         record.estimate = round_record.estimate.clone();
         record.correlation = round_record.correlation;
         record.matches = round_record.matches.clone();
         record.targets_met = round_record.targets_met;
         record.rounds.push(round_record);
         record.converged = done;
-        write_records(plan, out, &record, &rows)?;
-        if done {
-            break;
-        }
-        region = region.next(&fit.solution);
-        previous = Some(fit);
+        std::fs::create_dir_all(&self.out).map_err(|e| io(&self.out, e))?;
+        write_records(plan, &self.out, &self.record, &self.rows)?;
+        self.done = done;
+        self.region = self.region.next(&fit.solution);
+        self.previous = Some(fit);
+        Ok(self
+            .record
+            .rounds
+            .last()
+            .expect("a round was just recorded"))
     }
-    Ok(record)
+}
+
+/// Runs (or continues) the calibration `plan` in the folder `out`.
+///
+/// Each round is the study [`round_plan`] in [`round_dir`]; its finished runs are kept, so
+/// that a calibration run again after a kill repeats none of them and, its plans being
+/// functions of the finished runs only, ends with the same files. `stop`, when set (by a
+/// signal handler), ends the calibration after the running cases have checkpointed:
+/// [`CalibrationError::Stopped`] is returned and the command may be run again.
+pub fn run_calibration(
+    plan: &CalibrationPlan,
+    out: &Path,
+    runner: &dyn CaseRunner,
+    options: &CalibrationOptions,
+    observer: &(dyn Fn(CalibrationEvent<'_>) + Sync),
+    stop: Option<&AtomicBool>,
+) -> Result<CalibrationRecord, CalibrationError> {
+    let mut calibration = Calibration::open(plan, out)?;
+    std::fs::create_dir_all(out).map_err(|e| io(out, e))?;
+    while let Some(NextRound {
+        round,
+        lower,
+        upper,
+        sweep,
+    }) = calibration.next_round()?
+    {
+        observer(CalibrationEvent::RoundStarted {
+            round,
+            runs: sweep.cases.len(),
+            lower,
+            upper,
+        });
+        let study_options = StudyOptions { jobs: options.jobs };
+        run_study(
+            &sweep,
+            &round_dir(out, round),
+            runner,
+            &study_options,
+            &|event| {
+                observer(CalibrationEvent::Study(event));
+            },
+        )
+        .map_err(|source| CalibrationError::Study {
+            round,
+            source: Box::new(source),
+        })?;
+        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            return Err(CalibrationError::Stopped);
+        }
+        let fitted = calibration.fit_round(round, &sweep)?;
+        observer(CalibrationEvent::RoundFitted(fitted));
+    }
+    Ok(calibration.record().clone())
+}
+
+/// Where a calibration run as Slurm jobs stands (docs/user-guide.md, "Calibration on a
+/// cluster"): every round whose runs have all ended is fitted, in order.
+pub enum SlurmStep {
+    /// The calibration has converged or used its rounds: its record.
+    Finished(Box<CalibrationRecord>),
+    /// This round has runs to do (not started, or stopped with a checkpoint): its number
+    /// and study. Failed runs are not retried; they count as failed in the fit.
+    Run(u32, Box<case::SweepPlan>),
+}
+
+/// Replays the rounds of `plan` in `out` whose runs have all ended (finished or failed),
+/// fitting each, and says what comes next.
+pub fn slurm_step(plan: &CalibrationPlan, out: &Path) -> Result<SlurmStep, CalibrationError> {
+    let mut calibration = Calibration::open(plan, out)?;
+    while let Some(NextRound { round, sweep, .. }) = calibration.next_round()? {
+        let dir = round_dir(out, round);
+        let ended = dir.join("study.json").is_file()
+            && study::case_states(&dir)
+                .map_err(|source| CalibrationError::Study {
+                    round,
+                    source: Box::new(source),
+                })?
+                .iter()
+                .all(|(_, state)| {
+                    matches!(
+                        state,
+                        study::CaseState::Finished | study::CaseState::Failed(_)
+                    )
+                });
+        if !ended {
+            return Ok(SlurmStep::Run(round, Box::new(sweep)));
+        }
+        calibration.fit_round(round, &sweep)?;
+    }
+    Ok(SlurmStep::Finished(Box::new(calibration.record().clone())))
 }
 
 /// The round's record in physical units.

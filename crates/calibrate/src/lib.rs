@@ -17,7 +17,10 @@ mod measure;
 mod record;
 mod round;
 
-pub use driver::{plan_hash, run_calibration, CalibrationEvent, CalibrationOptions};
+pub use driver::{
+    plan_hash, run_calibration, slurm_step, Calibration, CalibrationEvent, CalibrationOptions,
+    NextRound, SlurmStep,
+};
 pub use error::CalibrationError;
 pub use measure::{has_measure, measure_value, numeric_measures};
 pub use record::{

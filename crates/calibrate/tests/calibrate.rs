@@ -206,3 +206,43 @@ fn a_measure_no_run_has_is_named_with_those_it_has() {
         "{text}"
     );
 }
+
+#[test]
+fn rounds_run_as_slurm_tasks_give_the_files_of_a_local_calibration() {
+    let local = tempfile::tempdir().unwrap();
+    let plan = plan_in(local.path(), "");
+    calibrate(&plan, &local.path().join("out"), &Stand::new(), None).unwrap();
+
+    // As the jobs do: each round's study prepared, its runs as separate tasks, then the job
+    // after the array asks what comes next.
+    let cluster = tempfile::tempdir().unwrap();
+    let plan = plan_in(cluster.path(), "");
+    let out = cluster.path().join("out");
+    let runner = Stand::new();
+    let mut rounds = 0;
+    loop {
+        match calibrate::slurm_step(&plan, &out).unwrap() {
+            calibrate::SlurmStep::Run(round, sweep) => {
+                let dir = calibrate::round_dir(&out, round);
+                study::prepare_study(&sweep, &dir).unwrap();
+                for case in &sweep.cases {
+                    study::run_task(&sweep, &dir, &case.id, &runner).unwrap();
+                }
+                rounds += 1;
+                assert!(rounds <= plan.max_rounds, "the chain does not end");
+            }
+            calibrate::SlurmStep::Finished(record) => {
+                assert_eq!(record.rounds.len(), rounds as usize);
+                break;
+            }
+        }
+    }
+    for file in [CALIBRATION_FILE, RUNS_FILE] {
+        let a = std::fs::read(local.path().join("out").join(file)).unwrap();
+        let b = std::fs::read(out.join(file)).unwrap();
+        assert!(
+            a == b,
+            "{file} differs between the local and the task-by-task calibration"
+        );
+    }
+}

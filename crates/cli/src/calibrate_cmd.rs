@@ -11,8 +11,13 @@ use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 
-use calibrate::{run_calibration, CalibrationError, CalibrationEvent, CalibrationOptions};
-use clap::Args;
+use calibrate::{
+    run_calibration, slurm_step, CalibrationError, CalibrationEvent, CalibrationOptions,
+    CalibrationRecord, SlurmStep,
+};
+use clap::{Args, Parser};
+
+use crate::slurm_cmd::SlurmArgs;
 use run::Start;
 use study::{SimulationRunner, StudyEvent};
 
@@ -30,6 +35,112 @@ pub struct CalibrateArgs {
     /// Check the calibration file and its test cases, then stop.
     #[arg(long)]
     check: bool,
+    #[command(flatten)]
+    cluster: SlurmArgs,
+    /// The round an array task or a collect job belongs to (written into the job scripts).
+    #[arg(long, hide = true)]
+    round: Option<u32>,
+}
+
+/// File in the calibration's folder that keeps the Slurm options of `--slurm`, so that the
+/// job that ends one round submits the next with the same.
+const SLURM_OPTIONS_FILE: &str = "slurm-options.txt";
+
+/// The Slurm options again, as parsed from the saved words.
+#[derive(Parser)]
+struct SavedSlurm {
+    #[command(flatten)]
+    cluster: SlurmArgs,
+}
+
+/// The words that give `args` back to [`SavedSlurm`], one a line.
+fn slurm_words(args: &SlurmArgs) -> Vec<String> {
+    let mut words = vec!["--slurm".to_string()];
+    if args.submit {
+        words.push("--submit".into());
+    }
+    let mut pair = |flag: &str, value: Option<String>| {
+        if let Some(v) = value {
+            words.push(format!("{flag}={v}"));
+        }
+    };
+    pair("--partition", args.partition.clone());
+    pair("--time", args.time.clone());
+    pair("--mem", args.mem.clone());
+    pair("--cpus-per-task", Some(args.cpus_per_task.to_string()));
+    pair("--account", args.account.clone());
+    pair("--throttle", args.throttle.map(|t| t.to_string()));
+    for line in &args.sbatch_lines {
+        words.push(format!("--sbatch-line={line}"));
+    }
+    words
+}
+
+/// The hopperflow binary and the calibration's own arguments for the jobs of `round`.
+fn task_command(file: &std::path::Path, out: &std::path::Path, round: u32) -> Vec<String> {
+    let exe = std::env::current_exe()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|_| "hopperflow".into());
+    let absolute = |p: &std::path::Path| {
+        std::path::absolute(p)
+            .unwrap_or_else(|_| p.to_path_buf())
+            .display()
+            .to_string()
+    };
+    vec![
+        exe,
+        "calibrate".into(),
+        absolute(file),
+        "--out".into(),
+        absolute(out),
+        "--round".into(),
+        round.to_string(),
+    ]
+}
+
+/// `--slurm` and the collect job: fits the rounds that have ended and writes (or submits)
+/// the jobs of the next, or prints the result when there is none.
+fn slurm_advance(
+    plan: &case::CalibrationPlan,
+    file: &std::path::Path,
+    out: &std::path::Path,
+    cluster: &SlurmArgs,
+) -> i32 {
+    let text = match std::fs::read_to_string(file) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: cannot read {}: {e}", file.display());
+            return crate::exit_codes::EXIT_BAD_INPUT;
+        }
+    };
+    match slurm_step(plan, out) {
+        Err(e) => {
+            eprintln!("error: {e}");
+            exit_code(&e)
+        }
+        Ok(SlurmStep::Finished(record)) => print_result(&record, out, None),
+        Ok(SlurmStep::Run(round, sweep)) => {
+            println!("round {round}: {} runs", sweep.cases.len());
+            crate::slurm_cmd::write_jobs(
+                &sweep,
+                &text,
+                &calibrate::round_dir(out, round),
+                &task_command(file, out, round),
+                cluster,
+            )
+        }
+    }
+}
+
+fn exit_code(e: &CalibrationError) -> i32 {
+    match e {
+        CalibrationError::Stopped => crate::exit_codes::EXIT_STOPPED,
+        CalibrationError::DifferentCalibration { .. } | CalibrationError::Case { .. } => {
+            crate::exit_codes::EXIT_BAD_INPUT
+        }
+        CalibrationError::Study { source, .. } => crate::exit_codes::study_exit_code(source),
+        _ => 1,
+    }
 }
 
 pub fn run(args: CalibrateArgs) -> i32 {
@@ -60,9 +171,68 @@ pub fn run(args: CalibrateArgs) -> i32 {
     let runner = SimulationRunner {
         pictures: false,
         stop: Some(Arc::clone(&stop)),
-        threads: 1,
+        threads: args.cluster.cpus_per_task.max(1) as usize,
         start: Arc::new(Start::Fill),
     };
+    if let (Some(index), Some(list)) = (args.cluster.task_index, &args.cluster.task_list) {
+        // An array task: the round's study, rebuilt from the rounds before it.
+        return match slurm_step(&plan, &out) {
+            Ok(SlurmStep::Run(round, sweep)) if Some(round) == args.round => {
+                let dir = calibrate::round_dir(&out, round);
+                crate::slurm_cmd::task(&sweep, &dir, list, index, &runner)
+            }
+            Ok(_) => {
+                eprintln!(
+                    "error: round {} of {} is not the round that has runs to do",
+                    args.round.unwrap_or(0),
+                    out.display()
+                );
+                1
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                exit_code(&e)
+            }
+        };
+    }
+    if args.cluster.status {
+        return match slurm_step(&plan, &out) {
+            Ok(SlurmStep::Run(round, _)) => {
+                println!("round {round} has runs to do:");
+                crate::slurm_cmd::status(&calibrate::round_dir(&out, round))
+            }
+            Ok(SlurmStep::Finished(record)) => print_result(&record, &out, None),
+            Err(e) => {
+                eprintln!("error: {e}");
+                exit_code(&e)
+            }
+        };
+    }
+    if args.cluster.collect {
+        // The job after a round's array: the next round, with the options saved by --slurm.
+        let saved = std::fs::read_to_string(out.join(SLURM_OPTIONS_FILE)).unwrap_or_default();
+        let words = std::iter::once("saved".to_string()).chain(saved.lines().map(String::from));
+        let cluster = match SavedSlurm::try_parse_from(words) {
+            Ok(s) => s.cluster,
+            Err(e) => {
+                eprintln!("error: the saved Slurm options of {}: {e}", out.display());
+                return crate::exit_codes::EXIT_BAD_INPUT;
+            }
+        };
+        return slurm_advance(&plan, &args.file, &out, &cluster);
+    }
+    if args.cluster.slurm {
+        if let Err(e) = std::fs::create_dir_all(&out).and_then(|()| {
+            let mut words = slurm_words(&args.cluster).join("\n");
+            words.push('\n');
+            files::write_atomic(out.join(SLURM_OPTIONS_FILE), words.as_bytes())
+                .map_err(|e| std::io::Error::other(e.to_string()))
+        }) {
+            eprintln!("error: {}: {e}", out.display());
+            return 1;
+        }
+        return slurm_advance(&plan, &args.file, &out, &args.cluster);
+    }
     let keys: Vec<String> = plan.parameters.iter().map(|p| p.key.clone()).collect();
     let printer = Mutex::new(());
     let started = std::time::Instant::now();
@@ -123,29 +293,22 @@ pub fn run(args: CalibrateArgs) -> i32 {
     let outcome = run_calibration(&plan, &out, &runner, &options, &observer, Some(&stop));
     let record = match outcome {
         Ok(record) => record,
-        Err(CalibrationError::Stopped) => {
-            eprintln!("{}", CalibrationError::Stopped);
-            return crate::exit_codes::EXIT_STOPPED;
-        }
         Err(e) => {
             eprintln!("error: {e}");
-            return match e {
-                CalibrationError::DifferentCalibration { .. } | CalibrationError::Case { .. } => {
-                    crate::exit_codes::EXIT_BAD_INPUT
-                }
-                CalibrationError::Study { source, .. } => {
-                    crate::exit_codes::study_exit_code(&source)
-                }
-                _ => 1,
-            };
+            return exit_code(&e);
         }
     };
     if stop.load(Ordering::Relaxed) {
         return crate::exit_codes::EXIT_STOPPED;
     }
+    print_result(&record, &out, Some(started.elapsed().as_secs_f64()))
+}
+
+/// Prints the estimate and how the targets are met; the exit status.
+fn print_result(record: &CalibrationRecord, out: &std::path::Path, seconds: Option<f64>) -> i32 {
     println!();
     println!(
-        "{} after {} round(s), {} runs ({} failed), {:.0} s",
+        "{} after {} round(s), {} runs ({} failed){}",
         if record.converged {
             "converged"
         } else {
@@ -154,7 +317,7 @@ pub fn run(args: CalibrateArgs) -> i32 {
         record.rounds.len(),
         record.runs,
         record.failed_runs,
-        started.elapsed().as_secs_f64()
+        seconds.map_or(String::new(), |s| format!(", {s:.0} s"))
     );
     for e in &record.estimate {
         println!(
