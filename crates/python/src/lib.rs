@@ -8,6 +8,7 @@
 //! No Rust panic may reach Python: every input is checked before it reaches the engine, and
 //! the work that runs on threads of its own returns a panic as a `RuntimeError`.
 
+mod calibration;
 mod case;
 mod engine;
 mod errors;
@@ -29,6 +30,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::bed_case_text, m)?)?;
     m.add_function(wrap_pyfunction!(engine::engine_reference, m)?)?;
     m.add_function(wrap_pyfunction!(studies::run_study, m)?)?;
+    m.add_function(wrap_pyfunction!(calibration::run_calibration_file, m)?)?;
     m.add_function(wrap_pyfunction!(studies::study_report, m)?)?;
     m.add_function(wrap_pyfunction!(studies::builtin_sweeps, m)?)?;
     Ok(())

@@ -2,7 +2,7 @@
 
 The package re-exports ``Case``, ``CaseError``, ``RunError``, ``Simulation`` and
 ``__version__``; the functions are the package's own plumbing, called by ``run``,
-``study`` and ``Study.report``.
+``study``, ``Study.report`` and ``calibrate``.
 """
 
 import os
@@ -166,6 +166,12 @@ def run_study(
     from_bed: Optional[_Path] = None,
 ) -> StudyOutcome: ...
 def study_report(root: _Path) -> list[Path]: ...
+def run_calibration_file(
+    file: _Path,
+    out: _Path,
+    jobs: int = 0,
+    progress: Optional[Callable[[int, int, str], object]] = None,
+) -> str: ...
 def builtin_sweeps() -> list[str]: ...
 def _engine_reference(
     case: Case,
