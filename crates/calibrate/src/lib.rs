@@ -1,4 +1,4 @@
-//! Calibration (`hopperflow calibrate`, docs/physics.md §10): up to two material parameters
+//! Calibration (`hopperflow calibrate`, docs/physics.md §12): up to two material parameters
 //! searched until the runs of up to two lab tests match what the lab measured.
 //!
 //! Each round is a study (`rounds/round-NN/` in the output folder): the test cases at the

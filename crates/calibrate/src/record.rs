@@ -70,7 +70,7 @@ pub struct RoundRecord {
     pub correlation: Option<f64>,
     /// The targets at the estimate.
     pub matches: Vec<TargetMatch>,
-    /// χ² of the targets at the estimate (docs/physics.md §10.3).
+    /// χ² of the targets at the estimate (docs/physics.md §12.1).
     pub chi_squared: f64,
     /// Whether every target is met at the estimate: the prediction within twice the
     /// combined standard error (the lab's and the surface's) of the lab's value.

@@ -1,7 +1,7 @@
 //! The calibration loop end to end with a stand-in for the simulation: a test whose measure
 //! is a known function of the parameters plus seeded noise, so that the loop's recovery,
 //! its records and its resumption are checked in milliseconds. The real round trip, with
-//! simulations, is the ignored test in crates/cli/tests/suite and docs/physics.md §10.5.
+//! simulations, is the ignored test in crates/cli/tests/suite and docs/physics.md §12.4.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -1,4 +1,4 @@
-//! Reading a calibration file (`hopperflow calibrate`, docs/physics.md §10): the material
+//! Reading a calibration file (`hopperflow calibrate`, docs/physics.md §12): the material
 //! parameters to find, each a case key with its search range, and the lab's targets, each a
 //! measure of one test case with the value and uncertainty the lab gives it.
 

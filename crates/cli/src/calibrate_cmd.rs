@@ -1,5 +1,5 @@
 //! `hopperflow calibrate`: finds up to two material parameters from up to two lab targets
-//! (docs/physics.md §10) by rounds of studies, in parallel and resumably, and prints the
+//! (docs/physics.md §12) by rounds of studies, in parallel and resumably, and prints the
 //! estimate with its uncertainty.
 //!
 //! Exit status: 0 when the estimate converged and meets the targets; 3 when it did not

@@ -1,5 +1,5 @@
 //! The inverse problem on fitted response surfaces: the parameters whose predicted targets
-//! best match the measured ones, and their covariance (docs/physics.md §10.3).
+//! best match the measured ones, and their covariance (docs/physics.md §12.1).
 
 use rmpfit::{MPConfig, MPError, MPFitter, MPPar, MPResult};
 use serde::{Deserialize, Serialize};

@@ -1,5 +1,5 @@
 //! Calibration of up to two model parameters against up to two noisy targets by sequential
-//! response surfaces in a shrinking trust region (docs/physics.md §10).
+//! response surfaces in a shrinking trust region (docs/physics.md §12).
 //!
 //! Each round runs the simulation at the points of a small factorial design inside the
 //! current region ([`Region::design`]), with replicates; a full quadratic in the parameters is

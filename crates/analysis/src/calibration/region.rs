@@ -1,5 +1,5 @@
 //! The trust region of a calibration: where a round's design points lie, and how it moves and
-//! shrinks from one round to the next (docs/physics.md §10.4).
+//! shrinks from one round to the next (docs/physics.md §12.1).
 
 use serde::{Deserialize, Serialize};
 

@@ -1,5 +1,5 @@
 //! A full quadratic response surface y(u) fitted by least squares, with the covariance of its
-//! coefficients and so the variance of its predictions (docs/physics.md §10.2).
+//! coefficients and so the variance of its predictions (docs/physics.md §12.1).
 
 use serde::{Deserialize, Serialize};
 
