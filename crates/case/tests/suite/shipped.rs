@@ -60,6 +60,13 @@ fn is_sweep(text: &str) -> bool {
     })
 }
 
+/// Whether `text` is a calibration file (`hopperflow calibrate`): it lists the parameters to
+/// find and the targets to match, which neither a case nor a sweep file has.
+fn is_calibration(text: &str) -> bool {
+    let has = |header: &str| text.lines().any(|line| line.trim() == header);
+    has("[[parameters]]") && has("[[targets]]")
+}
+
 #[test]
 fn every_shipped_case_and_sweep_file_passes_the_checks_before_a_run() {
     let root = repository_root();
@@ -80,10 +87,15 @@ fn every_shipped_case_and_sweep_file_passes_the_checks_before_a_run() {
     );
 
     let mut failures = Vec::new();
-    let (mut cases, mut sweeps) = (Vec::new(), Vec::new());
+    let (mut cases, mut sweeps, mut calibrations) = (Vec::new(), Vec::new(), Vec::new());
     for (file, name) in files.iter().zip(&names) {
         let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{name}: {e}"));
-        if is_sweep(&text) {
+        if is_calibration(&text) {
+            match case::load_calibration(file) {
+                Ok(_) => calibrations.push(name.as_str()),
+                Err(e) => failures.push(format!("{name} (calibration):\n{e}")),
+            }
+        } else if is_sweep(&text) {
             match load_sweep(file, &[]) {
                 Ok(plan) if plan.cases.is_empty() => {
                     failures.push(format!("{name}: the sweep expands to no case"));
@@ -109,9 +121,10 @@ fn every_shipped_case_and_sweep_file_passes_the_checks_before_a_run() {
         "case files {cases:?}, sweep files {sweeps:?}"
     );
     eprintln!(
-        "checked {} case files and {} sweep files:\n{}",
+        "checked {} case files, {} sweep files and {} calibration files:\n{}",
         cases.len(),
         sweeps.len(),
+        calibrations.len(),
         names.join("\n")
     );
 }
