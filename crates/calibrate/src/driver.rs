@@ -11,10 +11,11 @@ use study::{run_study, CaseRunner, StudyEvent, StudyOptions};
 
 use crate::error::CalibrationError;
 use crate::measure::{has_measure, measure_value, numeric_measures};
-use crate::record::{
-    CalibrationRecord, ParameterEstimate, RoundRecord, TargetMatch, CALIBRATION_FILE, RUNS_FILE,
-};
 use crate::round::{round_dir, round_plan, to_physical};
+use files::{
+    CalibrationRecord, ParameterEstimate, RoundRecord, SurfaceRecord, TargetMatch,
+    CALIBRATION_FILE, RUNS_FILE,
+};
 
 /// How a calibration runs its rounds.
 #[derive(Debug, Clone, Default)]
@@ -455,7 +456,19 @@ fn describe_round(
         correlation,
         matches,
         chi_squared: solution.chi_squared,
-        surfaces: fit.surfaces.clone(),
+        surfaces: fit.surfaces.iter().map(surface_record).collect(),
+    }
+}
+
+/// A fitted surface as `calibration.json` keeps it.
+fn surface_record(s: &analysis::calibration::ResponseSurface) -> SurfaceRecord {
+    SurfaceRecord {
+        centre: s.centre.clone(),
+        scale: s.scale.clone(),
+        coefficients: s.coefficients.clone(),
+        covariance: s.covariance.clone(),
+        residual_sd: s.residual_sd,
+        points: s.points,
     }
 }
 
@@ -482,4 +495,28 @@ fn write_records(
     files::write_csv_table(&runs, &headers, rows).map_err(|e| io(&runs, e))?;
     let path = out.join(CALIBRATION_FILE);
     files::write_json_atomic(&path, record).map_err(|e| io(&path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_saved_surface_evaluates_to_the_fitted_ones_bits() {
+        // The report evaluates the saved surfaces; it must see the fit's own values.
+        let data: Vec<(Vec<f64>, f64)> = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let u = vec![0.2 + 0.1 * i as f64, 0.5 + 0.2 * j as f64];
+                let y = 3.0 + u[0] * u[1] - 2.0 * u[1] * u[1] + 0.01 * (i * j) as f64;
+                (u, y)
+            })
+            .collect();
+        let fitted =
+            analysis::calibration::ResponseSurface::fit(&data, &[0.3, 0.7], &[0.1, 0.2]).unwrap();
+        let saved = surface_record(&fitted);
+        for u in [[0.25, 0.6], [0.4, 0.9], [0.0, 0.0]] {
+            assert_eq!(saved.value(&u).to_bits(), fitted.value(&u).to_bits());
+        }
+    }
 }

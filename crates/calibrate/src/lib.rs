@@ -5,7 +5,7 @@
 //! points of a small design in the current search region, each with replicates, run in
 //! parallel and resumably by [`study::run_study`], or as a Slurm array. The measures read
 //! from the runs' `summary.json` are fitted and inverted by [`analysis::calibration`]; the
-//! next round's region follows from the estimate. `calibration.json` and `runs.csv` are
+//! next round's region follows from the estimate. `calibration.json` ([`files::CalibrationRecord`]) and `runs.csv` are
 //! rewritten after every round; a calibration stopped at any point continues from its
 //! finished runs, and gives the same files as one never stopped.
 
@@ -14,7 +14,6 @@
 mod driver;
 mod error;
 mod measure;
-mod record;
 mod round;
 
 pub use driver::{
@@ -22,8 +21,9 @@ pub use driver::{
     NextRound, SlurmStep,
 };
 pub use error::CalibrationError;
-pub use measure::{has_measure, measure_value, numeric_measures};
-pub use record::{
-    CalibrationRecord, ParameterEstimate, RoundRecord, TargetMatch, CALIBRATION_FILE, RUNS_FILE,
+pub use files::{
+    CalibrationRecord, ParameterEstimate, RoundRecord, SurfaceRecord, TargetMatch,
+    CALIBRATION_FILE, RUNS_FILE,
 };
+pub use measure::{has_measure, measure_value, numeric_measures};
 pub use round::{round_dir, round_plan, to_physical, to_unit};

@@ -138,6 +138,15 @@ fn known_parameters_are_recovered_within_their_stated_uncertainty() {
     assert_eq!(runs.lines().count(), record.runs + 1);
     assert_eq!(record.runs, runner.ran.lock().unwrap().len());
     assert_eq!(record.runs, record.rounds.len() * 9 * 3);
+    // Its report states the estimate and draws each target against each parameter.
+    let files = report::build_calibration_report(&dir.path().join("out")).unwrap();
+    let text = std::fs::read_to_string(&files.markdown).unwrap();
+    assert!(
+        text.contains("Converged") && text.contains("contact.rolling_friction"),
+        "{text}"
+    );
+    // 2 targets × 2 parameters and the design plane, each as PNG and SVG.
+    assert_eq!(files.figures.len(), 2 * (2 * 2 + 1));
 }
 
 #[test]

@@ -28,6 +28,7 @@
 #![warn(missing_docs)]
 
 mod atomic;
+mod calibration;
 mod colormap;
 mod defaults;
 mod error;
@@ -50,6 +51,10 @@ mod vtu;
 
 pub use atomic::{
     is_temporary_name, remove_stale_temporaries, write_atomic, write_json_atomic, AtomicFile,
+};
+pub use calibration::{
+    CalibrationRecord, ParameterEstimate, RoundRecord, SurfaceRecord, TargetMatch,
+    CALIBRATION_FILE, RUNS_FILE,
 };
 pub use colormap::viridis;
 pub use error::OutputError;

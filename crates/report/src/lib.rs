@@ -8,12 +8,15 @@
 //!   ([`eccentric`]); every function here is pure;
 //! - [`compare_with_paper`] turns the fits into the paper's acceptance items;
 //! - [`build_report`] writes `report/report.md`, `report/report.html` (self-contained),
-//!   `report/comparison.json` and the figures.
+//!   `report/comparison.json` and the figures;
+//! - [`build_calibration_report`] writes the report of a calibration folder
+//!   (`hopperflow calibrate`) from its `calibration.json` and `runs.csv`.
 
 #![warn(missing_docs)]
 
 pub mod beverloo;
 mod build;
+mod calibration;
 pub mod centred;
 mod comparison;
 mod data;
@@ -26,6 +29,7 @@ mod tables;
 use analysis::Estimate;
 
 pub use build::{build_report, ReportError, ReportFiles};
+pub use calibration::{build_calibration_report, is_calibration, CalibrationReportFiles};
 pub use comparison::{
     compare_with_paper, ComparisonItem, ANGLE_SERIES, B_TREND_FROM_DEG, ECCENTRIC_SERIES,
     FLAT_TOLERANCE, OTHER_CODES_K_90,

@@ -1,5 +1,5 @@
-//! What a calibration leaves on disk: `calibration.json` (the estimate, each round's fits) and
-//! `runs.csv` (every run it made).
+//! What a calibration leaves on disk (`hopperflow calibrate`, docs/physics.md §12):
+//! `calibration.json` (the estimate, each round's fits) and `runs.csv` (every run it made).
 
 use serde::{Deserialize, Serialize};
 
@@ -75,8 +75,8 @@ pub struct RoundRecord {
     /// Whether every target is met at the estimate: the prediction within twice the
     /// combined standard error (the lab's and the surface's) of the lab's value.
     pub targets_met: bool,
-    /// The fitted surfaces (unit coordinates of the parameters).
-    pub surfaces: Vec<analysis::calibration::ResponseSurface>,
+    /// The fitted surfaces, one per target (unit coordinates of the parameters).
+    pub surfaces: Vec<SurfaceRecord>,
 }
 
 /// A calibration's record: its inputs, rounds and final estimate.
@@ -107,4 +107,44 @@ pub struct CalibrationRecord {
     pub matches: Vec<TargetMatch>,
     /// Whether the last round met every target (see [`RoundRecord::targets_met`]).
     pub targets_met: bool,
+}
+
+/// A fitted quadratic response surface y(u) of one target (docs/physics.md §12.1), in local
+/// coordinates x = (u − centre)/scale of the parameters' unit coordinates u.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SurfaceRecord {
+    /// Centre of the local coordinates (unit coordinates).
+    pub centre: Vec<f64>,
+    /// Scale of the local coordinates (unit coordinates).
+    pub scale: Vec<f64>,
+    /// Coefficients of (1, x, x²) or (1, x₁, x₂, x₁², x₁x₂, x₂²) (unit of the target).
+    pub coefficients: Vec<f64>,
+    /// Covariance of the coefficients, row-major.
+    pub covariance: Vec<Vec<f64>>,
+    /// Scatter of single runs about the surface (unit of the target).
+    pub residual_sd: f64,
+    /// Runs it was fitted to.
+    pub points: usize,
+}
+
+impl SurfaceRecord {
+    /// The surface's value at unit coordinates `u`.
+    pub fn value(&self, u: &[f64]) -> f64 {
+        let x: Vec<f64> = u
+            .iter()
+            .zip(&self.centre)
+            .zip(&self.scale)
+            .map(|((u, c), s)| (u - c) / s)
+            .collect();
+        let basis = match x.as_slice() {
+            [a] => vec![1.0, *a, a * a],
+            [a, b] => vec![1.0, *a, *b, a * a, a * b, b * b],
+            _ => Vec::new(),
+        };
+        basis
+            .iter()
+            .zip(&self.coefficients)
+            .map(|(b, c)| b * c)
+            .sum()
+    }
 }
