@@ -3,10 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
+use super::cohesion::{analyse_cohesion, cohesion_blocks, load_cohesion};
 use super::comparison::compare_with_paper;
 use super::data::load_study;
 use super::document::{Block, Document};
-use super::figures::report_figures;
+use super::figures::{cohesion_figures, report_figures};
 use super::{analyse_study, tables};
 use files::StudyFileError;
 use files::{plot_png, plot_svg, write_atomic, write_json_atomic, OutputError};
@@ -170,15 +171,21 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     for block in silo_blocks(&analysis.silo) {
         doc.push(block);
     }
+    // Cohesion: written only when some case's file names a cohesion law.
+    let cohesion = analyse_cohesion(&load_cohesion(root, &data.rows));
+    for block in cohesion_blocks(&cohesion) {
+        doc.push(block);
+    }
 
     doc.push(Block::Heading(2, "Figures".into()));
     let mut figure_files = Vec::new();
     // The figures are the paper's (Figs. 2, 5, 8, 11): they need slab cases.
-    let figures = if analysis.has_slabs {
+    let mut figures = if analysis.has_slabs {
         report_figures(&analysis)
     } else {
         Vec::new()
     };
+    figures.extend(cohesion_figures(&cohesion));
     for figure in figures {
         let png = figures_dir.join(format!("{}.png", figure.name));
         let svg = figures_dir.join(format!("{}.svg", figure.name));

@@ -130,7 +130,7 @@ fn point_key(id: &str) -> &str {
 /// of the whole 90° shape fit. A run's own error (blocking error of W, a bin's error over
 /// its crossings) is a floor that chance agreement cannot lower. With one value, its own
 /// error is used.
-fn replica_mean(samples: &[(f64, f64)]) -> Estimate {
+pub(crate) fn replica_mean(samples: &[(f64, f64)]) -> Estimate {
     let finite: Vec<(f64, f64)> = samples
         .iter()
         .copied()
@@ -230,13 +230,17 @@ fn case_facts(dir: &Path, row: &ResultRow) -> (String, f64) {
         .and_then(|k| k.as_str())
         .unwrap_or("slab")
         .to_string();
-    // A resolved case writes `gravity` only when it differs from the default.
-    let gravity = match table.get("gravity") {
+    (kind, case_gravity(&table))
+}
+
+/// g [m/s²] of a resolved case: a resolved case writes `gravity` only when it differs from
+/// the default.
+pub(crate) fn case_gravity(table: &toml::Table) -> f64 {
+    match table.get("gravity") {
         Some(toml::Value::Float(g)) => *g,
         Some(toml::Value::Integer(g)) => *g as f64,
         _ => DEFAULT_GRAVITY,
-    };
-    (kind, gravity)
+    }
 }
 
 /// A case's `summary.json`, when it reads.

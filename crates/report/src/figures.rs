@@ -504,3 +504,77 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
     push(&mut out, "fig16-relative-rate".into(), "Fig. 16: discharge rate divided by W0, the centred flat-bottom rate of the same width, against s*.".into(), fig16);
     out
 }
+
+/// W/W(Bo = 0) against log₁₀ Bo, one series per outlet width, for each group of the
+/// cohesion section with a dry reference (the plot has linear axes: log₁₀ Bo is the
+/// abscissa, and the dry points, Bo = 0, are the reference, not points).
+pub fn cohesion_figures(analysis: &super::cohesion::CohesionAnalysis) -> Vec<ReportFigure> {
+    let mut out = Vec::new();
+    let several = analysis.groups.len() > 1;
+    for (i, group) in analysis.groups.iter().enumerate() {
+        let mut figure = Figure::new(
+            "W/W(Bo = 0) against the Bond number",
+            Axis::new("log₁₀ Bo", ""),
+            Axis::new("W/W(Bo = 0)", "-"),
+        );
+        for (k, &width) in group.widths.iter().enumerate() {
+            let points: Vec<(f64, f64, f64)> = group
+                .levels
+                .iter()
+                .filter(|l| l.bond > 0.0)
+                .filter_map(|l| {
+                    l.cells[k]
+                        .relative_rate
+                        .map(|r| (l.bond.log10(), r.value, r.standard_error))
+                })
+                .collect();
+            if points.is_empty() {
+                continue;
+            }
+            let errors = points
+                .iter()
+                .map(|p| if p.2.is_finite() { p.2 } else { 0.0 })
+                .collect();
+            figure = figure.with_series(
+                Series {
+                    style: files::SeriesStyle::LineAndPoints,
+                    ..Series::points(
+                        format!(
+                            "D = {:.1} mm ({:.1} d)",
+                            width * 1e3,
+                            width / group.particle_diameter
+                        ),
+                        points.iter().map(|p| p.0).collect(),
+                        points.iter().map(|p| p.1).collect(),
+                    )
+                }
+                .with_y_error(errors),
+            );
+        }
+        // The dry reference across the Bond numbers plotted.
+        let xs: Vec<f64> = group
+            .levels
+            .iter()
+            .filter(|l| l.bond > 0.0)
+            .map(|l| l.bond.log10())
+            .collect();
+        if let (Some(lo), Some(hi)) = (
+            xs.iter().copied().reduce(f64::min),
+            xs.iter().copied().reduce(f64::max),
+        ) {
+            figure = figure.with_series(
+                Series::line("dry (Bo = 0)", vec![lo, hi], vec![1.0, 1.0]).with_color([120; 3]),
+            );
+        }
+        let name = if several {
+            format!("cohesion-rate-ratio-{}", i + 1)
+        } else {
+            "cohesion-rate-ratio".into()
+        };
+        push(&mut out, name, format!(
+            "Discharge rate over the dry rate at the same outlet width against the Bond number Bo = F_c/(m g) (log₁₀ Bo on the axis), series {}; error bars one standard error, the two rates' errors combined in quadrature. A width that clogged at some Bo has no point there (see the table).",
+            group.series.join(", ")
+        ), figure);
+    }
+    out
+}

@@ -7,6 +7,8 @@
 //!   Table 2 quantities and Eq. 14 ([`centred`]), Table 3 quantities and Eq. 18
 //!   ([`eccentric`]); every function here is pure;
 //! - [`compare_with_paper`] turns the fits into the paper's acceptance items;
+//! - [`load_cohesion`] and [`analyse_cohesion`] read each case's Bond number ([`bond`])
+//!   and tabulate W against Bo, the critical outlet width against Bo and the arches;
 //! - [`build_report`] writes `report/report.md`, `report/report.html` (self-contained),
 //!   `report/comparison.json` and the figures;
 //! - [`build_calibration_report`] writes the report of a calibration folder
@@ -15,9 +17,11 @@
 #![warn(missing_docs)]
 
 pub mod beverloo;
+pub mod bond;
 mod build;
 mod calibration;
 pub mod centred;
+mod cohesion;
 mod comparison;
 mod data;
 mod document;
@@ -30,6 +34,10 @@ use analysis::Estimate;
 
 pub use build::{build_report, ReportError, ReportFiles};
 pub use calibration::{build_calibration_report, is_calibration, CalibrationReportFiles};
+pub use cohesion::{
+    analyse_cohesion, load_cohesion, BondCell, BondLevel, CohesionAnalysis, CohesionCase,
+    CohesionGroup, CohesionStudy, CriticalWidth,
+};
 pub use comparison::{
     compare_with_paper, ComparisonItem, ANGLE_SERIES, B_TREND_FROM_DEG, ECCENTRIC_SERIES,
     FLAT_TOLERANCE, OTHER_CODES_K_90,
