@@ -14,9 +14,11 @@ mod case;
 mod cuboid;
 mod cylinder;
 mod document;
+mod draw_down;
 mod error;
 mod fill_height;
 mod geometry;
+mod heap;
 mod limits;
 mod mesh;
 mod overrides;
@@ -26,6 +28,8 @@ mod resolve;
 mod resolve_cohesion;
 mod resolve_cuboid;
 mod resolve_cylinder;
+mod resolve_draw_down;
+mod resolve_heap;
 mod resolve_materials;
 mod resolve_mesh;
 mod resolve_particles;
@@ -52,8 +56,10 @@ pub use case::{
 };
 pub use cuboid::{CuboidFace, CuboidGeometry, CuboidOutlet, HalfSpace};
 pub use cylinder::CylinderGeometry;
+pub use draw_down::DrawDownGeometry;
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::Geometry;
+pub use heap::HeapGeometry;
 pub use mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 pub use particles::{
     mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, MaterialSpec,
@@ -62,7 +68,8 @@ pub use particles::{
 pub use slab::SlabGeometry;
 pub use sweep::{load_sweep, parse_sweep, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan};
 pub use template::{
-    template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, MESH_TEMPLATE,
+    template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, DRAW_DOWN_TEMPLATE,
+    HEAP_TEMPLATE, MESH_TEMPLATE,
 };
 pub use wall_surface::{WallSurface, DEFAULT_MESH_SEGMENTS};
 

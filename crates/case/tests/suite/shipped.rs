@@ -20,7 +20,7 @@ const SHIPPED_FOLDERS: [&str; 3] = ["cases", "bench", "examples"];
 const KNOWN_FILES: usize = 15;
 
 /// The kinds `hopperflow init --kind` takes (its clap list).
-const TEMPLATE_KINDS: [&str; 4] = ["slab", "cylinder", "box", "mesh"];
+const TEMPLATE_KINDS: [&str; 6] = ["slab", "cylinder", "box", "mesh", "heap", "draw_down"];
 
 fn repository_root() -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -148,7 +148,7 @@ fn every_template_of_hopperflow_init_is_a_valid_case_with_its_files() {
 /// The SHA-256 of each template's text, pinned so that building the templates from shared
 /// sections (in `template.rs`) cannot change a byte of what `hopperflow init` writes. A
 /// deliberate change to a template's text updates its digest here.
-const TEMPLATE_SHA256: [(&str, &str); 4] = [
+const TEMPLATE_SHA256: [(&str, &str); 6] = [
     (
         "slab",
         "74df33b3d83f14d87e28ac66177c5b513f9d017fd29df786dc1973d195900300",
@@ -164,6 +164,14 @@ const TEMPLATE_SHA256: [(&str, &str); 4] = [
     (
         "mesh",
         "184fb50a34771b34b1a34330f3b6239db3fd21aea6a0ff1833fd5c5b2ba0efd4",
+    ),
+    (
+        "heap",
+        "1e3cec3eda8f76048dc8eb1969456209ea15b7c9e98c0c42c67a3be1ef52c27a",
+    ),
+    (
+        "draw_down",
+        "25552ede8fd5315dd6bc3ee699d2656b03627fe82190ebdc647e66ef28755319",
     ),
 ];
 
