@@ -67,6 +67,41 @@ restitution = 0.2        # e particle–wall [-], in (0, 1]
     };
 }
 
+/// The paper's particle material with the rolling friction of a calibration test, the walls of
+/// that material, and the contact laws (the heap and draw-down templates).
+macro_rules! calibration_material {
+    () => {
+        concat!(
+            r#"[particles.material]
+density = 2500.0         # ρ_p [kg/m³]
+shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
+poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
+
+# The rolling friction is what a calibration tunes first, with the sliding friction and the
+# cohesion. 0.1 stands a heap of spheres at about 17° here; the paper's 0.01 lets spheres roll
+# away over the smooth plate and floor (a heap of about 3°). The walls' own rolling friction
+# stands for the roughness of the lab's base: raise it to model a base roughened with glued
+# grains.
+[wall]
+material = "same"        # "same", "rigid", or a [wall.material] table
+friction = 0.5           # μ_s particle–wall [-], ≥ 0
+rolling_friction = 0.1   # μ_r particle–wall [-], ≥ 0
+restitution = 0.2        # e particle–wall [-], in (0, 1]
+
+[contact]
+friction = 0.5           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.1   # μ_r particle–particle [-], ≥ 0
+restitution = 0.2        # e particle–particle [-], in (0, 1]
+# cohesion = { law = "jkr", work_of_adhesion = 0.05 }  # dry when absent (docs/physics.md
+#   §2.4–2.7): "jkr" with work_of_adhesion [J/m²]; "sjkr" with energy_density [J/m³]; or
+#   "liquid_bridge" with volume [m³], surface_tension [N/m], contact_angle_deg [0, 90].
+#   [wall] and [[pairs]] take the same key.
+"#,
+            contact_laws!(),
+        )
+    };
+}
+
 /// The `[protocol]` header and the settling keys (every template).
 macro_rules! settling {
     () => {
@@ -434,8 +469,8 @@ plots = true             # draw the plots and the frames of a vertical cut throu
 );
 
 /// A case file of the angle-of-repose test with every key explained (`hopperflow init --kind
-/// heap`): a cylinder of 40 mm inner diameter filled with 2000 spheres of the paper's material,
-/// lifted off a plate at 50 mm/s.
+/// heap`): a cylinder of 40 mm inner diameter filled with 2000 spheres of the paper's material
+/// with a rolling friction of 0.1, lifted off a plate at 50 mm/s.
 pub const HEAP_TEMPLATE: &str = concat!(
     r#"# hopperflow case file: the angle of repose of a heap from a lifted cylinder.
 #
@@ -466,10 +501,11 @@ count = 2000             # N; they must fit in the cylinder below H at volume fr
 diameter = 0.003         # d [m], or a [particles.size_distribution] as in `hopperflow init`
 
 "#,
-    material_wall_contact!(),
+    calibration_material!(),
     r#"
 [time]
-time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; or rayleigh_fraction = 0.097
+time_step = 4.0e-6       # Δt [s], at most 0.2 Rayleigh times: 0.155 t_R for these spheres, a
+                         # larger step than the paper's 2.5e-6 s (0.097 t_R), for a cheap test
 
 "#,
     settling!(),
@@ -500,7 +536,8 @@ plots = true             # draw the plots and the frames of a vertical cut throu
 );
 
 /// A case file of the draw-down test with every key explained (`hopperflow init --kind
-/// draw-down`): a box 100 mm × 30 mm over a 20 mm slot, 3000 spheres of the paper's material.
+/// draw-down`): a box 100 mm × 30 mm over a 20 mm slot, 3000 spheres of the paper's material
+/// with a rolling friction of 0.1.
 pub const DRAW_DOWN_TEMPLATE: &str = concat!(
     r#"# hopperflow case file: the draw-down test.
 #
@@ -531,10 +568,11 @@ count = 3000             # N; they must fit below H at volume fraction 0.64
 diameter = 0.003         # d [m], or a [particles.size_distribution] as in `hopperflow init`
 
 "#,
-    material_wall_contact!(),
+    calibration_material!(),
     r#"
 [time]
-time_step = 2.5e-6       # Δt [s], at most 0.2 Rayleigh times; or rayleigh_fraction = 0.097
+time_step = 4.0e-6       # Δt [s], at most 0.2 Rayleigh times: 0.155 t_R for these spheres, a
+                         # larger step than the paper's 2.5e-6 s (0.097 t_R), for a cheap test
 
 "#,
     settling!(),

@@ -42,6 +42,20 @@ pub struct FlankFit {
     pub intercept: f64,
     /// The bins the line was fitted to.
     pub bins: usize,
+    /// The abscissae of the first and last bins fitted [m]: the flank.
+    pub range: [f64; 2],
+    /// The band of heights fitted [m]: `FLANK_BAND` times the pile's height.
+    pub band: [f64; 2],
+}
+
+impl FlankFit {
+    /// Whether `bin` was one of the bins fitted.
+    pub fn fitted(&self, bin: &SurfaceBin) -> bool {
+        bin.position >= self.range[0]
+            && bin.position <= self.range[1]
+            && bin.height >= self.band[0]
+            && bin.height <= self.band[1]
+    }
 }
 
 /// The highest top in bins of width `width` [m] from `start` [m] up, of the particles given as
@@ -107,6 +121,11 @@ pub(crate) fn fit_flank(bins: &[SurfaceBin], pile_height: f64, falling: f64) -> 
         angle_error_deg: (fit.slope.standard_error / (1.0 + s * s)).to_degrees(),
         intercept: fit.intercept.value,
         bins: u.len(),
+        range: [
+            u.iter().copied().fold(f64::INFINITY, f64::min),
+            u.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        ],
+        band: [lo, hi],
     })
 }
 
