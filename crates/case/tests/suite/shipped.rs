@@ -167,11 +167,11 @@ const TEMPLATE_SHA256: [(&str, &str); 6] = [
     ),
     (
         "heap",
-        "1e3cec3eda8f76048dc8eb1969456209ea15b7c9e98c0c42c67a3be1ef52c27a",
+        "099ed0fb6359daa7713c49aee8f38ae58b61ec462901389eb53698cc586cd197",
     ),
     (
         "draw_down",
-        "25552ede8fd5315dd6bc3ee699d2656b03627fe82190ebdc647e66ef28755319",
+        "2042cc2d99a9baafd6b4f400d7c2c1b8ce6de3fa2f12682cebd18ed67d631be7",
     ),
 ];
 
