@@ -170,14 +170,12 @@ pub(crate) fn resolve_case(
         height,
         (
             particles.as_ref().map_or(3.0e-3, |(p, _)| p.min_diameter()),
-            geometry
-                .as_ref()
-                .map(|g| {
-                    matches!(
-                        g,
-                        Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::DrawDown(_)
-                    )
-                }),
+            geometry.as_ref().map(|g| {
+                matches!(
+                    g,
+                    Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::DrawDown(_)
+                )
+            }),
         ),
         &mut errors,
     );
@@ -303,8 +301,9 @@ fn read_container(
             super::resolve_mesh::read_mesh(section, d_max, dir, errors).map(Geometry::Mesh)
         }
         Some("heap") => super::resolve_heap::read_heap(section, d_max, errors).map(Geometry::Heap),
-        Some("draw_down") => super::resolve_draw_down::read_draw_down(section, d_max, errors)
-            .map(Geometry::DrawDown),
+        Some("draw_down") => {
+            super::resolve_draw_down::read_draw_down(section, d_max, errors).map(Geometry::DrawDown)
+        }
         Some(other) => {
             let kind = kind.as_ref().expect("a kind was given");
             let allowed: Vec<String> = GEOMETRY_KINDS.iter().map(|k| format!("\"{k}\"")).collect();

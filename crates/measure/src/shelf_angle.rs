@@ -125,8 +125,8 @@ pub fn shelf_angles(
             continue;
         }
         let side = usize::from(x > 0.0);
-        let strip = (((y + 0.5 * binning.depth) / binning.depth * n as f64).floor() as usize)
-            .min(n - 1);
+        let strip =
+            (((y + 0.5 * binning.depth) / binning.depth * n as f64).floor() as usize).min(n - 1);
         let top = z + r;
         tops[side * n + strip].push((x.abs() - half_slot, top));
         if !(heights[side] >= top) {

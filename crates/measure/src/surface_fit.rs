@@ -140,7 +140,12 @@ pub(crate) fn mean_angle(fits: &[FlankFit]) -> (f64, f64) {
         return (f64::NAN, f64::NAN);
     }
     let mean = fits.iter().map(|f| f.angle_deg).sum::<f64>() / n;
-    let fit_part = fits.iter().map(|f| f.angle_error_deg.powi(2)).sum::<f64>().sqrt() / n;
+    let fit_part = fits
+        .iter()
+        .map(|f| f.angle_error_deg.powi(2))
+        .sum::<f64>()
+        .sqrt()
+        / n;
     let scatter = if fits.len() > 1 {
         let var = fits
             .iter()
@@ -181,7 +186,13 @@ mod tests {
         let fit = fit_flank(&bins, top, 1.0).unwrap();
         assert!((fit.angle_deg - 35.0).abs() < 1e-9, "{fit:?}");
         assert!(fit.angle_error_deg < 1e-9);
-        let (mean, error) = mean_angle(&[fit, FlankFit { angle_deg: 37.0, ..fit }]);
+        let (mean, error) = mean_angle(&[
+            fit,
+            FlankFit {
+                angle_deg: 37.0,
+                ..fit
+            },
+        ]);
         // Two flanks of 35° and 37°: mean 36°, standard error of the mean 1°.
         assert!((mean - 36.0).abs() < 1e-9 && (error - 1.0).abs() < 1e-9);
     }
@@ -189,7 +200,12 @@ mod tests {
     /// Each bin keeps its highest top; empty bins are left out.
     #[test]
     fn the_surface_is_the_highest_top_per_bin() {
-        let tops = [(0.0005, 0.01), (0.0007, 0.02), (0.0025, 0.005), (-0.001, 1.0)];
+        let tops = [
+            (0.0005, 0.01),
+            (0.0007, 0.02),
+            (0.0025, 0.005),
+            (-0.001, 1.0),
+        ];
         let bins = top_surface(tops.into_iter(), 0.0, 0.001);
         assert_eq!(bins.len(), 2);
         assert_eq!((bins[0].position, bins[0].height), (0.0005, 0.02));

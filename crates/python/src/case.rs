@@ -255,11 +255,9 @@ impl Case {
                 "kind=heap, R_c={} m, R_p={} m, lift={} m/s",
                 s.cylinder_radius, s.plate_radius, s.lift_speed
             ),
-            case::Geometry::DrawDown(s) => format!(
-                "kind=draw_down, W={} m, B={} m",
-                s.width(),
-                s.depth()
-            ),
+            case::Geometry::DrawDown(s) => {
+                format!("kind=draw_down, W={} m, B={} m", s.width(), s.depth())
+            }
         };
         format!(
             "Case(N={}, d={} m, {size}, D={} m, alpha={}°, seed={})",

@@ -7,8 +7,7 @@ use std::path::Path;
 use case::{DrawDownGeometry, HeapGeometry};
 use files::{write_csv_table, Cell, DrawDownSummary, ReposeSummary};
 use measure::{
-    heap_angle, shelf_angles, FlankFit, HeapBinning, Shelf, ShelfBinning, SurfaceBin,
-    HEAP_SECTORS,
+    heap_angle, shelf_angles, FlankFit, HeapBinning, Shelf, ShelfBinning, SurfaceBin, HEAP_SECTORS,
 };
 
 use super::protocol::CaseRun;
@@ -34,7 +33,11 @@ fn last_state(run: &CaseRun) -> (Vec<[f64; 3]>, Vec<f64>, Vec<f64>) {
 
 /// A surface bin's row tail: top, the line `line(u)` of `fit` there, and whether it was
 /// fitted.
-fn fitted_cells(bin: &SurfaceBin, fit: Option<&FlankFit>, line: impl Fn(&FlankFit) -> f64) -> [Cell; 3] {
+fn fitted_cells(
+    bin: &SurfaceBin,
+    fit: Option<&FlankFit>,
+    line: impl Fn(&FlankFit) -> f64,
+) -> [Cell; 3] {
     let on = fit.is_some_and(|f| f.fitted(bin));
     [
         bin.height.into(),
@@ -67,7 +70,11 @@ pub(crate) fn heap_outputs(
             rows.push(row);
         }
     }
-    write_csv_table(out_dir.join("heap_surface.csv"), &HEAP_SURFACE_COLUMNS, &rows)?;
+    write_csv_table(
+        out_dir.join("heap_surface.csv"),
+        &HEAP_SURFACE_COLUMNS,
+        &rows,
+    )?;
     let on_plate = positions
         .iter()
         .filter(|p| p[2] >= 0.0 && p[0].hypot(p[1]) <= test.plate_radius)
@@ -119,7 +126,11 @@ pub(crate) fn draw_down_outputs(
             rows.push(row);
         }
     }
-    write_csv_table(out_dir.join("shelf_surface.csv"), &SHELF_SURFACE_COLUMNS, &rows)?;
+    write_csv_table(
+        out_dir.join("shelf_surface.csv"),
+        &SHELF_SURFACE_COLUMNS,
+        &rows,
+    )?;
     // What stays in the box: the grains above its floor (those still falling through the
     // slot are on their way out).
     let residual_mass = positions

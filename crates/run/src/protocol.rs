@@ -252,18 +252,18 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
         },
         Geometry::Cuboid(g) | Geometry::DrawDown(case::DrawDownGeometry { container: g }) => {
             OutletGeometry {
-            outlet_height: 0.0,
-            centre: g.outlet_offset,
-            half_width: g.outlet_radius(),
-            particle_diameter,
-            shape: match g.outlet {
-                case::CuboidOutlet::Slot => OutletShape::Slot,
-                case::CuboidOutlet::Square => OutletShape::Rectangle {
-                    centre_y: 0.0,
-                    half_depth: g.outlet_radius(),
+                outlet_height: 0.0,
+                centre: g.outlet_offset,
+                half_width: g.outlet_radius(),
+                particle_diameter,
+                shape: match g.outlet {
+                    case::CuboidOutlet::Slot => OutletShape::Slot,
+                    case::CuboidOutlet::Square => OutletShape::Rectangle {
+                        centre_y: 0.0,
+                        half_depth: g.outlet_radius(),
+                    },
                 },
-            },
-        }
+            }
         }
         // The heap has no outlet; its crossing probe, never shown a frame, is given the
         // plate's disc, past whose edge the grains leave.

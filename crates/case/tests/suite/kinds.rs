@@ -78,11 +78,27 @@ fn heap_and_draw_down_templates_are_valid_complete_and_round_trip() {
     // The box it builds: a flat floor and a slot centred across the whole depth.
     let container = box_test.geometry.rectangular().expect("a box");
     assert_eq!(
-        (container.hopper_angle_deg, container.outlet_offset, container.outlet),
+        (
+            container.hopper_angle_deg,
+            container.outlet_offset,
+            container.outlet
+        ),
         (90.0, 0.0, CuboidOutlet::Slot)
     );
     template_documents_every_key(&box_test, DRAW_DOWN_TEMPLATE);
     round_trips(&box_test);
+
+    // The example cases under cases/ are these templates below a line naming them.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
+    for (file, text) in [
+        ("repose.toml", HEAP_TEMPLATE),
+        ("draw-down.toml", DRAW_DOWN_TEMPLATE),
+    ] {
+        let shipped = std::fs::read_to_string(root.join(file)).expect("the example case");
+        let (first, rest) = shipped.split_once('\n').expect("a first line");
+        assert!(first.starts_with(&format!("# {file}")), "{first}");
+        assert_eq!(rest, text, "cases/{file} differs from its template");
+    }
 }
 
 #[test]

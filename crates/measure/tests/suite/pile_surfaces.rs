@@ -51,9 +51,10 @@ fn lattice_pile(
 fn a_heap_of_thirty_degrees_is_measured_at_thirty() {
     let (radius, angle) = (0.06, 30f64.to_radians());
     let h0 = radius * angle.tan();
-    let (positions, radii) = lattice_pile([-radius, -radius, 0.5 * D], [radius, radius, h0], 7, |p| {
-        p[2] >= 0.5 * D && p[2] + 0.5 * D <= h0 - p[0].hypot(p[1]) * angle.tan()
-    });
+    let (positions, radii) =
+        lattice_pile([-radius, -radius, 0.5 * D], [radius, radius, h0], 7, |p| {
+            p[2] >= 0.5 * D && p[2] + 0.5 * D <= h0 - p[0].hypot(p[1]) * angle.tan()
+        });
     assert!(positions.len() > 3000, "{} spheres", positions.len());
     let binning = HeapBinning {
         axis: [0.0, 0.0],
@@ -64,7 +65,8 @@ fn a_heap_of_thirty_degrees_is_measured_at_thirty() {
     assert_eq!(heap.fitted_sectors, HEAP_SECTORS);
     assert!((heap.angle_deg - 30.0).abs() < 2.0, "{heap:?}");
     assert!(
-        heap.angle_error_deg > 0.0 && (heap.angle_deg - 30.0).abs() < 3.0 * heap.angle_error_deg + 0.5,
+        heap.angle_error_deg > 0.0
+            && (heap.angle_deg - 30.0).abs() < 3.0 * heap.angle_error_deg + 0.5,
         "θ = {} ± {}",
         heap.angle_deg,
         heap.angle_error_deg
@@ -72,7 +74,11 @@ fn a_heap_of_thirty_degrees_is_measured_at_thirty() {
     // The summit stands within a diameter of the cone's apex; the fitted base within two
     // bins of its foot.
     assert!((heap.height - h0).abs() < D, "height {}", heap.height);
-    assert!((heap.base_radius - radius).abs() < 2.0 * D, "base {}", heap.base_radius);
+    assert!(
+        (heap.base_radius - radius).abs() < 2.0 * D,
+        "base {}",
+        heap.base_radius
+    );
 
     // Grains that rolled out onto the plate, far beyond the toe, and grains falling past its
     // edge (below z = 0) lie outside the flank's band: the angle does not move.
@@ -104,7 +110,11 @@ fn a_lopsided_heap_shows_in_its_error() {
         sectors: HEAP_SECTORS,
     };
     let heap = heap_angle(&positions, &radii, &binning).unwrap();
-    assert!(heap.angle_deg > 26.0 && heap.angle_deg < 39.0, "{}", heap.angle_deg);
+    assert!(
+        heap.angle_deg > 26.0 && heap.angle_deg < 39.0,
+        "{}",
+        heap.angle_deg
+    );
     assert!(heap.angle_error_deg > 2.0, "error {}", heap.angle_error_deg);
 }
 

@@ -62,7 +62,11 @@ pub fn build_heap_walls(
 /// sides where it stands before the lift, and the plate.
 pub fn heap_outline(test: &HeapGeometry) -> Vec<[(f64, f64); 2]> {
     let (r, h, rp) = (test.cylinder_radius, test.height, test.plate_radius);
-    vec![[(-r, 0.0), (-r, h)], [(r, 0.0), (r, h)], [(-rp, 0.0), (rp, 0.0)]]
+    vec![
+        [(-r, 0.0), (-r, h)],
+        [(r, 0.0), (r, h)],
+        [(-rp, 0.0), (rp, 0.0)],
+    ]
 }
 
 /// The walls as polygons [m] for the VTU output: quadrilaterals around the cylinder where it

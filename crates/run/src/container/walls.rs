@@ -178,9 +178,12 @@ pub fn build_container_walls(
         Geometry::Mesh(g) => ContainerWalls::Mesh(build_mesh_walls(sim, g, material, interaction)?),
         Geometry::Heap(g) => ContainerWalls::Heap(build_heap_walls(sim, g, material, interaction)?),
         // The draw-down test is the box it carries.
-        Geometry::DrawDown(g) => {
-            ContainerWalls::Box(build_cuboid_walls(sim, &g.container, material, interaction)?)
-        }
+        Geometry::DrawDown(g) => ContainerWalls::Box(build_cuboid_walls(
+            sim,
+            &g.container,
+            material,
+            interaction,
+        )?),
     })
 }
 

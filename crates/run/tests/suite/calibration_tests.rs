@@ -48,11 +48,18 @@ fn a_lifted_cylinder_leaves_a_heap_at_its_angle_of_repose() {
     // Most sectors had a flank to fit; the heap is lower than the fill stood in the cylinder
     // (about 20 mm) and wider than the cylinder.
     assert!(repose.sectors >= 6, "{repose:?}");
-    assert!(repose.height < 0.02 && repose.base_radius > 0.015, "{repose:?}");
+    assert!(
+        repose.height < 0.02 && repose.base_radius > 0.015,
+        "{repose:?}"
+    );
     // heap_surface.csv: sector, r, top, fit, fitted; the fitted bins lie on the flank.
     let surface = table(&dir.join("heap_surface.csv"));
     let fitted: Vec<&Vec<f64>> = surface.iter().filter(|row| row[4] == 1.0).collect();
-    assert!(fitted.len() >= 3 * repose.sectors, "{} fitted bins", fitted.len());
+    assert!(
+        fitted.len() >= 3 * repose.sectors,
+        "{} fitted bins",
+        fitted.len()
+    );
     for row in fitted {
         assert!(row[2] >= 0.2 * repose.height && row[2] <= 0.8 * repose.height);
     }
@@ -80,7 +87,11 @@ fn a_draw_down_box_drains_leaving_slopes_on_both_shelves() {
     let dir = root.path().join("dd");
     let summary = run_dir::finished(&case, &dir, 1, false);
     assert_eq!(summary.stop_reason, StopReason::Drained);
-    assert!(summary.discharge_rate > 0.0, "W = {}", summary.discharge_rate);
+    assert!(
+        summary.discharge_rate > 0.0,
+        "W = {}",
+        summary.discharge_rate
+    );
     let shelves = summary.draw_down.expect("a draw-down test has its shelves");
     for angle in [shelves.left_angle_deg, shelves.right_angle_deg] {
         assert!(angle > 15.0 && angle < 60.0, "{shelves:?}");

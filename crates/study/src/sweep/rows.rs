@@ -76,7 +76,9 @@ pub fn measured_row(case: &SweepCase, summary: &CaseSummary) -> ResultRow {
         repose_angle_deg: summary.repose.map_or(f64::NAN, |r| r.angle_deg),
         repose_angle_error_deg: summary.repose.map_or(f64::NAN, |r| r.angle_error_deg),
         shelf_angle_deg: summary.draw_down.map_or(f64::NAN, |s| s.shelf_angle_deg),
-        shelf_angle_error_deg: summary.draw_down.map_or(f64::NAN, |s| s.shelf_angle_error_deg),
+        shelf_angle_error_deg: summary
+            .draw_down
+            .map_or(f64::NAN, |s| s.shelf_angle_error_deg),
         ..failed_row(case)
     }
 }
