@@ -322,6 +322,8 @@ impl Case {
             Geometry::Slab(g) => g.height_holding(self.packed_area()),
             Geometry::Cylinder(g) => g.height_holding(self.packed_volume()),
             Geometry::Cuboid(g) => g.height_holding(self.packed_volume()),
+            Geometry::DrawDown(g) => g.container.height_holding(self.packed_volume()),
+            Geometry::Heap(g) => g.height_holding(self.packed_volume()),
             Geometry::Mesh(_) => None,
         }
     }

@@ -15,9 +15,11 @@ mod case;
 mod cuboid;
 mod cylinder;
 mod document;
+mod draw_down;
 mod error;
 mod fill_height;
 mod geometry;
+mod heap;
 mod limits;
 mod mesh;
 mod overrides;
@@ -27,6 +29,8 @@ mod resolve;
 mod resolve_cohesion;
 mod resolve_cuboid;
 mod resolve_cylinder;
+mod resolve_draw_down;
+mod resolve_heap;
 mod resolve_materials;
 mod resolve_mesh;
 mod resolve_particles;
@@ -57,8 +61,10 @@ pub use case::{
 };
 pub use cuboid::{CuboidFace, CuboidGeometry, CuboidOutlet, HalfSpace};
 pub use cylinder::CylinderGeometry;
+pub use draw_down::DrawDownGeometry;
 pub use error::{ConfigError, ConfigErrors, ErrorKind, Location};
 pub use geometry::Geometry;
+pub use heap::HeapGeometry;
 pub use mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 pub use particles::{
     mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, MaterialSpec,
@@ -69,7 +75,8 @@ pub use sweep::{
     load_sweep, parse_sweep, replica_seed, sweep_with_replicas, SkippedCase, SweepCase, SweepPlan,
 };
 pub use template::{
-    template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, MESH_TEMPLATE,
+    template, template_files, BOX_TEMPLATE, CASE_TEMPLATE, CYLINDER_TEMPLATE, DRAW_DOWN_TEMPLATE,
+    HEAP_TEMPLATE, MESH_TEMPLATE,
 };
 pub use wall_surface::{WallSurface, DEFAULT_MESH_SEGMENTS};
 

@@ -170,9 +170,12 @@ pub(crate) fn resolve_case(
         height,
         (
             particles.as_ref().map_or(3.0e-3, |(p, _)| p.min_diameter()),
-            geometry
-                .as_ref()
-                .map(|g| matches!(g, Geometry::Cylinder(_) | Geometry::Cuboid(_))),
+            geometry.as_ref().map(|g| {
+                matches!(
+                    g,
+                    Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::DrawDown(_)
+                )
+            }),
         ),
         &mut errors,
     );
@@ -258,7 +261,7 @@ fn read_interaction(
 }
 
 /// The geometry kinds `geometry.kind` accepts.
-const GEOMETRY_KINDS: &[&str] = &["slab", "cylinder", "box", "mesh"];
+const GEOMETRY_KINDS: &[&str] = &["slab", "cylinder", "box", "mesh", "heap", "draw_down"];
 
 /// The key of a geometry's outlet size D, as messages name it.
 pub(crate) fn outlet_key(geometry: &Geometry) -> &'static str {
@@ -266,6 +269,9 @@ pub(crate) fn outlet_key(geometry: &Geometry) -> &'static str {
         Geometry::Slab(_) => "geometry.outlet_width",
         Geometry::Cylinder(_) => "geometry.outlet_diameter",
         Geometry::Cuboid(_) => "geometry.outlet_width",
+        Geometry::DrawDown(_) => "geometry.slot_width",
+        // No outlet: its size is NaN, which no check compares against.
+        Geometry::Heap(_) => "geometry.plate_radius",
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Disc { .. } => "the disc's diameter, 2 × geometry.outlet.radius",
             MeshOutlet::Rectangle { .. } => "the rectangle's side along x, geometry.outlet.size[0]",
@@ -293,6 +299,10 @@ fn read_container(
         }
         Some("mesh") => {
             super::resolve_mesh::read_mesh(section, d_max, dir, errors).map(Geometry::Mesh)
+        }
+        Some("heap") => super::resolve_heap::read_heap(section, d_max, errors).map(Geometry::Heap),
+        Some("draw_down") => {
+            super::resolve_draw_down::read_draw_down(section, d_max, errors).map(Geometry::DrawDown)
         }
         Some(other) => {
             let kind = kind.as_ref().expect("a kind was given");
@@ -544,6 +554,35 @@ fn check_particles_fit(
                 &count,
                 case,
                 silo.volume(),
+                &keys,
+                diameter_source,
+            ));
+            return;
+        }
+        Geometry::DrawDown(test) => {
+            let keys = [
+                key("width", "m", test.width()),
+                key("depth", "m", test.depth()),
+                key("height", "m", test.height()),
+            ];
+            errors.push(silo_does_not_fit(
+                &count,
+                case,
+                test.container.volume(),
+                &keys,
+                diameter_source,
+            ));
+            return;
+        }
+        Geometry::Heap(test) => {
+            let keys = [
+                key("cylinder_radius", "m", test.cylinder_radius),
+                key("height", "m", test.height),
+            ];
+            errors.push(silo_does_not_fit(
+                &count,
+                case,
+                test.volume(),
                 &keys,
                 diameter_source,
             ));

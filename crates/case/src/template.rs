@@ -67,6 +67,41 @@ restitution = 0.2        # e particle–wall [-], in (0, 1]
     };
 }
 
+/// The paper's particle material with the rolling friction of a calibration test, the walls of
+/// that material, and the contact laws (the heap and draw-down templates).
+macro_rules! calibration_material {
+    () => {
+        concat!(
+            r#"[particles.material]
+density = 2500.0         # ρ_p [kg/m³]
+shear_modulus = 1.0e8    # G [Pa]; or youngs_modulus = E [Pa], not both
+poisson_ratio = 0.25     # ν [-], in (−1, 0.5)
+
+# The rolling friction is what a calibration tunes first, with the sliding friction and the
+# cohesion. 0.1 stands a heap of spheres at about 17° here; the paper's 0.01 lets spheres roll
+# away over the smooth plate and floor (a heap of about 3°). The walls' own rolling friction
+# stands for the roughness of the lab's base: raise it to model a base roughened with glued
+# grains.
+[wall]
+material = "same"        # "same", "rigid", or a [wall.material] table
+friction = 0.5           # μ_s particle–wall [-], ≥ 0
+rolling_friction = 0.1   # μ_r particle–wall [-], ≥ 0
+restitution = 0.2        # e particle–wall [-], in (0, 1]
+
+[contact]
+friction = 0.5           # μ_s particle–particle [-], ≥ 0
+rolling_friction = 0.1   # μ_r particle–particle [-], ≥ 0
+restitution = 0.2        # e particle–particle [-], in (0, 1]
+# cohesion = { law = "jkr", work_of_adhesion = 0.05 }  # dry when absent (docs/physics.md
+#   §2.4–2.7): "jkr" with work_of_adhesion [J/m²]; "sjkr" with energy_density [J/m³]; or
+#   "liquid_bridge" with volume [m³], surface_tension [N/m], contact_angle_deg [0, 90].
+#   [wall] and [[pairs]] take the same key.
+"#,
+            contact_laws!(),
+        )
+    };
+}
+
 /// The `[protocol]` header and the settling keys (every template).
 macro_rules! settling {
     () => {
@@ -433,13 +468,145 @@ plots = true             # draw the plots and the frames of a vertical cut throu
 "#,
 );
 
-/// The commented template of a geometry kind, by its `geometry.kind` name.
+/// A case file of the angle-of-repose test with every key explained (`hopperflow init --kind
+/// heap`): a cylinder of 40 mm inner diameter filled with 2000 spheres of the paper's material
+/// with a rolling friction of 0.1, lifted off a plate at 50 mm/s.
+pub const HEAP_TEMPLATE: &str = concat!(
+    r#"# hopperflow case file: the angle of repose of a heap from a lifted cylinder.
+#
+# Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
+# carry `_deg` in their key. A cylinder open at both ends stands on a round plate; it is
+# filled, the fill settles, and the cylinder is lifted at lift_speed: the material flows out
+# under its edge and forms a heap (Roessler & Katterfeld 2018, 2019). Once its lower edge has
+# cleared the material the cylinder is removed; grains rolling off the plate fall and are
+# removed. The run ends when the heap is at rest (settle_kinetic_energy) or at time_limit.
+# summary.json's `repose` holds the angle fitted to the heap's flanks with its error
+# (docs/physics.md §7.10); heap_surface.csv the surface it was fitted to.
+# Check a file with `hopperflow check FILE`; override a key with
+# `--set contact.rolling_friction=0.1`.
+
+"#,
+    globals!(),
+    r#"kind = "heap"
+# Coordinates: z up from the plate's top face z = 0, the cylinder and the plate on the z axis.
+cylinder_radius = 0.02   # R_c [m], inner radius of the cylinder; 2 R_c ≥ 5 particle diameters
+height = 0.08            # H [m], height of the cylinder; the fill is poured below it
+plate_radius = 0.06      # R_p [m], radius of the base plate, ≥ R_c + d; the heap of 2000 spheres
+                         # of 3 mm fits on it down to about 17°: a smaller plate makes a
+                         # fixed-base heap, whose toe spills over the edge
+lift_speed = 0.05        # [m/s], the cylinder's lifting speed, in (0, 1]
+
+[particles]
+count = 2000             # N; they must fit in the cylinder below H at volume fraction 0.64
+diameter = 0.003         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+
+"#,
+    calibration_material!(),
+    r#"
+[time]
+time_step = 4.0e-6       # Δt [s], at most 0.2 Rayleigh times: 0.155 t_R for these spheres, a
+                         # larger step than the paper's 2.5e-6 s (0.097 t_R), for a cheap test
+
+"#,
+    settling!(),
+    r#"fill_bottom = 0.0        # [m], bottom of the insertion region above the plate
+# fill_top = 0.08        # [m], top of the insertion region; default H
+fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
+# deletion_depth = 0.015 # [m], grains this far below the plate are removed; default 5 d, ≥ d
+time_limit = 5.0         # [s], longest simulated time from the start of the lift
+# Not used by the heap, which has no outlet (accepted, and written back, at their defaults):
+# clog_timeout = 0.3     # [s]
+# stop_fraction = 1.0    # [-]
+# wall_slip = 0.0        # [m], must stay 0: the heap's cylinder is lifted, not slipped
+
+# [measure]              # not used by the heap either: the surface is binned one mean
+# rate_bin_width = 0.02  # diameter wide (docs/physics.md §7.10)
+# x_bin_width = 0.0015
+# strip_height = 0.003
+# frame_interval = 0.001
+# crossing_check_interval = 10
+# steady_start_fraction = 0.15
+# steady_end_fraction = 0.7
+
+[output]
+vtu_interval = 0.0       # [s], time between VTU particle snapshots; 0 writes none
+checkpoint_interval = 0.0  # [s], simulated time between checkpoints; 0 writes none
+plots = true             # draw the plots and the frames of a vertical cut through the axis
+"#,
+);
+
+/// A case file of the draw-down test with every key explained (`hopperflow init --kind
+/// draw-down`): a box 100 mm × 30 mm over a 20 mm slot, 3000 spheres of the paper's material
+/// with a rolling friction of 0.1.
+pub const DRAW_DOWN_TEMPLATE: &str = concat!(
+    r#"# hopperflow case file: the draw-down test.
+#
+# Every value is in SI units (m, kg, s, Pa, J), except angles, which are in degrees and
+# carry `_deg` in their key. A box W × B with a flat floor and a slot D wide across its whole
+# depth in the middle; the fill settles, the slot opens, and the material discharges until the
+# flow stops: what stays on the two shelves beside the slot slopes at the drained angle of
+# repose (Grima & Wypych 2011; Coetzee 2017). summary.json holds the discharge rate W and,
+# in `draw_down`, the left and right shelf angles fitted to the surface left behind, their
+# mean and its error (docs/physics.md §7.11); shelf_surface.csv the surface they were fitted
+# to. Check a file with `hopperflow check FILE`; override a key with
+# `--set geometry.slot_width=0.025`.
+
+"#,
+    globals!(),
+    r#"kind = "draw_down"
+# Coordinates: z up from the floor z = 0, the box centred on the z axis: x in [−W/2, W/2],
+# y in [−B/2, B/2], the slot x in [−D/2, D/2]. Frames show the vertical cut through y = 0.
+width = 0.1              # W [m], along x
+depth = 0.03             # B [m], along y; ≥ the largest particle diameter
+height = 0.1             # H [m], top of the walls above the floor
+slot_width = 0.02        # D [m], along x; ≥ 3 particle diameters, and each shelf (W − D)/2
+                         # ≥ 3 particle diameters
+walls = "smooth"         # "smooth" (exact planar polygons) or "meshed" (each wall as triangles)
+
+[particles]
+count = 3000             # N; they must fit below H at volume fraction 0.64
+diameter = 0.003         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+
+"#,
+    calibration_material!(),
+    r#"
+[time]
+time_step = 4.0e-6       # Δt [s], at most 0.2 Rayleigh times: 0.155 t_R for these spheres, a
+                         # larger step than the paper's 2.5e-6 s (0.097 t_R), for a cheap test
+
+"#,
+    settling!(),
+    r#"fill_bottom = 0.0        # [m], bottom of the insertion region above the floor
+# fill_top = 0.1         # [m], top of the insertion region; default H
+fill_speed = 1.0         # [m/s], downward speed of inserted particles, ≥ 0
+# deletion_depth = 0.015 # [m], particles this far below the slot are removed; default 5 d
+clog_timeout = 0.3       # [s], no particle leaving for this long means the flow stopped: the
+                         # test ends `drained`, or `clogged` when an arch spans the slot
+time_limit = 10.0        # [s], longest simulated discharge after the slot opens
+stop_fraction = 1.0      # [-], keep 1: the test runs until the flow stops by itself
+
+[measure]
+rate_bin_width = 0.02    # [s], time bins of W(t) and the samples of N(t) (remaining.csv)
+# x_bin_width = 0.0015   # [m], x-bins of the profiles v(x) and φ(x) across the slot; default d/2, ≤ D
+# strip_height = 0.003   # [m], not used by a draw-down box (its φ(x) comes from the crossings)
+frame_interval = 0.001   # [s], time between snapshot frames, ≥ Δt
+"#,
+    measure_end_3d!(),
+    r#"checkpoint_interval = 0.0  # [s], simulated time between checkpoints; 0 writes none
+plots = true             # draw the plots and the frames of a vertical cut through y = 0
+"#,
+);
+
+/// The commented template of a geometry kind, by its `geometry.kind` name (the draw-down
+/// test also by the command line's spelling, `draw-down`).
 pub fn template(kind: &str) -> Option<&'static str> {
     match kind {
         "slab" => Some(CASE_TEMPLATE),
         "cylinder" => Some(CYLINDER_TEMPLATE),
         "box" => Some(BOX_TEMPLATE),
         "mesh" => Some(MESH_TEMPLATE),
+        "heap" => Some(HEAP_TEMPLATE),
+        "draw_down" | "draw-down" => Some(DRAW_DOWN_TEMPLATE),
         _ => None,
     }
 }

@@ -237,6 +237,23 @@ fn geometry_lines(out: &mut Lines, geometry: &Geometry) {
             out.float("outlet_offset", g.outlet_offset, "e [m]");
             out.word("walls", walls_word(g.walls), "");
         }
+        Geometry::Heap(g) => {
+            out.table("[geometry]");
+            out.word("kind", "heap", "");
+            out.float("cylinder_radius", g.cylinder_radius, "R_c [m]");
+            out.float("height", g.height, "H [m]");
+            out.float("plate_radius", g.plate_radius, "R_p [m]");
+            out.float("lift_speed", g.lift_speed, "[m/s]");
+        }
+        Geometry::DrawDown(g) => {
+            out.table("[geometry]");
+            out.word("kind", "draw_down", "");
+            out.float("width", g.width(), "W [m]");
+            out.float("depth", g.depth(), "B [m]");
+            out.float("height", g.height(), "H [m]");
+            out.float("slot_width", g.slot_width(), "D [m]");
+            out.word("walls", walls_word(g.container.walls), "");
+        }
         Geometry::Mesh(g) => {
             out.table("[geometry]");
             out.word("kind", "mesh", "");

@@ -77,9 +77,14 @@ pub struct InitArgs {
     /// Where to write the commented case file (default: print it).
     file: Option<PathBuf>,
     /// The geometry kind of the template: slab (the paper's hopper), cylinder (a silo), box
-    /// (a rectangular silo) or mesh (STL walls; with FILE, the example STL files it names are
-    /// written beside it).
-    #[arg(long, default_value = "slab", value_parser = ["slab", "cylinder", "box", "mesh"])]
+    /// (a rectangular silo), mesh (STL walls; with FILE, the example STL files it names are
+    /// written beside it), or a calibration test: heap (the angle of repose of a lifted
+    /// cylinder's heap) or draw-down (a box discharging through a slot).
+    #[arg(
+        long,
+        default_value = "slab",
+        value_parser = ["slab", "cylinder", "box", "mesh", "heap", "draw-down"]
+    )]
     kind: String,
 }
 

@@ -82,4 +82,7 @@ pub use manifest::{hex_hash, CaseFailure, ManifestCase, ManifestSkipped, StudyMa
 pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow, RESULT_COLUMNS};
 pub use start::{describe_start, StartKind, StartRecord};
 pub use study_file_error::StudyFileError;
-pub use summary::{ArchSummary, CaseSummary, JanssenSummary, ProfileRow, RadialFit, StopReason};
+pub use summary::{
+    ArchSummary, CaseSummary, DrawDownSummary, JanssenSummary, ProfileRow, RadialFit,
+    ReposeSummary, StopReason,
+};

@@ -89,10 +89,28 @@ pub struct ResultRow {
     pub clogged: bool,
     /// How the case ended.
     pub status: CaseStatus,
+    /// A heap test's angle of repose (summary.json's `repose.angle_deg`) [°]; NaN for the
+    /// other kinds, and in a table written before the column existed.
+    #[serde(default = "not_measured")]
+    pub repose_angle_deg: f64,
+    /// Its standard error [°].
+    #[serde(default = "not_measured")]
+    pub repose_angle_error_deg: f64,
+    /// A draw-down test's shelf angle (`draw_down.shelf_angle_deg`) [°]; NaN otherwise.
+    #[serde(default = "not_measured")]
+    pub shelf_angle_deg: f64,
+    /// Its standard error [°].
+    #[serde(default = "not_measured")]
+    pub shelf_angle_error_deg: f64,
+}
+
+/// NaN: a measure the case did not make, or a column the table was written without.
+fn not_measured() -> f64 {
+    f64::NAN
 }
 
 /// Column names of `results.csv`, in order.
-pub const RESULT_COLUMNS: [&str; 26] = [
+pub const RESULT_COLUMNS: [&str; 30] = [
     "id",
     "series",
     "replica",
@@ -119,6 +137,10 @@ pub const RESULT_COLUMNS: [&str; 26] = [
     "plateau_found",
     "clogged",
     "status",
+    "repose_angle_deg",
+    "repose_angle_error_deg",
+    "shelf_angle_deg",
+    "shelf_angle_error_deg",
 ];
 
 impl ResultRow {
@@ -152,6 +174,10 @@ impl ResultRow {
             flag(self.plateau_found),
             flag(self.clogged),
             Cell::Text(self.status.as_str().to_string()),
+            Cell::Number(self.repose_angle_deg),
+            Cell::Number(self.repose_angle_error_deg),
+            Cell::Number(self.shelf_angle_deg),
+            Cell::Number(self.shelf_angle_error_deg),
         ]
     }
 }

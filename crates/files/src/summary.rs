@@ -32,6 +32,9 @@ pub enum StopReason {
     /// The requested fraction of the fill had left (`protocol.stop_fraction`) and the
     /// steady window was complete.
     Fraction,
+    /// A heap test's cylinder was lifted away and the heap came to rest (the mean kinetic
+    /// energy per particle fell below `protocol.settle_kinetic_energy`).
+    AtRest,
 }
 
 /// Where the arch over a clogged orifice stands (`arch.csv` lists its grains): heights of
@@ -166,6 +169,65 @@ pub struct CaseSummary {
     /// The arch over the orifice when the run clogged; absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arch: Option<ArchSummary>,
+    /// The angle of repose of a heap test (`geometry.kind = "heap"`, docs/physics.md §7.10);
+    /// absent for the other kinds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub repose: Option<ReposeSummary>,
+    /// The shelf angles of a draw-down test (`geometry.kind = "draw_down"`, docs/physics.md
+    /// §7.11); absent for the other kinds. Its discharge rate is `discharge_rate`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub draw_down: Option<DrawDownSummary>,
+}
+
+/// The angle of repose of a heap left by a lifted cylinder: the line h(r) = h₀ − r tan θ
+/// fitted to the flank of its surface in each azimuthal sector (docs/physics.md §7.10).
+/// `null` for what could not be measured (no sector with a flank to fit).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ReposeSummary {
+    /// θ, the mean over the fitted sectors [°].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub angle_deg: f64,
+    /// Standard error of θ: the scatter over the sectors and the fits' own errors, in
+    /// quadrature [°].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub angle_error_deg: f64,
+    /// The heap's height: its highest particle top above the plate [m].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub height: f64,
+    /// Where the fitted flanks meet the plate, averaged over the sectors [m].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub base_radius: f64,
+    /// Azimuthal sectors fitted (of `sectors_total`).
+    pub sectors: usize,
+    /// Azimuthal sectors the surface was cut into.
+    pub sectors_total: usize,
+    /// Particles in the heap at the end (on the plate) [-].
+    pub particles: usize,
+}
+
+/// The draw-down test's shelves: the lines fitted to the surface of the material left on
+/// each shelf beside the slot, strip by strip across the depth (docs/physics.md §7.11).
+/// `null` for what could not be measured.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DrawDownSummary {
+    /// The mean over every fitted strip of both shelves [°].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub shelf_angle_deg: f64,
+    /// Its standard error: the scatter over the strips and the fits' own errors, in
+    /// quadrature [°].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub shelf_angle_error_deg: f64,
+    /// The left shelf's angle (x < 0), the mean over its strips [°].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub left_angle_deg: f64,
+    /// The right shelf's angle (x > 0), the mean over its strips [°].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub right_angle_deg: f64,
+    /// Strips fitted, of both shelves.
+    pub strips: usize,
+    /// Mass left in the box when the flow stopped [kg].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub residual_mass: f64,
 }
 
 /// Janssen's law p_w(h) = p_sat (1 − exp(−2Kμ_w h/R)) fitted to the settled bed's wall

@@ -11,6 +11,8 @@
 //! - [`VelocityFieldProbe`] → [`VelocityFieldRecord`]: coarse-grained velocity maps (Fig. 9).
 //! - [`BulkProbe`]: settled φ_B and bed height.
 //! - [`find_arch`]: the arch over a clogged orifice.
+//! - [`heap_angle`]: the angle of repose of a heap, fitted to its surface by sector (§7.10).
+//! - [`shelf_angles`]: the angles of the material left on a draw-down box's shelves (§7.11).
 //!
 //! Sign convention: v_z < 0 is downward; every reported speed is downward positive.
 
@@ -26,11 +28,14 @@ mod crossing;
 mod disc_area;
 mod error;
 mod geometry;
+mod heap_surface;
 mod radial;
+mod shelf_angle;
 mod silo_bulk;
 mod snapshot;
 mod strip;
 mod summary;
+mod surface_fit;
 mod velocity_field;
 mod x_profile;
 
@@ -44,13 +49,16 @@ pub use crossing::{
 pub use disc_area::{overlap_area, section_radius, Disc, Rectangle};
 pub use error::MeasureError;
 pub use geometry::{OutletBins, OutletGeometry, OutletShape, CENTRE_HALF_WIDTH};
+pub use heap_surface::{heap_angle, HeapAngle, HeapBinning, HeapSector, HEAP_SECTORS};
 pub use radial::{radial_profiles, RadialBin, RadialBins, RadialPackingProbe};
+pub use shelf_angle::{shelf_angles, Shelf, ShelfAngles, ShelfBinning, ShelfStrip, MIN_STRIP_BINS};
 pub use silo_bulk::{bed_bulk, silo_bulk};
 pub use snapshot::{Snapshot, TimeWindow};
 pub use strip::{
     AreaFractionBin, AreaFractionProfile, StripConfig, StripFrame, StripProbe, StripRecord,
 };
 pub use summary::{flux_from_area_velocity, flux_from_profiles, OutletSummary};
+pub use surface_fit::{FlankFit, SurfaceBin, FLANK_BAND, MIN_FLANK_BINS};
 pub use velocity_field::{
     FieldBlock, FieldCell, FieldGrid, Kernel, VelocityField, VelocityFieldProbe,
     VelocityFieldRecord, DEFAULT_BLOCK_DURATION,

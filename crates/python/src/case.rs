@@ -251,6 +251,13 @@ impl Case {
                 format!("kind=box, W={} m, B={} m", s.width, s.depth)
             }
             case::Geometry::Mesh(s) => format!("kind=mesh, {} STL walls", s.walls.len()),
+            case::Geometry::Heap(s) => format!(
+                "kind=heap, R_c={} m, R_p={} m, lift={} m/s",
+                s.cylinder_radius, s.plate_radius, s.lift_speed
+            ),
+            case::Geometry::DrawDown(s) => {
+                format!("kind=draw_down, W={} m, B={} m", s.width(), s.depth())
+            }
         };
         format!(
             "Case(N={}, d={} m, {size}, D={} m, alpha={}°, seed={})",

@@ -1,5 +1,5 @@
 //! The Bond number of a case, Bo = F_c/(m g): the force that pulls two of its grains apart
-//! over one grain's weight (docs/physics.md §7.10). The one place where hopperflow computes
+//! over one grain's weight (docs/physics.md §7.12). The one place where hopperflow computes
 //! it; the report reads it from each case's resolved `case.toml`, not from the engine.
 //!
 //! F_c for two equal spheres of diameter d (R = d/2, R* = d/4), per law:

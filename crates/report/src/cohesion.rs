@@ -1,6 +1,6 @@
 //! Cohesion in a study: the discharge rate W against the Bond number Bo for each outlet
 //! width, the critical outlet width against Bo, and where the arches of the clogged cases
-//! stand (docs/physics.md §7.9–7.10).
+//! stand (docs/physics.md §7.9, §7.12).
 //!
 //! Everything is read from saved files: each case's Bo from its resolved `case.toml`
 //! ([`super::bond`]), its arch from its `summary.json`, W and its status from
@@ -410,7 +410,7 @@ pub fn cohesion_blocks(analysis: &CohesionAnalysis) -> Vec<super::Block> {
         return blocks;
     }
     blocks.push(Block::Heading(2, "Cohesion and the Bond number".into()));
-    blocks.push(Block::Paragraph("Bo = F_c/(m g): the force that pulls two grains apart over one grain's weight, m = ρ_p π d³/6, R* = d/4 (docs/physics.md §7.10). JKR: the pull-off force F_c = (3/2)π w R*. Liquid bridge: its force at contact, F_c = 2π R γ cos θ. Simplified JKR: the least force of Hertz minus the attraction, F_c = (2/3)π³ k_c³ R*²/E*². Each case's Bo comes from its resolved case.toml. The cases that share everything but their grain–grain cohesion and their outlet width form one table, the dry ones its Bo = 0 rows. W: mean ± error over the replicas that flowed (as elsewhere in this report), in g/s; clogged replicas are counted, never averaged into W. W/W(Bo = 0): against the dry rate at the same width, the two errors combined in quadrature.".into()));
+    blocks.push(Block::Paragraph("Bo = F_c/(m g): the force that pulls two grains apart over one grain's weight, m = ρ_p π d³/6, R* = d/4 (docs/physics.md §7.12). JKR: the pull-off force F_c = (3/2)π w R*. Liquid bridge: its force at contact, F_c = 2π R γ cos θ. Simplified JKR: the least force of Hertz minus the attraction, F_c = (2/3)π³ k_c³ R*²/E*². Each case's Bo comes from its resolved case.toml. The cases that share everything but their grain–grain cohesion and their outlet width form one table, the dry ones its Bo = 0 rows. W: mean ± error over the replicas that flowed (as elsewhere in this report), in g/s; clogged replicas are counted, never averaged into W. W/W(Bo = 0): against the dry rate at the same width, the two errors combined in quadrature.".into()));
     for group in &analysis.groups {
         let d = group.particle_diameter;
         blocks.push(Block::Heading(

@@ -352,6 +352,9 @@ pub fn check_bed_case(path: &Path, bed_case_text: &str, case: &Case) -> Result<B
         Geometry::Slab(g) => g.hopper_angle_deg >= 90.0,
         Geometry::Cylinder(g) => g.is_flat(),
         Geometry::Cuboid(g) => g.is_flat(),
+        Geometry::DrawDown(_) => true,
+        // The heap has no outlet keys.
+        Geometry::Heap(_) => false,
         // A mesh's outlet keys (`geometry.outlet.*`) may not differ at all.
         Geometry::Mesh(_) => false,
     };

@@ -10,6 +10,7 @@ mod container;
 mod fill;
 mod outputs;
 mod packing;
+mod pile_outputs;
 mod protocol;
 mod remaining;
 mod simulation;
@@ -38,11 +39,11 @@ pub use checkpoint::{
     KeyChange, MAGIC as CHECKPOINT_MAGIC,
 };
 pub use container::{
-    adopt_walls, build_container_walls, build_cuboid_walls, build_cylinder_walls, build_mesh_walls,
-    build_slab_walls, cuboid_outline, cuboid_wall_polygons, cylinder_outline,
-    cylinder_wall_polygons, gate_outline, mesh_outline, mesh_wall_polygons, slab_outline,
-    vertical_cut, wall_names, ContainerWalls, CuboidWalls, CylinderWalls, MeshWalls, SlabWalls,
-    MESH_WALL_INDEX, WALL_NAMES,
+    adopt_walls, build_container_walls, build_cuboid_walls, build_cylinder_walls, build_heap_walls,
+    build_mesh_walls, build_slab_walls, cuboid_outline, cuboid_wall_polygons, cylinder_outline,
+    cylinder_wall_polygons, gate_outline, heap_outline, heap_wall_polygons, mesh_outline,
+    mesh_wall_polygons, slab_outline, vertical_cut, wall_names, ContainerWalls, CuboidWalls,
+    CylinderWalls, HeapWalls, MeshWalls, SlabWalls, MESH_WALL_INDEX, WALL_NAMES,
 };
 pub use fill::{
     insert_silo_batch, insert_slab_batch, inside_slab, Draw, FillRegion, Inserted, ParticleDraws,
@@ -241,6 +242,8 @@ fn phase_name(p: Phase) -> &'static str {
         Phase::Settle { .. } | Phase::Resettle { .. } => "settle",
         Phase::Slip { .. } => "slip",
         Phase::Discharge { .. } => "discharge",
+        Phase::Lift { .. } => "lift",
+        Phase::Rest { .. } => "rest",
         Phase::Done { .. } => "done",
     }
 }
@@ -658,7 +661,10 @@ pub fn run_case_from(
             let fraction = match run.phase() {
                 Phase::Fill { inserted, .. } => inserted as f64 / total,
                 Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => 1.0,
-                Phase::Discharge { .. } | Phase::Done { .. } => {
+                Phase::Discharge { .. }
+                | Phase::Lift { .. }
+                | Phase::Rest { .. }
+                | Phase::Done { .. } => {
                     run.state.discharged_mass / (total_mass(case)).max(f64::MIN_POSITIVE)
                 }
             };

@@ -18,8 +18,8 @@ use super::wall_forces::WALL_FORCE_COLUMNS;
 use super::wall_pressure::PRESSURE_COLUMNS;
 use super::RunError;
 use crate::{
-    cuboid_outline, cuboid_wall_polygons, cylinder_outline, cylinder_wall_polygons, mesh_outline,
-    mesh_wall_polygons, slab_outline, wall_names,
+    cuboid_outline, cuboid_wall_polygons, cylinder_outline, cylinder_wall_polygons, heap_outline,
+    heap_wall_polygons, mesh_outline, mesh_wall_polygons, slab_outline, wall_names,
 };
 use case::{Case, Geometry};
 use files::{
@@ -50,6 +50,8 @@ pub(crate) const RESULT_FILES: &[&str] = &[
     "velocity_profile.png",
     "area_fraction_profile.png",
     "particles.pvd",
+    "heap_surface.csv",
+    "shelf_surface.csv",
 ];
 /// The folder of VTU snapshots and PNG frames inside a run directory.
 pub(crate) const SNAPSHOT_DIR: &str = "snapshots";
@@ -114,6 +116,8 @@ impl Pictures {
                     .collect(),
                 Geometry::Cylinder(g) => cylinder_wall_polygons(g),
                 Geometry::Cuboid(g) => cuboid_wall_polygons(g),
+                Geometry::DrawDown(g) => cuboid_wall_polygons(&g.container),
+                Geometry::Heap(g) => heap_wall_polygons(g),
                 Geometry::Mesh(g) => mesh_wall_polygons(g),
             };
             write_walls_vtu(dir.join("walls.vtu"), &polygons, 0.0)?;
@@ -133,9 +137,15 @@ impl Pictures {
                 Some((0.0, layer)),
                 g.height,
             ),
-            Geometry::Cuboid(g) => (
+            Geometry::Cuboid(g) | Geometry::DrawDown(case::DrawDownGeometry { container: g }) => (
                 cuboid_outline(g),
                 (-0.5 * g.width, 0.5 * g.width),
+                Some((0.0, layer)),
+                g.height,
+            ),
+            Geometry::Heap(g) => (
+                heap_outline(g),
+                (-g.plate_radius, g.plate_radius),
                 Some((0.0, layer)),
                 g.height,
             ),
@@ -229,7 +239,7 @@ impl Pictures {
             self.pvd.push(t, 0, self.dir.join(&name))?;
             self.pvd.push(t, 1, self.dir.join("walls.vtu"))?;
         }
-        if let Phase::Discharge { opened, .. } = run.phase() {
+        if let Some(opened) = run.phase().opened() {
             if self.next_frame.is_nan() {
                 self.next_frame = opened;
             }
@@ -608,6 +618,17 @@ pub fn finish(
         }
         _ => (None, None),
     };
+    // The calibration tests' own measures (docs/physics.md §7.10–7.11).
+    let repose = match &case.geometry {
+        Geometry::Heap(test) => Some(super::pile_outputs::heap_outputs(run, test, out_dir)?),
+        _ => None,
+    };
+    let draw_down = match &case.geometry {
+        Geometry::DrawDown(test) => {
+            Some(super::pile_outputs::draw_down_outputs(run, test, out_dir)?)
+        }
+        _ => None,
+    };
     if pictures {
         if let (Some(p), Some(silo), Some(b)) = (&state.pressure, case.geometry.cylinder(), bulk) {
             let zones = p.settled_cylinder(b.bed_height);
@@ -669,6 +690,8 @@ pub fn finish(
         janssen_not_fitted,
         start: None,
         arch,
+        repose,
+        draw_down,
     })
 }
 

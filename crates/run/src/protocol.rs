@@ -1,5 +1,6 @@
 //! The run protocol of one hopper case: fill, settle, open the gate, discharge (issue 3,
-//! docs/physics.md §5 and §10.8), as a resumable state machine.
+//! docs/physics.md §5 and §10.8), as a resumable state machine. The heap test lifts its
+//! cylinder instead of opening a gate, and waits for the heap to come to rest (§5.9).
 
 use analysis::series::RateSeries;
 use analysis::AnalysisError;
@@ -92,6 +93,36 @@ pub enum Phase {
         /// When the slip ended [s].
         since: f64,
     },
+    /// The heap test's cylinder rises at `geometry.lift_speed` until its lower edge has
+    /// cleared the material (docs/physics.md §5.9).
+    Lift {
+        /// When the lift started [s] (the heap test's opening).
+        opened: f64,
+    },
+    /// The heap test's cylinder is gone; the heap flows until it comes to rest.
+    Rest {
+        /// When the lift started [s].
+        opened: f64,
+        /// When the cylinder was removed [s].
+        since: f64,
+    },
+}
+
+impl Phase {
+    /// When the container opened [s] (the gate removed, or the heap test's lift started), in
+    /// the phases after it; `None` before it, and once done.
+    pub fn opened(&self) -> Option<f64> {
+        match *self {
+            Self::Discharge { opened, .. } | Self::Lift { opened } | Self::Rest { opened, .. } => {
+                Some(opened)
+            }
+            Self::Fill { .. }
+            | Self::Settle { .. }
+            | Self::Slip { .. }
+            | Self::Resettle { .. }
+            | Self::Done { .. } => None,
+        }
+    }
 }
 
 /// Everything of a run that a checkpoint must hold to resume bit-identically.
@@ -219,18 +250,29 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
             particle_diameter,
             shape: OutletShape::Circle { centre_y: 0.0 },
         },
-        Geometry::Cuboid(g) => OutletGeometry {
-            outlet_height: 0.0,
-            centre: g.outlet_offset,
-            half_width: g.outlet_radius(),
-            particle_diameter,
-            shape: match g.outlet {
-                case::CuboidOutlet::Slot => OutletShape::Slot,
-                case::CuboidOutlet::Square => OutletShape::Rectangle {
-                    centre_y: 0.0,
-                    half_depth: g.outlet_radius(),
+        Geometry::Cuboid(g) | Geometry::DrawDown(case::DrawDownGeometry { container: g }) => {
+            OutletGeometry {
+                outlet_height: 0.0,
+                centre: g.outlet_offset,
+                half_width: g.outlet_radius(),
+                particle_diameter,
+                shape: match g.outlet {
+                    case::CuboidOutlet::Slot => OutletShape::Slot,
+                    case::CuboidOutlet::Square => OutletShape::Rectangle {
+                        centre_y: 0.0,
+                        half_depth: g.outlet_radius(),
+                    },
                 },
-            },
+            }
+        }
+        // The heap has no outlet; its crossing probe, never shown a frame, is given the
+        // plate's disc, past whose edge the grains leave.
+        Geometry::Heap(g) => OutletGeometry {
+            outlet_height: 0.0,
+            centre: 0.0,
+            half_width: g.plate_radius,
+            particle_diameter,
+            shape: OutletShape::Circle { centre_y: 0.0 },
         },
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Disc { centre, radius, .. } => OutletGeometry {
@@ -261,6 +303,8 @@ fn fill_region(geometry: &Geometry) -> &dyn FillRegion {
     match geometry {
         Geometry::Cylinder(g) => g,
         Geometry::Cuboid(g) => g,
+        Geometry::DrawDown(g) => &g.container,
+        Geometry::Heap(g) => g,
         Geometry::Mesh(g) => g,
         Geometry::Slab(_) => unreachable!("the slab fills through `insert_slab_batch`"),
     }
@@ -272,11 +316,12 @@ fn fill_region(geometry: &Geometry) -> &dyn FillRegion {
 pub fn outlet_depth(case: &Case) -> Option<f64> {
     match &case.geometry {
         Geometry::Cuboid(g) => Some(g.outlet_depth()),
+        Geometry::DrawDown(g) => Some(g.container.outlet_depth()),
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Rectangle { size, .. } => Some(size[1]),
             MeshOutlet::Disc { .. } => None,
         },
-        Geometry::Slab(_) | Geometry::Cylinder(_) => None,
+        Geometry::Slab(_) | Geometry::Cylinder(_) | Geometry::Heap(_) => None,
     }
 }
 
@@ -307,9 +352,15 @@ impl CaseRun {
                     )?),
                 )
             }
-            Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::Mesh(_) => (None, None),
+            Geometry::Cylinder(_)
+            | Geometry::Cuboid(_)
+            | Geometry::Mesh(_)
+            | Geometry::Heap(_)
+            | Geometry::DrawDown(_) => (None, None),
         };
         let radial = match outlet.shape {
+            // The heap's disc is no orifice: nothing flows through it.
+            OutletShape::Circle { .. } if case.geometry.heap().is_some() => None,
             OutletShape::Circle { centre_y } => Some(RadialPackingProbe::new(
                 RadialBins::with_width(
                     [outlet.centre, centre_y],
@@ -524,6 +575,8 @@ impl CaseRun {
                 opened,
                 last_crossing,
             } => self.discharge(opened, last_crossing, chunk),
+            Phase::Lift { opened } => self.lift(opened, chunk),
+            Phase::Rest { opened, since } => self.rest(opened, since, chunk),
             Phase::Done { .. } => Ok(()),
         }
     }
@@ -554,19 +607,21 @@ impl CaseRun {
                     v0,
                     attempts,
                 )?,
-                Geometry::Cylinder(_) | Geometry::Cuboid(_) | Geometry::Mesh(_) => {
-                    insert_silo_batch(
-                        &mut self.sim,
-                        fill_region(&self.case.geometry),
-                        &mut state.rng,
-                        want,
-                        &draws,
-                        &mut state.pending,
-                        band,
-                        v0,
-                        attempts,
-                    )?
-                }
+                Geometry::Cylinder(_)
+                | Geometry::Cuboid(_)
+                | Geometry::Mesh(_)
+                | Geometry::Heap(_)
+                | Geometry::DrawDown(_) => insert_silo_batch(
+                    &mut self.sim,
+                    fill_region(&self.case.geometry),
+                    &mut state.rng,
+                    want,
+                    &draws,
+                    &mut state.pending,
+                    band,
+                    v0,
+                    attempts,
+                )?,
             };
             if draws.is_mixture() {
                 for &(tag, component) in &placed {
@@ -635,7 +690,10 @@ impl CaseRun {
                 // The bed: everything a run from it needs to discharge as this one will.
                 self.bed = Some(Box::new(self.checkpoint().clone()));
             }
-            self.open_gate()?;
+            match &self.case.geometry {
+                Geometry::Heap(g) => self.start_lift(g.lift_speed)?,
+                _ => self.open_gate()?,
+            }
         }
         Ok(())
     }
@@ -647,7 +705,9 @@ impl CaseRun {
             ContainerWalls::Silo(w) => vec![w.cylinder],
             ContainerWalls::Box(w) => w.sides.to_vec(),
             // The case's checks refuse a slip for these kinds.
-            ContainerWalls::Slab(_) | ContainerWalls::Mesh(_) => Vec::new(),
+            ContainerWalls::Slab(_) | ContainerWalls::Mesh(_) | ContainerWalls::Heap(_) => {
+                Vec::new()
+            }
         }
     }
 
@@ -714,6 +774,89 @@ impl CaseRun {
         Ok(())
     }
 
+    /// Starts lifting the heap test's cylinder at `speed` [m/s]: the test's opening.
+    fn start_lift(&mut self, speed: f64) -> Result<(), RunError> {
+        let t = self.sim.time();
+        self.sim.set_wall_motion(
+            self.state.walls.gate(),
+            dem::WallMotion {
+                velocity: DVec3::new(0.0, 0.0, speed),
+                displaced: true,
+                ..Default::default()
+            },
+        )?;
+        self.state.remaining.open(t);
+        // The settled fill's last window of wall loads ends with the lift's start.
+        self.state.wall_forces.close(self.sim.steps());
+        self.state.next_frame = t;
+        self.state.next_check = t;
+        self.state.phase = Phase::Lift { opened: t };
+        Ok(())
+    }
+
+    /// Takes `chunk` steps of the heap test, records N(t) on the plate and removes the grains
+    /// that fell past its edge (as those below an outlet, `protocol.deletion_depth` below it).
+    fn heap_chunk(&mut self, chunk: u64) -> Result<(), RunError> {
+        self.run_recording_loads(chunk)?;
+        self.state.remaining.observe(&self.sim.watched());
+        let depth = self.case.protocol.deletion_depth;
+        let removed = self
+            .sim
+            .remove_particles(|k, p| p.positions()[k].z < -depth);
+        self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
+        Ok(())
+    }
+
+    /// Lifts the cylinder until its lower edge, risen by v (t − t₀), is above every grain
+    /// within a diameter of its wall; then removes it and lets the heap come to rest.
+    fn lift(&mut self, opened: f64, chunk: u64) -> Result<(), RunError> {
+        self.heap_chunk(chunk)?;
+        let Geometry::Heap(test) = &self.case.geometry else {
+            unreachable!("only the heap test lifts")
+        };
+        let t = self.sim.time();
+        let edge = test.lift_speed * (t - opened);
+        let p = self.sim.particles();
+        let reach = test.cylinder_radius + self.case.particles.max_diameter();
+        let clear = (0..p.len()).all(|k| {
+            let x = p.positions()[k];
+            x.x.hypot(x.y) > reach || x.z + p.radii()[k] < edge
+        });
+        if clear {
+            self.sim.remove_wall(self.state.walls.gate())?;
+            self.state.next_check = t + MIN_SETTLE_AFTER_FILL;
+            self.state.phase = Phase::Rest { opened, since: t };
+        } else if t - opened > self.case.protocol.time_limit {
+            self.state.phase = Phase::Done {
+                reason: StopReason::TimeLimit,
+                opened,
+            };
+        }
+        Ok(())
+    }
+
+    /// Lets the heap flow until its mean kinetic energy per particle falls below
+    /// `protocol.settle_kinetic_energy` (checked from `MIN_SETTLE_AFTER_FILL` after the
+    /// cylinder's removal), or the time limit.
+    fn rest(&mut self, opened: f64, since: f64, chunk: u64) -> Result<(), RunError> {
+        self.heap_chunk(chunk)?;
+        let t = self.sim.time();
+        let calm = t >= self.state.next_check
+            && self.mean_kinetic_energy() < self.case.protocol.settle_kinetic_energy;
+        let reason = if calm || self.sim.particles().is_empty() {
+            Some(StopReason::AtRest)
+        } else if t - opened > self.case.protocol.time_limit {
+            Some(StopReason::TimeLimit)
+        } else {
+            None
+        };
+        self.state.phase = match reason {
+            Some(reason) => Phase::Done { reason, opened },
+            None => Phase::Rest { opened, since },
+        };
+        Ok(())
+    }
+
     fn measure_bulk(&self) -> Result<BulkMeasurement, RunError> {
         let p = self.sim.particles();
         let centres = || -> Vec<[f64; 3]> { p.positions().iter().map(|x| x.to_array()).collect() };
@@ -725,7 +868,17 @@ impl CaseRun {
                     silo.volume_below(h)
                 })?);
             }
-            Geometry::Cuboid(silo) => {
+            Geometry::Heap(test) => {
+                return Ok(silo_bulk(
+                    &centres(),
+                    p.radii(),
+                    test.cylinder_radius,
+                    d,
+                    |h| test.volume_below(h),
+                )?);
+            }
+            Geometry::Cuboid(silo)
+            | Geometry::DrawDown(case::DrawDownGeometry { container: silo }) => {
                 // Columns over the floor plan less a diameter along every wall, as for the
                 // cylinder (docs/physics.md §7.6).
                 let (hw, hb) = (0.5 * silo.width - d, 0.5 * silo.depth - d);

@@ -60,7 +60,10 @@ impl ProtocolTime {
             Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => {
                 self.settle += secs
             }
-            Phase::Discharge { .. } | Phase::Done { .. } => self.discharge += secs,
+            Phase::Discharge { .. }
+            | Phase::Lift { .. }
+            | Phase::Rest { .. }
+            | Phase::Done { .. } => self.discharge += secs,
         }
     }
 

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use case::{
     load_case, parse_case, template, template_files, Case, CuboidOutlet, ErrorKind, Geometry,
-    MeshOutlet, WallSurface, BOX_TEMPLATE, MESH_TEMPLATE,
+    MeshOutlet, WallSurface, BOX_TEMPLATE, DRAW_DOWN_TEMPLATE, HEAP_TEMPLATE, MESH_TEMPLATE,
 };
 use glam::DVec3;
 
@@ -55,6 +55,50 @@ fn box_template_is_valid_complete_and_round_trips() {
     // 4000 spheres of 3 mm at volume fraction 0.64 fill the 23 mm wedge and 4 mm above it.
     let h = case.fill_height().expect("they fit");
     assert!((h - 0.0269).abs() < 1e-4, "fill height {h}");
+}
+
+/// The calibration tests' templates read back to their kinds' defaults, document every key
+/// of the resolved case, round-trip, and their fills fit: the heap's 2000 spheres stand
+/// 2000 × (π/6)(3 mm)³/0.64 / (π (20 mm)²) = 35 mm high in its 80 mm cylinder.
+#[test]
+fn heap_and_draw_down_templates_are_valid_complete_and_round_trip() {
+    let heap = parse_case(HEAP_TEMPLATE, "heap.toml", &[]).expect("heap template valid");
+    assert_eq!(template("heap"), Some(HEAP_TEMPLATE));
+    assert_eq!(heap.geometry.heap(), Some(&case::HeapGeometry::example()));
+    template_documents_every_key(&heap, HEAP_TEMPLATE);
+    round_trips(&heap);
+    let h = heap.fill_height().expect("they fit");
+    assert!((h - 0.0352).abs() < 1e-4, "fill height {h}");
+
+    let box_test = parse_case(DRAW_DOWN_TEMPLATE, "dd.toml", &[]).expect("draw-down valid");
+    assert_eq!(template("draw-down"), Some(DRAW_DOWN_TEMPLATE));
+    assert_eq!(template("draw_down"), Some(DRAW_DOWN_TEMPLATE));
+    let g = box_test.geometry.draw_down().expect("a draw-down case");
+    assert_eq!(g, &case::DrawDownGeometry::example());
+    // The box it builds: a flat floor and a slot centred across the whole depth.
+    let container = box_test.geometry.rectangular().expect("a box");
+    assert_eq!(
+        (
+            container.hopper_angle_deg,
+            container.outlet_offset,
+            container.outlet
+        ),
+        (90.0, 0.0, CuboidOutlet::Slot)
+    );
+    template_documents_every_key(&box_test, DRAW_DOWN_TEMPLATE);
+    round_trips(&box_test);
+
+    // The example cases under cases/ are these templates below a line naming them.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../cases");
+    for (file, text) in [
+        ("repose.toml", HEAP_TEMPLATE),
+        ("draw-down.toml", DRAW_DOWN_TEMPLATE),
+    ] {
+        let shipped = std::fs::read_to_string(root.join(file)).expect("the example case");
+        let (first, rest) = shipped.split_once('\n').expect("a first line");
+        assert!(first.starts_with(&format!("# {file}")), "{first}");
+        assert_eq!(rest, text, "cases/{file} differs from its template");
+    }
 }
 
 #[test]

@@ -20,7 +20,7 @@ const SHIPPED_FOLDERS: [&str; 3] = ["cases", "bench", "examples"];
 const KNOWN_FILES: usize = 15;
 
 /// The kinds `hopperflow init --kind` takes (its clap list).
-const TEMPLATE_KINDS: [&str; 4] = ["slab", "cylinder", "box", "mesh"];
+const TEMPLATE_KINDS: [&str; 6] = ["slab", "cylinder", "box", "mesh", "heap", "draw_down"];
 
 fn repository_root() -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -161,7 +161,7 @@ fn every_template_of_hopperflow_init_is_a_valid_case_with_its_files() {
 /// The SHA-256 of each template's text, pinned so that building the templates from shared
 /// sections (in `template.rs`) cannot change a byte of what `hopperflow init` writes. A
 /// deliberate change to a template's text updates its digest here.
-const TEMPLATE_SHA256: [(&str, &str); 4] = [
+const TEMPLATE_SHA256: [(&str, &str); 6] = [
     (
         "slab",
         "74df33b3d83f14d87e28ac66177c5b513f9d017fd29df786dc1973d195900300",
@@ -177,6 +177,14 @@ const TEMPLATE_SHA256: [(&str, &str); 4] = [
     (
         "mesh",
         "184fb50a34771b34b1a34330f3b6239db3fd21aea6a0ff1833fd5c5b2ba0efd4",
+    ),
+    (
+        "heap",
+        "099ed0fb6359daa7713c49aee8f38ae58b61ec462901389eb53698cc586cd197",
+    ),
+    (
+        "draw_down",
+        "2042cc2d99a9baafd6b4f400d7c2c1b8ce6de3fa2f12682cebd18ed67d631be7",
     ),
 ];
 

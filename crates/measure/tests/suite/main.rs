@@ -5,5 +5,6 @@ mod bulk;
 mod crossing;
 mod disc_area;
 mod flux;
+mod pile_surfaces;
 mod strip;
 mod velocity_field;

@@ -356,7 +356,10 @@ pub fn discharge_benchmark(
                 Some(p) => CaseRun::from_packing(&case, p, threads)?,
                 None => CaseRun::new(&case, threads)?,
             };
-            while !matches!(run.phase(), Phase::Discharge { .. } | Phase::Done { .. }) {
+            while !matches!(
+                run.phase(),
+                Phase::Discharge { .. } | Phase::Lift { .. } | Phase::Done { .. }
+            ) {
                 run.advance()?;
             }
             if let Some(path) = cache {
@@ -373,7 +376,9 @@ pub fn discharge_benchmark(
     // The window after the opening, and in simulated time.
     let after = (window_start, window_start + window_length);
     let opened = match run.phase() {
-        Phase::Discharge { opened, .. } => opened,
+        Phase::Discharge { opened, .. } | Phase::Lift { opened } | Phase::Rest { opened, .. } => {
+            opened
+        }
         Phase::Done { reason, opened } => {
             return Err(crate::RunError::EndedBeforeWindow {
                 reason,

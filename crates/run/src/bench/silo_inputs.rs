@@ -177,7 +177,10 @@ fn walls_word(case: &Case) -> &'static str {
     };
     match &case.geometry {
         Geometry::Cylinder(g) => surface(g.walls),
-        Geometry::Cuboid(g) => surface(g.walls),
+        Geometry::Cuboid(g) | Geometry::DrawDown(case::DrawDownGeometry { container: g }) => {
+            surface(g.walls)
+        }
+        Geometry::Heap(_) => "heap",
         Geometry::Mesh(_) => "stl",
         Geometry::Slab(_) => "slab",
     }

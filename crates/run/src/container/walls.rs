@@ -1,11 +1,12 @@
-//! The walls of any container kind, as the run protocol sees them: a gate to open and the
-//! walls whose loads it records.
+//! The walls of any container kind, as the run protocol sees them: a gate to open (for the
+//! heap test, the cylinder to lift) and the walls whose loads it records.
 
 use dem::{DemError, Interaction, Simulation, WallId, WallMaterial};
 use serde::{Deserialize, Serialize};
 
 use super::cuboid::{build_cuboid_walls, CuboidWalls};
 use super::cylinder::{build_cylinder_walls, CylinderWalls};
+use super::heap::{build_heap_walls, HeapWalls};
 use super::mesh::{build_mesh_walls, MeshWalls};
 use super::slab::{build_slab_walls, SlabWalls};
 use case::Geometry;
@@ -41,16 +42,21 @@ pub enum ContainerWalls {
     Box(CuboidWalls),
     /// The STL walls of a mesh container.
     Mesh(MeshWalls),
+    /// The heap test's cylinder and plate.
+    Heap(HeapWalls),
 }
 
 impl ContainerWalls {
-    /// The removable plate under the outlet.
+    /// The wall whose removal starts the test: the removable plate under the outlet, or the
+    /// heap test's cylinder (which its protocol lifts first; removing it at once is a lift
+    /// infinitely fast).
     pub fn gate(&self) -> WallId {
         match self {
             Self::Slab(w) => w.gate,
             Self::Silo(w) => w.gate,
             Self::Box(w) => w.gate,
             Self::Mesh(w) => w.gate,
+            Self::Heap(w) => w.cylinder,
         }
     }
 
@@ -68,7 +74,7 @@ impl ContainerWalls {
                     return Some(w.names[k].clone());
                 }
             }
-            Self::Silo(_) | Self::Box(_) => {}
+            Self::Silo(_) | Self::Box(_) | Self::Heap(_) => {}
         }
         self.named()
             .into_iter()
@@ -87,6 +93,7 @@ impl ContainerWalls {
                 walls
             }
             Self::Silo(w) => vec![w.cylinder, w.bottom, w.gate],
+            Self::Heap(w) => vec![w.cylinder, w.plate],
             Self::Box(w) => {
                 let mut walls = w.sides.to_vec();
                 walls.extend(w.plates.iter().flatten());
@@ -130,6 +137,8 @@ impl ContainerWalls {
                 (7, w.bottom),
                 (4, Some(w.gate)),
             ],
+            // The plate under the heap is its bottom.
+            Self::Heap(w) => vec![(5, Some(w.cylinder)), (7, Some(w.plate))],
             Self::Mesh(w) => w
                 .walls
                 .iter()
@@ -167,6 +176,14 @@ pub fn build_container_walls(
             ContainerWalls::Box(build_cuboid_walls(sim, g, material, interaction)?)
         }
         Geometry::Mesh(g) => ContainerWalls::Mesh(build_mesh_walls(sim, g, material, interaction)?),
+        Geometry::Heap(g) => ContainerWalls::Heap(build_heap_walls(sim, g, material, interaction)?),
+        // The draw-down test is the box it carries.
+        Geometry::DrawDown(g) => ContainerWalls::Box(build_cuboid_walls(
+            sim,
+            &g.container,
+            material,
+            interaction,
+        )?),
     })
 }
 

@@ -11,7 +11,7 @@ use rand::Rng;
 use super::batch::{insert_batch, overlaps, Placed, GAP};
 use super::draw::{Draw, ParticleDraws};
 use super::slab::Inserted;
-use case::{CuboidGeometry, CylinderGeometry, MeshGeometry};
+use case::{CuboidGeometry, CylinderGeometry, HeapGeometry, MeshGeometry};
 
 /// Where spheres may be inserted: a box of candidate centres and the test that keeps a sphere
 /// inside the container.
@@ -42,6 +42,17 @@ impl FillRegion for CuboidGeometry {
 
     fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
         CuboidGeometry::holds(self, x, y, z, r, gap)
+    }
+}
+
+impl FillRegion for HeapGeometry {
+    fn draw_ranges(&self) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let reach = self.cylinder_radius;
+        ([-reach, reach], [-reach, reach], [0.0, self.height])
+    }
+
+    fn holds(&self, x: f64, y: f64, z: f64, r: f64, gap: f64) -> bool {
+        HeapGeometry::holds(self, x, y, z, r, gap)
     }
 }
 

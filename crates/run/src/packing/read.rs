@@ -762,7 +762,19 @@ fn check_container(raw: &[RawParticle], case: &Case, problems: &mut Problems) {
                 }
                 silo_violation(g, [x, y, z], r, slack)
             }
-            Geometry::Cuboid(g) => {
+            Geometry::Heap(g) => {
+                if g.holds(x, y, z, r, -slack) {
+                    continue;
+                }
+                let c = r - slack;
+                format!(
+                    "it must lie inside the heap test's cylinder: at most {:.6e} m from the \
+                     axis, z in {}",
+                    g.cylinder_radius - c,
+                    range(c, g.height - c)
+                )
+            }
+            Geometry::Cuboid(g) | Geometry::DrawDown(case::DrawDownGeometry { container: g }) => {
                 if g.holds(x, y, z, r, -slack) {
                     continue;
                 }

@@ -5,6 +5,7 @@ mod run_dir;
 mod tiny_hopper;
 
 mod bed;
+mod calibration_tests;
 mod golden;
 mod golden_silo;
 mod guard;

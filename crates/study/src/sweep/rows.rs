@@ -73,6 +73,12 @@ pub fn measured_row(case: &SweepCase, summary: &CaseSummary) -> ResultRow {
         plateau_found: summary.plateau_found,
         clogged: summary.clogged,
         status,
+        repose_angle_deg: summary.repose.map_or(f64::NAN, |r| r.angle_deg),
+        repose_angle_error_deg: summary.repose.map_or(f64::NAN, |r| r.angle_error_deg),
+        shelf_angle_deg: summary.draw_down.map_or(f64::NAN, |s| s.shelf_angle_deg),
+        shelf_angle_error_deg: summary
+            .draw_down
+            .map_or(f64::NAN, |s| s.shelf_angle_error_deg),
         ..failed_row(case)
     }
 }
@@ -116,6 +122,10 @@ pub fn failed_row(case: &SweepCase) -> ResultRow {
         bulk_volume_fraction: f64::NAN,
         flux_check_rate: f64::NAN,
         flux_check_ratio: f64::NAN,
+        repose_angle_deg: f64::NAN,
+        repose_angle_error_deg: f64::NAN,
+        shelf_angle_deg: f64::NAN,
+        shelf_angle_error_deg: f64::NAN,
         plateau_found: false,
         clogged: false,
         status: CaseStatus::Failed,

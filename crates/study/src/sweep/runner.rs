@@ -51,6 +51,10 @@ pub fn expected_cost(case: &case::Case) -> f64 {
         Geometry::Cylinder(_) => 2.5,
         Geometry::Cuboid(g) if g.outlet == CuboidOutlet::Slot => 1.5,
         Geometry::Cuboid(_) => 2.5,
+        Geometry::DrawDown(_) => 1.5,
+        // The lift empties the cylinder through its whole foot: costed as a slot as wide as
+        // the cylinder.
+        Geometry::Heap(g) => return n * n / (2.0 * g.cylinder_radius).powf(1.5),
         Geometry::Mesh(g) => match g.outlet {
             MeshOutlet::Disc { .. } => 2.5,
             MeshOutlet::Rectangle { .. } => 1.5,

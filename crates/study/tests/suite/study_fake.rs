@@ -251,6 +251,8 @@ fn common_summary(
         janssen_not_fitted: None,
         start: None,
         arch: None,
+        repose: None,
+        draw_down: None,
     }
 }
 
