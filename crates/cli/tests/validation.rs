@@ -260,3 +260,95 @@ fn the_paper_study_gives_the_documented_comparison() {
         assert_documented(item, measured(item), 1.0, documented);
     }
 }
+
+/// The mean and standard error of `values`.
+fn mean_and_error(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (variance / n).sqrt())
+}
+
+#[test]
+#[ignore = "long validation (tens of minutes): docs/physics.md §12.4"]
+fn calibration_round_trip_recovers_the_rolling_friction() {
+    // docs/physics.md §12.4: the two lab tests of the shipped cases (the heap's angle of
+    // repose, the draw-down's shelf angle) run at a known rolling friction, four fills each,
+    // give the targets as a lab would (mean ± standard error); `hopperflow calibrate` then
+    // searches μ_r in [0.02, 0.3] with two replicates a point and must find the truth within
+    // two of its stated standard errors (a miss has probability 5 % for a correct error).
+    const TRUTH: f64 = 0.12;
+    const FILLS: u64 = 4;
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let cases = repository().join("cases");
+    let tests = [
+        ("repose.toml", "repose", "angle_deg"),
+        ("draw-down.toml", "draw_down", "shelf_angle_deg"),
+    ];
+    let mut targets = String::new();
+    for (file, section, measure) in tests {
+        let case = cases.join(file);
+        let values: Vec<f64> = (0..FILLS)
+            .map(|r| {
+                let out = dir.path().join(format!("truth-{section}-{r}"));
+                run(
+                    &[
+                        utf8(&case),
+                        "--set",
+                        &format!("contact.rolling_friction={TRUTH}"),
+                        "--set",
+                        &format!("seed={}", 1000 + r),
+                        "--set",
+                        "output.plots=false",
+                    ],
+                    &out,
+                );
+                number(&summary(&out)[section], measure)
+            })
+            .collect();
+        let (mean, error) = mean_and_error(&values);
+        eprintln!("truth {section}.{measure}: {values:?} → {mean:.3} ± {error:.3}");
+        targets.push_str(&format!(
+            "[[targets]]\ncase = \"{}\"\nmeasure = \"{section}.{measure}\"\nvalue = {mean}\nuncertainty = {error}\n",
+            case.display()
+        ));
+    }
+    let file = dir.path().join("round-trip.toml");
+    std::fs::write(
+        &file,
+        format!(
+            "version = 1\nname = \"round-trip\"\nreplicates = 2\nmax_rounds = 5\n\
+             [[parameters]]\nkey = \"contact.rolling_friction\"\nmin = 0.02\nmax = 0.3\n{targets}"
+        ),
+    )
+    .expect("the calibration file is written");
+    let out = dir.path().join("calibration");
+    let started = std::time::Instant::now();
+    let output = hopperflow(&["calibrate", utf8(&file), "--out", utf8(&out), "--jobs", "2"]);
+    let seconds = started.elapsed().as_secs_f64();
+    eprintln!("{}", String::from_utf8_lossy(&output.stdout));
+    let record = summary_of(&out.join("calibration.json"));
+    let estimate = &record["estimate"][0];
+    let (value, error) = (
+        estimate["value"].as_f64().expect("a value"),
+        estimate["standard_error"].as_f64().expect("an error"),
+    );
+    eprintln!(
+        "round trip: μ_r = {value:.4} ± {error:.4} against {TRUTH} ({:.2} σ), {} runs in {} rounds, {seconds:.0} s",
+        (value - TRUTH) / error,
+        record["runs"],
+        record["rounds"].as_array().map_or(0, Vec::len)
+    );
+    assert_eq!(record["converged"], true, "{record}");
+    assert_eq!(record["targets_met"], true, "{record}");
+    assert!(
+        (value - TRUTH).abs() <= 2.0 * error,
+        "μ_r = {value} ± {error} misses {TRUTH}"
+    );
+}
+
+/// A JSON file.
+fn summary_of(path: &Path) -> Value {
+    let text = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_slice(&text).expect("JSON")
+}

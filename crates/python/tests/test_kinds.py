@@ -433,3 +433,18 @@ def test_walls_added_to_a_mixture_meet_each_material_as_the_containers_walls_do(
         # below the 0.03 m/s between the two pairs.
         assert p[shelf_row, 2] - shelf_z == pytest.approx(p[gate_row, 2], rel=0, abs=1e-12)
         assert v[shelf_row, 2] == pytest.approx(v[gate_row, 2], rel=0, abs=1e-9)
+
+
+def test_the_calibration_tests_load_and_refuse_bad_values_naming_the_key():
+    # The two lab tests as case kinds (docs/physics.md §5.9–5.10): loaded from the shipped
+    # example cases, edited like any case, and refused with the key on a bad value.
+    from conftest import REPO
+
+    heap = hf.Case.load(str(REPO / "cases" / "repose.toml"))
+    assert heap["geometry.kind"] == "heap" and heap["geometry.lift_speed"] > 0
+    box = hf.Case.load(str(REPO / "cases" / "draw-down.toml"))
+    assert box["geometry.kind"] == "draw_down"
+    assert box["geometry.slot_width"] < box["geometry.width"]
+    with pytest.raises(hf.CaseError) as error:
+        heap["geometry.lift_speed"] = -0.01
+    assert error.value.key == "geometry.lift_speed"
