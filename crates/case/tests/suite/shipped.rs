@@ -63,7 +63,10 @@ fn is_sweep(text: &str) -> bool {
 /// Whether `text` is a calibration file (`hopperflow calibrate`): it lists the parameters to
 /// find and the targets to match, which neither a case nor a sweep file has.
 fn is_calibration(text: &str) -> bool {
-    let has = |header: &str| text.lines().any(|line| line.trim() == header);
+    let has = |header: &str| {
+        text.lines()
+            .any(|line| line.split('#').next().unwrap_or("").trim() == header)
+    };
     has("[[parameters]]") && has("[[targets]]")
 }
 
