@@ -1,6 +1,6 @@
 """Calibration from Python: one round of a tiny calibration, its record and runs, and a bad
 calibration file refused before anything runs. The loop's recovery of known parameters is
-tested in Rust (crates/calibrate/tests) and by the documented round trip."""
+tested in Rust (crates/cli/tests/suite/calibration_loop.rs) and by the documented round trip."""
 
 import subprocess
 

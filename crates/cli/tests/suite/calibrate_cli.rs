@@ -1,7 +1,8 @@
 //! `hopperflow calibrate` at the command line: bad calibration files exit 2 having written
 //! nothing; `--check` reads a good one without running it. (The loop itself is tested with
-//! a stand-in simulation in crates/calibrate/tests; the round trip with real runs is
-//! `calibration_round_trip_recovers_the_parameters`, ignored for its length.)
+//! a stand-in simulation in calibration_loop.rs; the round trip with real runs is
+//! `calibration_round_trip_recovers_the_rolling_friction` in validation.rs, ignored for its
+//! length.)
 
 use crate::run_cli::{assert_status, hopperflow, stderr_of, utf8};
 

@@ -10,6 +10,7 @@ mod bad_input;
 mod bed_and_packing;
 mod bench_silo_inputs;
 mod calibrate_cli;
+mod calibration_loop;
 mod doc_paths;
 mod exit_codes;
 mod quick_study;

@@ -8,5 +8,6 @@ mod run_dir;
 
 mod guard;
 mod report_build;
+mod report_cohesion;
 mod study_resume;
 mod study_runner;

@@ -1,7 +1,7 @@
 //! The calibration loop end to end with a stand-in for the simulation: a test whose measure
 //! is a known function of the parameters plus seeded noise, so that the loop's recovery,
 //! its records and its resumption are checked in milliseconds. The real round trip, with
-//! simulations, is the ignored test in crates/cli/tests/suite and docs/physics.md §12.4.
+//! simulations, is the ignored test in crates/cli/tests/validation.rs and docs/physics.md §12.4.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -15,7 +15,7 @@ use files::{CaseSummary, CASE_FILE};
 use study::CaseRunner;
 
 /// A finished run's summary, as a real slab run wrote it; the stand-in changes its rate.
-const SUMMARY: &str = include_str!("summary.json");
+const SUMMARY: &str = include_str!("calibration_summary.json");
 
 /// A small slab case whose friction and rolling friction the calibrations below search.
 const CASE: &str = "version = 1\nseed = 3\n[particles]\ncount = 200\n";
