@@ -13,13 +13,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# A clean build (as CI's) gains nothing from incremental compilation and pays for its caches;
-# without it the optimised workspace crates are also cut into fewer codegen units, so the
-# tests run faster too. Set HOPPERFLOW_INCREMENTAL=1 to keep cargo's default.
-if [ "${HOPPERFLOW_INCREMENTAL:-0}" != 1 ]; then
-    export CARGO_INCREMENTAL=0
-fi
-
 # Every later step reuses this build: the CLI binary it made (the test profile is optimised)
 # and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
 # package alone (`-p`) unifies features differently and compiles the CLI again.
