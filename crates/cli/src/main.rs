@@ -44,12 +44,21 @@ enum Command {
 }
 
 /// Sends the warnings of every part of the program to standard error, as `warning: …` lines;
-/// `HOPPERFLOW_LOG` (for example `HOPPERFLOW_LOG=debug`) shows more.
+/// `HOPPERFLOW_LOG` set to a level (`error`, `warn`, `info`, `debug`, `trace` or `off`) shows
+/// more or less. An unknown level is named on standard error and the default, `warn`, kept.
 fn install_warnings() {
-    let filter = tracing_subscriber::EnvFilter::try_from_env("HOPPERFLOW_LOG")
-        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn"));
+    use tracing_subscriber::filter::LevelFilter;
+    let level = match std::env::var("HOPPERFLOW_LOG") {
+        Ok(text) => text.trim().parse::<LevelFilter>().unwrap_or_else(|_| {
+            eprintln!(
+                "warning: HOPPERFLOW_LOG = {text:?} is not a level (error, warn, info, debug, trace, off); using warn"
+            );
+            LevelFilter::WARN
+        }),
+        Err(_) => LevelFilter::WARN,
+    };
     tracing_subscriber::fmt()
-        .with_env_filter(filter)
+        .with_max_level(level)
         .with_writer(std::io::stderr)
         .without_time()
         .with_target(false)

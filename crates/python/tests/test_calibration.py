@@ -9,6 +9,29 @@ import pytest
 import hopperflow as hf
 from conftest import TINY
 
+# The tiny hopper cut further for a calibration's five runs: 150 spheres through a 24 mm
+# outlet (8 d: no arch), 0.3 s of discharge at most, no plots.
+SMALL = """version = 1
+seed = 11
+[geometry]
+width = 0.05
+height = 0.1
+outlet_width = 0.024
+[particles]
+count = 150
+diameter = 0.003
+[protocol]
+settle_kinetic_energy = 1.0e-8
+max_settle_time = 0.15
+fill_bottom = 0.05
+clog_timeout = 0.1
+time_limit = 0.3
+[output]
+checkpoint_interval = 0.0
+vtu_interval = 0.0
+plots = false
+"""
+
 CALIBRATION = """version = 1
 name = "tiny"
 replicates = 1
@@ -26,14 +49,16 @@ uncertainty = 0.002
 
 
 def test_a_calibration_round_writes_its_record_and_every_run(tmp_path, cli):
+    case = tmp_path / "small.toml"
+    case.write_text(SMALL)
     file = tmp_path / "cal.toml"
-    file.write_text(CALIBRATION.format(case=TINY.as_posix()))
+    file.write_text(CALIBRATION.format(case=case.as_posix()))
     reports: list[hf.Progress] = []
     result = hf.calibrate(file, out=tmp_path / "py", jobs=2, progress=reports.append)
     # One parameter: five design points, one run each, all finished with a rate.
     runs = result.runs
     assert len(runs["round"]) == 5 and set(runs["status"]) == {"finished"}
-    assert all(w > 0 for w in runs["tiny:discharge_rate"])
+    assert all(w > 0 for w in runs["small:discharge_rate"])
     (key, (value, error)), = result.estimate.items()
     assert key == "contact.friction" and 0.2 <= value <= 0.8 and error > 0
     # One round cannot converge: convergence needs a second round that confirms the first.
