@@ -6,15 +6,24 @@
 #
 # Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
 # pandas, matplotlib, pytest and mypy.
+#
+# `--prepare` only makes the virtual environment (scripts/test.sh runs that while Cargo
+# builds, as it waits mostly on the network and the disk); `--prepared` uses the one made.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 started=$(date +%s)
 venv=target/python-test-venv
 wheels=target/python-wheels
-python3 -m venv --clear "$venv"
-"$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
+if [ "${1:-}" != --prepared ]; then
+    mkdir -p target
+    python3 -m venv --clear "$venv"
+    "$venv/bin/python" -m pip install --quiet --upgrade pip
+    "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
+fi
+if [ "${1:-}" = --prepare ]; then
+    exit 0
+fi
 
 # The wheel is built in the dev profile, which the test profile inherits (optimised like the
 # release build, without its link-time optimisation): it reuses every crate the Rust tests

@@ -13,6 +13,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# The Python tests' virtual environment is made while Cargo builds: it waits mostly on the
+# network and the disk. Its output is shown once it is ready.
+if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" != 1 ]; then
+    mkdir -p target
+    scripts/test-python.sh --prepare >target/python-prepare.log 2>&1 &
+    prepare=$!
+    trap 'kill "$prepare" 2>/dev/null || true' EXIT
+fi
+
 # Every later step reuses this build: the CLI binary it made (the test profile is optimised)
 # and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
 # package alone (`-p`) unifies features differently and compiles the CLI again.
@@ -22,7 +31,15 @@ export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
     echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
 else
-    scripts/test-python.sh
+    prepared=0
+    wait "$prepare" || prepared=$?
+    trap - EXIT
+    cat target/python-prepare.log
+    if [ "$prepared" != 0 ]; then
+        echo "error: the Python tests' virtual environment could not be made" >&2
+        exit "$prepared"
+    fi
+    scripts/test-python.sh --prepared
 fi
 
 if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
