@@ -176,6 +176,10 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     for block in cohesion_blocks(&cohesion) {
         doc.push(block);
     }
+    // The lab tests' angles: written only when the study holds heap or draw-down cases.
+    for block in super::lab_tests::lab_test_blocks(&data.rows) {
+        doc.push(block);
+    }
 
     doc.push(Block::Heading(2, "Figures".into()));
     let mut figure_files = Vec::new();

@@ -27,6 +27,7 @@ mod data;
 mod document;
 pub mod eccentric;
 mod figures;
+mod lab_tests;
 pub mod silo;
 mod tables;
 
