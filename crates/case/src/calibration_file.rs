@@ -150,25 +150,20 @@ pub fn parse_calibration(
         let key = table.string("key", &mut errors);
         let min = table.float("min", "", &mut errors);
         let max = table.float("max", "", &mut errors);
-        for (word, found) in [
-            ("key", key.is_some()),
-            ("min", min.is_some()),
-            ("max", max.is_some()),
-        ] {
-            if !found {
-                errors.push(ConfigError::new(
-                    ErrorKind::Missing,
-                    place.clone(),
-                    table.key(word),
-                    None,
-                    match word {
-                        "key" => "required: the case key to find, e.g. contact.rolling_friction",
-                        "min" => "required: the lower end of the search range",
-                        _ => "required: the upper end of the search range",
-                    },
-                ));
-            }
-        }
+        require(
+            &table,
+            &place,
+            &[
+                (
+                    "key",
+                    key.is_some(),
+                    "the case key to find, e.g. contact.rolling_friction",
+                ),
+                ("min", min.is_some(), "the lower end of the search range"),
+                ("max", max.is_some(), "the upper end of the search range"),
+            ],
+            &mut errors,
+        );
         table.finish(&["key", "min", "max"], &mut errors);
         let (Some(key), Some(min), Some(max)) = (key, min, max) else {
             continue;
@@ -200,23 +195,14 @@ pub fn parse_calibration(
             max: max.value,
         });
     }
-    if parameters.is_empty() && !root.has("parameters") {
-        errors.push(ConfigError::new(
-            ErrorKind::Missing,
-            Location::whole(&source),
-            "parameters",
-            None,
-            "required: one or two [[parameters]] tables, each with key, min and max",
-        ));
-    } else if parameters.len() > MAX_CALIBRATION_PARAMETERS {
-        errors.push(ConfigError::new(
-            ErrorKind::Invalid,
-            Location::whole(&source),
-            "parameters",
-            Some(parameters.len().to_string()),
-            format!("at most {MAX_CALIBRATION_PARAMETERS} parameters can be calibrated at once"),
-        ));
-    }
+    count_tables(
+        &root,
+        &source,
+        ("parameters", parameters.len(), MAX_CALIBRATION_PARAMETERS),
+        "key, min and max",
+        "can be calibrated",
+        &mut errors,
+    );
 
     let mut targets = Vec::new();
     let mut tests: Vec<CalibrationTest> = Vec::new();
@@ -227,30 +213,25 @@ pub fn parse_calibration(
         let measure = table.string("measure", &mut errors);
         let value = table.float("value", "", &mut errors);
         let uncertainty = table.float("uncertainty", "", &mut errors);
-        for (word, found, what) in [
-            ("case", case.is_some(), "the test's case file"),
-            (
-                "measure",
-                measure.is_some(),
-                "the summary.json measure, e.g. repose.angle_deg",
-            ),
-            ("value", value.is_some(), "the lab's value"),
-            (
-                "uncertainty",
-                uncertainty.is_some(),
-                "the lab's one-sigma uncertainty",
-            ),
-        ] {
-            if !found {
-                errors.push(ConfigError::new(
-                    ErrorKind::Missing,
-                    place.clone(),
-                    table.key(word),
-                    None,
-                    format!("required: {what}"),
-                ));
-            }
-        }
+        require(
+            &table,
+            &place,
+            &[
+                ("case", case.is_some(), "the test's case file"),
+                (
+                    "measure",
+                    measure.is_some(),
+                    "the summary.json measure, e.g. repose.angle_deg",
+                ),
+                ("value", value.is_some(), "the lab's value"),
+                (
+                    "uncertainty",
+                    uncertainty.is_some(),
+                    "the lab's one-sigma uncertainty",
+                ),
+            ],
+            &mut errors,
+        );
         table.finish(&["case", "measure", "value", "uncertainty"], &mut errors);
         let (Some(case), Some(measure), Some(value), Some(uncertainty)) =
             (case, measure, value, uncertainty)
@@ -349,23 +330,15 @@ pub fn parse_calibration(
             uncertainty: uncertainty.value,
         });
     }
-    if targets.is_empty() && !root.has("targets") {
-        errors.push(ConfigError::new(
-            ErrorKind::Missing,
-            Location::whole(&source),
-            "targets",
-            None,
-            "required: one or two [[targets]] tables, each with case, measure, value and uncertainty",
-        ));
-    } else if targets.len() > MAX_CALIBRATION_TARGETS {
-        errors.push(ConfigError::new(
-            ErrorKind::Invalid,
-            Location::whole(&source),
-            "targets",
-            Some(targets.len().to_string()),
-            format!("at most {MAX_CALIBRATION_TARGETS} targets can be matched at once"),
-        ));
-    } else if !targets.is_empty() && targets.len() < parameters.len() {
+    let counted = count_tables(
+        &root,
+        &source,
+        ("targets", targets.len(), MAX_CALIBRATION_TARGETS),
+        "case, measure, value and uncertainty",
+        "can be matched",
+        &mut errors,
+    );
+    if counted && !targets.is_empty() && targets.len() < parameters.len() {
         errors.push(ConfigError::new(
             ErrorKind::Invalid,
             Location::whole(&source),
@@ -401,6 +374,60 @@ pub fn parse_calibration(
         targets,
         tests,
     })
+}
+
+/// A `Missing` error for each `(key, found, what it is)` of `table` that was not found.
+fn require(
+    table: &Section<'_>,
+    place: &Location,
+    keys: &[(&str, bool, &str)],
+    errors: &mut Vec<ConfigError>,
+) {
+    for (key, found, what) in keys {
+        if !found {
+            errors.push(ConfigError::new(
+                ErrorKind::Missing,
+                place.clone(),
+                table.key(key),
+                None,
+                format!("required: {what}"),
+            ));
+        }
+    }
+}
+
+/// Checks that the array of tables `key` was given and holds at most `most` entries
+/// (`count` read); `with` lists each table's keys and `verb` says what is done with at most
+/// `most` of them. Returns whether the count is within these bounds.
+fn count_tables(
+    root: &Section<'_>,
+    source: &Arc<str>,
+    (key, count, most): (&str, usize, usize),
+    with: &str,
+    verb: &str,
+    errors: &mut Vec<ConfigError>,
+) -> bool {
+    if count == 0 && !root.has(key) {
+        errors.push(ConfigError::new(
+            ErrorKind::Missing,
+            Location::whole(source),
+            key,
+            None,
+            format!("required: one or two [[{key}]] tables, each with {with}"),
+        ));
+        false
+    } else if count > most {
+        errors.push(ConfigError::new(
+            ErrorKind::Invalid,
+            Location::whole(source),
+            key,
+            Some(count.to_string()),
+            format!("at most {most} {key} {verb} at once"),
+        ));
+        false
+    } else {
+        true
+    }
 }
 
 /// The `key=value` overrides that put every parameter at `value(parameter)`.

@@ -4,7 +4,7 @@
 use super::cuboid::{CuboidGeometry, CuboidOutlet};
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::limits::outlet_too_small;
-use super::reader::Section;
+use super::reader::{Located, Section};
 use super::sources::source;
 use super::wall_surface::WallSurface;
 
@@ -78,21 +78,8 @@ pub(crate) fn read_cuboid(
         return None;
     }
     let (w, b, d, e) = (width.value, depth.value, outlet_width.value, offset.value);
-    if let Some((d_max, d_source)) = d_max {
-        if let Some(why) = outlet_too_small(d, Some((d_max, d_source))) {
-            errors.push(outlet_width.error(ErrorKind::Invalid, why));
-            ok = false;
-        }
-        if b < d_max {
-            errors.push(depth.error(
-                ErrorKind::Invalid,
-                format!(
-                    "must be ≥ the largest particle diameter ({} m), {d_source}",
-                    rounded(d_max)
-                ),
-            ));
-            ok = false;
-        }
+    if let Some(d_max) = d_max {
+        ok &= fits_particles(&outlet_width, &depth, d_max, errors);
     }
     if e != 0.0 && angle.value < 90.0 {
         errors.push(offset.error(
@@ -166,4 +153,31 @@ pub(crate) fn read_cuboid(
         return None;
     }
     Some(silo)
+}
+
+/// Whether a box's orifice `outlet` (its width D [m]) and depth `depth` [m] are wide enough
+/// for the largest particle diameter `d_max` [m] (with the key that set it): the orifice as
+/// every outlet must be, the depth at least one diameter. Errors name the key that fails.
+pub(crate) fn fits_particles(
+    outlet: &Located<f64>,
+    depth: &Located<f64>,
+    (d_max, d_source): (f64, &str),
+    errors: &mut Vec<ConfigError>,
+) -> bool {
+    let mut ok = true;
+    if let Some(why) = outlet_too_small(outlet.value, Some((d_max, d_source))) {
+        errors.push(outlet.error(ErrorKind::Invalid, why));
+        ok = false;
+    }
+    if depth.value < d_max {
+        errors.push(depth.error(
+            ErrorKind::Invalid,
+            format!(
+                "must be ≥ the largest particle diameter ({} m), {d_source}",
+                rounded(d_max)
+            ),
+        ));
+        ok = false;
+    }
+    ok
 }

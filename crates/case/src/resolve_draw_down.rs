@@ -3,8 +3,8 @@
 
 use super::draw_down::DrawDownGeometry;
 use super::error::{number, rounded, ConfigError, ErrorKind};
-use super::limits::outlet_too_small;
 use super::reader::Section;
+use super::resolve_cuboid::fits_particles;
 use super::sources::source;
 use super::wall_surface::WallSurface;
 
@@ -60,20 +60,7 @@ pub(crate) fn read_draw_down(
         return None;
     }
     if let Some((d_max, d_source)) = d_max {
-        if let Some(why) = outlet_too_small(d, Some((d_max, d_source))) {
-            errors.push(slot.error(ErrorKind::Invalid, why));
-            ok = false;
-        }
-        if b < d_max {
-            errors.push(depth.error(
-                ErrorKind::Invalid,
-                format!(
-                    "must be ≥ the largest particle diameter ({} m), {d_source}",
-                    rounded(d_max)
-                ),
-            ));
-            ok = false;
-        }
+        ok &= fits_particles(&slot, &depth, (d_max, d_source), errors);
         let shortest = MIN_SHELF_DIAMETERS * d_max;
         if 0.5 * (w - d) < shortest {
             errors.push(slot.error(

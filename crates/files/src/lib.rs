@@ -68,7 +68,9 @@ pub use frame::{
 pub use image::RgbImage;
 #[cfg(feature = "parquet")]
 pub use parquet::write_parquet_table;
-pub use plot::{plot_png, plot_svg, render_plot, Axis, Figure, Series, SeriesStyle, ShadedRange};
+pub use plot::{
+    plot_png, plot_svg, render_plot, Axis, Figure, Series, SeriesStyle, ShadedRange, PALETTE,
+};
 pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
 pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};

@@ -15,7 +15,7 @@ use super::{write_atomic, OutputError};
 
 /// Colours given to series in order when they do not name one (the "Tableau 10" palette,
 /// chosen because its neighbours stay distinguishable for common colour blindness).
-const PALETTE: [[u8; 3]; 10] = [
+pub const PALETTE: [[u8; 3]; 10] = [
     [31, 119, 180],
     [255, 127, 14],
     [44, 160, 44],

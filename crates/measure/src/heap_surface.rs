@@ -13,7 +13,9 @@ use std::f64::consts::PI;
 use serde::{Deserialize, Serialize};
 
 use super::error::MeasureError;
-use super::surface_fit::{fit_flank, mean_angle, top_surface, FlankFit, SurfaceBin};
+use super::surface_fit::{
+    check_length, check_particles, fit_flank, mean_angle, top_surface, FlankFit, SurfaceBin,
+};
 
 /// Azimuthal sectors the heap is cut into by default: 8 sectors of 45°, each wide enough at
 /// the flank's middle (a few diameters of radius) to hold several grains per bin.
@@ -67,20 +69,8 @@ pub fn heap_angle(
     radii: &[f64],
     binning: &HeapBinning,
 ) -> Result<HeapAngle, MeasureError> {
-    if positions.len() != radii.len() {
-        return Err(MeasureError::LengthMismatch {
-            field: "radii",
-            expected: positions.len(),
-            found: radii.len(),
-        });
-    }
-    if !(binning.bin_width > 0.0 && binning.bin_width.is_finite()) {
-        return Err(MeasureError::InvalidParameter {
-            name: "bin_width",
-            value: binning.bin_width,
-            reason: "must be a finite length > 0",
-        });
-    }
+    check_particles(positions, radii)?;
+    check_length("bin_width", binning.bin_width)?;
     if binning.sectors == 0 {
         return Err(MeasureError::InvalidParameter {
             name: "sectors",

@@ -12,7 +12,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::MeasureError;
-use super::surface_fit::{fit_flank, mean_angle, top_surface, FlankFit, SurfaceBin};
+use super::surface_fit::{
+    check_length, check_particles, fit_flank, mean_angle, top_surface, FlankFit, SurfaceBin,
+};
 
 /// Fewest bin widths across a strip of the depth: narrower strips would hold too few grains
 /// per bin to show the surface.
@@ -87,26 +89,10 @@ pub fn shelf_angles(
     radii: &[f64],
     binning: &ShelfBinning,
 ) -> Result<ShelfAngles, MeasureError> {
-    if positions.len() != radii.len() {
-        return Err(MeasureError::LengthMismatch {
-            field: "radii",
-            expected: positions.len(),
-            found: radii.len(),
-        });
-    }
-    for (name, value) in [
-        ("width", binning.width),
-        ("depth", binning.depth),
-        ("bin_width", binning.bin_width),
-    ] {
-        if !(value > 0.0 && value.is_finite()) {
-            return Err(MeasureError::InvalidParameter {
-                name,
-                value,
-                reason: "must be a finite length > 0",
-            });
-        }
-    }
+    check_particles(positions, radii)?;
+    check_length("width", binning.width)?;
+    check_length("depth", binning.depth)?;
+    check_length("bin_width", binning.bin_width)?;
     if !(binning.slot_width >= 0.0 && binning.slot_width < binning.width) {
         return Err(MeasureError::InvalidParameter {
             name: "slot_width",

@@ -8,6 +8,8 @@
 //! rounded summit, a shelf's plateau of material that never moved); both would bend the line.
 
 use analysis::fit::fit_line;
+
+use super::error::MeasureError;
 use serde::{Deserialize, Serialize};
 
 /// The band of heights, as fractions of the pile's height, over which the flank is fitted:
@@ -55,6 +57,32 @@ impl FlankFit {
             && bin.position <= self.range[1]
             && bin.height >= self.band[0]
             && bin.height <= self.band[1]
+    }
+}
+
+/// Refuses particle arrays of different lengths: a radius for each position.
+pub(crate) fn check_particles(positions: &[[f64; 3]], radii: &[f64]) -> Result<(), MeasureError> {
+    if positions.len() == radii.len() {
+        Ok(())
+    } else {
+        Err(MeasureError::LengthMismatch {
+            field: "radii",
+            expected: positions.len(),
+            found: radii.len(),
+        })
+    }
+}
+
+/// Refuses a length parameter `name` that is not finite and > 0.
+pub(crate) fn check_length(name: &'static str, value: f64) -> Result<(), MeasureError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(MeasureError::InvalidParameter {
+            name,
+            value,
+            reason: "must be a finite length > 0",
+        })
     }
 }
 

@@ -2,21 +2,17 @@
 //! checkpointing the running cases.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 use calibrate::{run_calibration, CalibrationError, CalibrationEvent, CalibrationOptions};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use run::Start;
 use study::{SimulationRunner, StudyEvent};
 
+use crate::background::{run_in_background, Lines};
 use crate::errors::{case_error, RunError};
-use crate::run::panic_text;
-
-const POLL: Duration = Duration::from_millis(50);
 
 /// Runs (or continues) the calibration file `file` into `out`. `progress(done, total,
 /// line)` is called as runs end (done and total count the current round's runs) and after
@@ -46,109 +42,47 @@ pub fn run_calibration_file(
         threads: 1,
         start: Arc::new(Start::Fill),
     };
-    let events: Arc<Mutex<Vec<(usize, usize, String)>>> = Arc::new(Mutex::new(Vec::new()));
-    let sink = Arc::clone(&events);
-    let (tx, rx) = mpsc::channel();
-    let rx = Mutex::new(rx);
-    let root = out.clone();
+    let lines = Lines::default();
+    let sink = lines.clone();
     let flag = Arc::clone(&stop);
-    let worker = std::thread::Builder::new()
-        .name("hopperflow-calibration".into())
-        .spawn(move || {
-            let observer = move |event: CalibrationEvent<'_>| {
-                let line = match event {
-                    CalibrationEvent::RoundStarted { round, runs, .. } => {
-                        (0, runs, format!("round {round}: {runs} runs"))
-                    }
-                    CalibrationEvent::Study(StudyEvent::Started {
-                        total,
-                        already_done,
-                    }) => (
-                        *already_done,
-                        *total,
-                        format!("{already_done} of {total} runs already finished"),
-                    ),
-                    CalibrationEvent::Study(StudyEvent::CaseEnded {
-                        id, done, total, ..
-                    }) => (*done, *total, id.clone()),
-                    CalibrationEvent::RoundFitted(round) => {
-                        let estimate: Vec<String> = round
-                            .estimate
-                            .iter()
-                            .map(|e| {
-                                format!("{} = {:.4e} ± {:.1e}", e.key, e.value, e.standard_error)
-                            })
-                            .collect();
-                        (
-                            round.runs,
-                            round.runs,
-                            format!("round {}: {}", round.round, estimate.join(", ")),
-                        )
-                    }
-                };
-                sink.lock().unwrap_or_else(|e| e.into_inner()).push(line);
-            };
-            let options = CalibrationOptions {
-                jobs: jobs as usize,
-            };
-            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                run_calibration(&plan, &root, &runner, &options, &observer, Some(&flag))
-            }));
-            let _ = tx.send(result);
-        })
-        .map_err(|e| {
-            PyRuntimeError::new_err(format!("cannot start the calibration's thread: {e}"))
-        })?;
-
-    let mut interrupt: Option<PyErr> = None;
-    let result = loop {
-        match py.detach(|| {
-            rx.lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .recv_timeout(POLL)
-        }) {
-            Ok(result) => break result,
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                break Err(Box::new("the calibration's thread ended without a result")
-                    as Box<dyn std::any::Any + Send>)
-            }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-        }
-        if interrupt.is_some() {
-            continue;
-        }
-        let lines: Vec<_> = std::mem::take(&mut *events.lock().unwrap_or_else(|e| e.into_inner()));
-        if let Some(callback) = &progress {
-            for line in lines {
-                if let Err(e) = callback.call1(py, line) {
-                    stop.store(true, Ordering::SeqCst);
-                    interrupt = Some(e);
-                    break;
+    let root = out.clone();
+    let work = move || {
+        let observer = move |event: CalibrationEvent<'_>| {
+            sink.push(match event {
+                CalibrationEvent::RoundStarted { round, runs, .. } => {
+                    (0, runs, format!("round {round}: {runs} runs"))
                 }
-            }
-        }
-        if interrupt.is_none() {
-            if let Err(e) = py.check_signals() {
-                stop.store(true, Ordering::SeqCst);
-                interrupt = Some(e);
-            }
-        }
+                CalibrationEvent::Study(StudyEvent::Started {
+                    total,
+                    already_done,
+                }) => (
+                    *already_done,
+                    *total,
+                    format!("{already_done} of {total} runs already finished"),
+                ),
+                CalibrationEvent::Study(StudyEvent::CaseEnded {
+                    id, done, total, ..
+                }) => (*done, *total, id.clone()),
+                CalibrationEvent::RoundFitted(round) => {
+                    let estimate: Vec<String> = round
+                        .estimate
+                        .iter()
+                        .map(|e| format!("{} = {:.4e} ± {:.1e}", e.key, e.value, e.standard_error))
+                        .collect();
+                    (
+                        round.runs,
+                        round.runs,
+                        format!("round {}: {}", round.round, estimate.join(", ")),
+                    )
+                }
+            });
+        };
+        let options = CalibrationOptions {
+            jobs: jobs as usize,
+        };
+        run_calibration(&plan, &root, &runner, &options, &observer, Some(&flag))
     };
-    let _ = py.detach(|| worker.join());
-    let outcome = result.map_err(|payload| {
-        PyRuntimeError::new_err(format!(
-            "internal error in the calibration: {}",
-            panic_text(payload.as_ref())
-        ))
-    })?;
-    if let Some(e) = interrupt {
-        return Err(e);
-    }
-    if let Some(callback) = &progress {
-        for line in std::mem::take(&mut *events.lock().unwrap_or_else(|e| e.into_inner())) {
-            callback.call1(py, line)?;
-        }
-    }
+    let outcome = run_in_background(py, "calibration", progress.as_ref(), &stop, &lines, work)?;
     match outcome {
         Ok(_) => std::fs::read_to_string(out.join(calibrate::CALIBRATION_FILE))
             .map_err(|e| RunError::new_err(e.to_string())),

@@ -8,6 +8,7 @@
 //! No Rust panic may reach Python: every input is checked before it reaches the engine, and
 //! the work that runs on threads of its own returns a panic as a `RuntimeError`.
 
+mod background;
 mod calibration;
 mod case;
 mod engine;

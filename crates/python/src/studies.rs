@@ -2,25 +2,22 @@
 //! them, with the GIL released and Ctrl-C checkpointing the running cases.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 use case::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
 use files::CaseStatus;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use run::Start;
 use study::{SimulationRunner, StudyEvent, StudyOptions};
 
+use crate::background::{run_in_background, Lines};
 use crate::errors::{case_error, RunError};
-use crate::run::{checked_threads, panic_text};
+use crate::run::checked_threads;
 
 /// Most replicas accepted: each is a whole run of every grid point.
 const MAX_REPLICAS: i64 = 1000;
-
-const POLL: Duration = Duration::from_millis(50);
 
 /// The names of the built-in sweeps.
 #[pyfunction]
@@ -109,117 +106,58 @@ pub fn run_study<'py>(
     let options = StudyOptions {
         jobs: jobs as usize,
     };
-    let events: Arc<Mutex<Vec<(usize, usize, String)>>> = Arc::new(Mutex::new(Vec::new()));
-    let sink = Arc::clone(&events);
+    let lines = Lines::default();
+    let sink = lines.clone();
     let skipped: Vec<(String, String)> = plan
         .skipped
         .iter()
         .map(|s| (s.id.clone(), s.reasons.join("; ")))
         .collect();
-    let (tx, rx) = mpsc::channel();
-    // Behind a mutex so that the waiting closure, which runs without the GIL, is `Send`.
-    let rx = Mutex::new(rx);
-    let root = out.clone();
-    let worker = std::thread::Builder::new()
-        .name("hopperflow-study".into())
-        .spawn(move || {
-            let observer = move |event: &StudyEvent| {
-                let line = match event {
-                    StudyEvent::Started {
-                        total,
-                        already_done,
-                    } => (
-                        *already_done,
+    let work = move || {
+        let observer = move |event: &StudyEvent| {
+            let line = match event {
+                StudyEvent::Started {
+                    total,
+                    already_done,
+                } => (
+                    *already_done,
+                    *total,
+                    format!("{already_done} of {total} cases already finished"),
+                ),
+                StudyEvent::CaseEnded {
+                    id,
+                    outlet_width,
+                    discharge_rate,
+                    status,
+                    wall_time,
+                    reason,
+                    done,
+                    total,
+                } => {
+                    let what = match status {
+                        CaseStatus::Complete => format!("W = {:.1} g/s", discharge_rate * 1e3),
+                        CaseStatus::Clogged => {
+                            format!("CLOGGED (W before = {:.1} g/s)", discharge_rate * 1e3)
+                        }
+                        CaseStatus::Failed => {
+                            format!("FAILED: {}", reason.as_deref().unwrap_or("unknown error"))
+                        }
+                    };
+                    (
+                        *done,
                         *total,
-                        format!("{already_done} of {total} cases already finished"),
-                    ),
-                    StudyEvent::CaseEnded {
-                        id,
-                        outlet_width,
-                        discharge_rate,
-                        status,
-                        wall_time,
-                        reason,
-                        done,
-                        total,
-                    } => {
-                        let what = match status {
-                            CaseStatus::Complete => format!("W = {:.1} g/s", discharge_rate * 1e3),
-                            CaseStatus::Clogged => {
-                                format!("CLOGGED (W before = {:.1} g/s)", discharge_rate * 1e3)
-                            }
-                            CaseStatus::Failed => {
-                                format!("FAILED: {}", reason.as_deref().unwrap_or("unknown error"))
-                            }
-                        };
-                        (
-                            *done,
-                            *total,
-                            format!(
-                                "{id} D = {:.1} mm {what} ({wall_time:.0} s)",
-                                outlet_width * 1e3
-                            ),
-                        )
-                    }
-                };
-                sink.lock().unwrap_or_else(|e| e.into_inner()).push(line);
-            };
-            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                study::run_study(&plan, &root, &runner, &options, &observer)
-            }));
-            let _ = tx.send(result);
-        })
-        .map_err(|e| PyRuntimeError::new_err(format!("cannot start the study's thread: {e}")))?;
-
-    let mut interrupt: Option<PyErr> = None;
-    let result = loop {
-        match py.detach(|| {
-            rx.lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .recv_timeout(POLL)
-        }) {
-            Ok(result) => break result,
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                break Err(Box::new("the study's thread ended without a result")
-                    as Box<dyn std::any::Any + Send>)
-            }
-            Err(mpsc::RecvTimeoutError::Timeout) => {}
-        }
-        if interrupt.is_some() {
-            continue;
-        }
-        let lines: Vec<_> = std::mem::take(&mut *events.lock().unwrap_or_else(|e| e.into_inner()));
-        if let Some(callback) = &progress {
-            for line in lines {
-                if let Err(e) = callback.call1(py, line) {
-                    stop.store(true, Ordering::SeqCst);
-                    interrupt = Some(e);
-                    break;
+                        format!(
+                            "{id} D = {:.1} mm {what} ({wall_time:.0} s)",
+                            outlet_width * 1e3
+                        ),
+                    )
                 }
-            }
-        }
-        if interrupt.is_none() {
-            if let Err(e) = py.check_signals() {
-                stop.store(true, Ordering::SeqCst);
-                interrupt = Some(e);
-            }
-        }
+            };
+            sink.push(line);
+        };
+        study::run_study(&plan, &out, &runner, &options, &observer)
     };
-    let _ = py.detach(|| worker.join());
-    let outcome = result.map_err(|payload| {
-        PyRuntimeError::new_err(format!(
-            "internal error in the study: {}",
-            panic_text(payload.as_ref())
-        ))
-    })?;
-    if let Some(e) = interrupt {
-        return Err(e);
-    }
-    if let Some(callback) = &progress {
-        for line in std::mem::take(&mut *events.lock().unwrap_or_else(|e| e.into_inner())) {
-            callback.call1(py, line)?;
-        }
-    }
+    let outcome = run_in_background(py, "study", progress.as_ref(), &stop, &lines, work)?;
     let outcome = outcome.map_err(|e| RunError::new_err(e.to_string()))?;
     let d = pyo3::types::PyDict::new(py);
     d.set_item("ran", outcome.ran)?;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use files::{
     plot_png, plot_svg, write_atomic, Axis, CalibrationRecord, Figure, Series, SeriesStyle,
-    CALIBRATION_FILE, RUNS_FILE,
+    CALIBRATION_FILE, PALETTE, RUNS_FILE,
 };
 
 use super::build::ReportError;
@@ -59,15 +59,41 @@ fn number(value: f64) -> String {
     }
 }
 
-/// Colours of the rounds, in order, repeating.
-const PALETTE: [[u8; 3]; 6] = [
-    [31, 119, 180],
-    [255, 127, 14],
-    [44, 160, 44],
-    [214, 39, 40],
-    [148, 103, 189],
-    [140, 86, 75],
-];
+/// The last round's surface `surface` through the estimate, along parameter `k` over that
+/// round's region, the other parameter held at its estimate; `first` is the first round,
+/// whose region is the whole search range (which maps the parameters to unit coordinates).
+fn surface_curve(
+    record: &CalibrationRecord,
+    first: &files::RoundRecord,
+    last: &files::RoundRecord,
+    surface: &files::SurfaceRecord,
+    k: usize,
+) -> Series {
+    let unit = |j: usize, v: f64| (v - first.lower[j]) / (first.upper[j] - first.lower[j]);
+    let (x, y): (Vec<f64>, Vec<f64>) = (0..=50)
+        .map(|i| {
+            let v = last.lower[k] + (last.upper[k] - last.lower[k]) * f64::from(i) / 50.0;
+            let u: Vec<f64> = (0..record.estimate.len())
+                .map(|j| {
+                    if j == k {
+                        unit(j, v)
+                    } else {
+                        unit(j, record.estimate[j].value)
+                    }
+                })
+                .collect();
+            (v, surface.value(&u))
+        })
+        .unzip();
+    Series {
+        label: format!("round {} surface", last.round),
+        x,
+        y,
+        y_error: None,
+        style: SeriesStyle::Line,
+        color: Some(PALETTE[(record.rounds.len() - 1) % PALETTE.len()]),
+    }
+}
 
 /// Builds `report/` in the calibration folder `dir`.
 pub fn build_calibration_report(dir: &Path) -> Result<CalibrationReportFiles, ReportError> {
@@ -214,7 +240,7 @@ pub fn build_calibration_report(dir: &Path) -> Result<CalibrationReportFiles, Re
     let value = |row: &Vec<String>, index: usize| row[index].parse::<f64>().ok();
     let round_col = column("round");
     let mut figures = Vec::new();
-    for m in &record.matches {
+    for (t, m) in record.matches.iter().enumerate() {
         let Some(measure_col) = column(&format!("{}:{}", m.test, m.measure)) else {
             continue;
         };
@@ -274,37 +300,8 @@ pub fn build_calibration_report(dir: &Path) -> Result<CalibrationReportFiles, Re
                 });
                 // The last round's surface through the estimate, along this parameter over
                 // its region (the other parameter held at its estimate).
-                let target = record.matches.iter().position(|x| x == m);
-                if let (Some(last), Some(t)) = (last, target) {
-                    if let Some(surface) = last.surfaces.get(t) {
-                        let unit = |j: usize, v: f64| {
-                            (v - first.lower[j]) / (first.upper[j] - first.lower[j])
-                        };
-                        let (x, y): (Vec<f64>, Vec<f64>) = (0..=50)
-                            .map(|i| {
-                                let v = last.lower[k]
-                                    + (last.upper[k] - last.lower[k]) * f64::from(i) / 50.0;
-                                let u: Vec<f64> = (0..keys.len())
-                                    .map(|j| {
-                                        if j == k {
-                                            unit(j, v)
-                                        } else {
-                                            unit(j, record.estimate[j].value)
-                                        }
-                                    })
-                                    .collect();
-                                (v, surface.value(&u))
-                            })
-                            .unzip();
-                        figure = figure.with_series(Series {
-                            label: format!("round {} surface", last.round),
-                            x,
-                            y,
-                            y_error: None,
-                            style: SeriesStyle::Line,
-                            color: Some(PALETTE[(record.rounds.len() - 1) % PALETTE.len()]),
-                        });
-                    }
+                if let Some((last, surface)) = last.and_then(|l| Some((l, l.surfaces.get(t)?))) {
+                    figure = figure.with_series(surface_curve(&record, first, last, surface, k));
                 }
             }
             let name = format!(
