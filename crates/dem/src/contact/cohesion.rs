@@ -170,7 +170,8 @@ pub fn normal_stage(g: &ContactGeometry, c: &PairCoefficients, bonded: bool) -> 
         }
     };
     match c.cohesion {
-        Cohesion::None => NormalOutcome::Contact(dry(0.0)),
+        // A dry pair apart (flagged bonded by an earlier table with cohesion) has nothing.
+        Cohesion::None if touching => NormalOutcome::Contact(dry(0.0)),
         Cohesion::SimplifiedJkr { energy_density } if touching => {
             let area = sjkr::intersection_area(g.radius[0], g.radius[1], g.overlap);
             NormalOutcome::Contact(dry(sjkr::sjkr_force(energy_density, area)))
@@ -213,6 +214,141 @@ pub fn normal_stage(g: &ContactGeometry, c: &PairCoefficients, bonded: bool) -> 
     }
 }
 
+/// Which bonding law a material pair has, as the batched kernel's lanes read it
+/// ([`BondConstants::law`]): none (dry, or the simplified JKR, which the kernel adds apart).
+pub const LAW_DRY: u8 = 0;
+/// JKR ([`BondConstants::law`]).
+pub const LAW_JKR: u8 = 1;
+/// A liquid bridge ([`BondConstants::law`]).
+pub const LAW_BRIDGE: u8 = 2;
+
+/// Stands for a batch whose lanes have different laws ([`bonded_stage_lane`]'s `LAWS`).
+pub const LAWS_MIXED: u8 = 3;
+
+/// A material pair's bonding law in plain numbers, formed once per pair: the law and its
+/// constants ([`jkr::JkrPair`], [`liquid_bridge::BridgePair`]), for [`bonded_stage_lane`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BondConstants {
+    /// [`LAW_DRY`], [`LAW_JKR`] or [`LAW_BRIDGE`].
+    pub law: u8,
+    /// The JKR curve's constants (meaningful for [`LAW_JKR`]).
+    pub jkr: jkr::JkrPair,
+    /// The bridge's constants (meaningful for [`LAW_BRIDGE`]).
+    pub bridge: liquid_bridge::BridgePair,
+}
+
+impl BondConstants {
+    /// The constants of the pair with coefficients `c`.
+    pub fn of(c: &PairCoefficients) -> Self {
+        match c.cohesion {
+            Cohesion::Jkr { work_of_adhesion } => Self {
+                law: LAW_JKR,
+                jkr: jkr::JkrPair::new(c.e_star, work_of_adhesion),
+                ..Self::default()
+            },
+            Cohesion::LiquidBridge {
+                volume,
+                surface_tension,
+                contact_angle,
+            } => Self {
+                law: LAW_BRIDGE,
+                bridge: liquid_bridge::BridgePair::new(volume, surface_tension, contact_angle),
+                ..Self::default()
+            },
+            Cohesion::None | Cohesion::SimplifiedJkr { .. } => Self::default(),
+        }
+    }
+}
+
+/// What a lane's cohesion makes of its contact ([`StageLane::outcome`]): the bond broke, or
+/// there was none; the full pipeline runs.
+pub const OUTCOME_APART: u8 = 0;
+/// See [`OUTCOME_APART`]: the surfaces bear on each other, or a JKR bond holds them.
+pub const OUTCOME_CONTACT: u8 = 1;
+/// See [`OUTCOME_APART`]: only a liquid bridge acts across a gap, a pure attraction.
+pub const OUTCOME_BRIDGE_ONLY: u8 = 2;
+
+/// [`NormalStage`] as a lane of the batched kernel computes it, with the outcome as a
+/// number ([`NormalOutcome`]'s three cases).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StageLane {
+    /// Elastic normal force [N] ([`NormalStage::elastic`]).
+    pub elastic: f64,
+    /// Dashpot stiffness [N/m] ([`NormalStage::stiffness`]).
+    pub stiffness: f64,
+    /// Contact radius [m] ([`NormalStage::contact_radius`]).
+    pub contact_radius: f64,
+    /// Normal load [N] of friction and rolling resistance ([`NormalStage::load`]).
+    pub load: f64,
+    /// Attraction [N] subtracted after the dashpot ([`NormalStage::pull`]); for
+    /// [`OUTCOME_BRIDGE_ONLY`] the whole force's magnitude.
+    pub pull: f64,
+    /// [`OUTCOME_APART`], [`OUTCOME_CONTACT`] or [`OUTCOME_BRIDGE_ONLY`].
+    pub outcome: u8,
+}
+
+/// [`normal_stage`] without a branch, for a lane of the batched kernel: the contact of a
+/// pair with bonding law `bond`, effective modulus `e_star` [Pa] and radius `r_eff` [m], at
+/// overlap `overlap` [m], which touches or is bonded (the kernel's filter lists no other).
+/// Every law's numbers are formed and the pair's are selected, so the numbers of a law
+/// a lane does not have may be meaningless (a root of a negative number); the selected ones
+/// are [`normal_stage`]'s, bit for bit, where the outcome is a contact, and its force where
+/// the outcome is a bridge alone.
+///
+/// `LAWS` is [`LAW_JKR`] or [`LAW_BRIDGE`] where every lane of the loop has that law (the
+/// compiler then drops the other laws' numbers), else [`LAWS_MIXED`]; the lanes' numbers
+/// are the same either way.
+#[inline(always)]
+pub fn bonded_stage_lane<const LAWS: u8>(
+    bond: &BondConstants,
+    e_star: f64,
+    r_eff: f64,
+    overlap: f64,
+) -> StageLane {
+    let dry = hertz(e_star, r_eff, overlap);
+    let glued = bond.jkr.force(r_eff, overlap);
+    let holds = bond.jkr.holds(r_eff, overlap);
+    let wet = bond.bridge.force(r_eff, -overlap);
+    let (is_jkr, is_bridge) = match LAWS {
+        LAW_JKR => (true, false),
+        LAW_BRIDGE => (false, true),
+        _ => (bond.law == LAW_JKR, bond.law == LAW_BRIDGE),
+    };
+    let touching = overlap > 0.0;
+    let pick = |jkr: f64, other: f64| if is_jkr { jkr } else { other };
+    let bridge_outcome = if touching {
+        OUTCOME_CONTACT
+    } else if wet > 0.0 {
+        OUTCOME_BRIDGE_ONLY
+    } else {
+        OUTCOME_APART
+    };
+    let jkr_outcome = if holds {
+        OUTCOME_CONTACT
+    } else {
+        OUTCOME_APART
+    };
+    StageLane {
+        elastic: pick(glued.force, dry.force),
+        stiffness: pick(glued.stiffness, dry.stiffness),
+        contact_radius: pick(glued.contact_radius, dry.contact_radius),
+        load: pick(
+            glued.force + 2.0 * bond.jkr.pull_off_force(r_eff),
+            dry.force,
+        ),
+        pull: if is_bridge { wet } else { 0.0 },
+        outcome: if is_jkr {
+            jkr_outcome
+        } else if is_bridge {
+            bridge_outcome
+        } else if touching {
+            OUTCOME_CONTACT
+        } else {
+            OUTCOME_APART
+        },
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,6 +371,75 @@ mod tests {
         };
         assert!(!sjkr.bonds() && sjkr.reach(1e8, 1e-3) == 0.0);
         assert!(!Cohesion::None.bonds() && Cohesion::None.is_none());
+    }
+
+    #[test]
+    fn the_lane_form_is_the_normal_stage_bit_for_bit() {
+        // Overlaps from −0.2 mm (beyond every reach here) to 20 µm of compression, for a
+        // dry, a JKR and a wet pair of 1 mm spheres: where `normal_stage` finds a contact
+        // (touching, or bonded), the lane's numbers are its numbers exactly; where a bridge
+        // alone acts, its pull; and the outcomes agree.
+        use crate::material::{Interaction, Material};
+        let m = Material::fan2023();
+        let laws = [
+            Cohesion::None,
+            Cohesion::Jkr {
+                work_of_adhesion: 5.0,
+            },
+            Cohesion::LiquidBridge {
+                volume: 1e-12,
+                surface_tension: 0.072,
+                contact_angle: 0.35,
+            },
+        ];
+        let (mut contacts, mut bridges, mut apart) = (0, 0, 0);
+        for law in laws {
+            let c = PairCoefficients::new(&m, Some(&m), &Interaction::fan2023().with_cohesion(law));
+            let bond = BondConstants::of(&c);
+            let r_eff = 5e-4;
+            for k in 0..=2200 {
+                let overlap = -2e-4 + 1e-7 * k as f64;
+                let g = ContactGeometry {
+                    normal: glam::DVec3::X,
+                    overlap,
+                    r_eff,
+                    m_eff: 1e-6,
+                    arm_i: 1e-3,
+                    arm_j: 1e-3,
+                    inertia: [1.0; 2],
+                    mass_radius2: [1.0; 2],
+                    radius: [1e-3; 2],
+                };
+                let lane = bonded_stage_lane::<LAWS_MIXED>(&bond, c.e_star, r_eff, overlap);
+                match normal_stage(&g, &c, true) {
+                    NormalOutcome::Contact(s) => {
+                        contacts += 1;
+                        assert_eq!(lane.outcome, OUTCOME_CONTACT, "{law:?} at {overlap}");
+                        let picked = [
+                            lane.elastic,
+                            lane.stiffness,
+                            lane.contact_radius,
+                            lane.load,
+                            lane.pull,
+                        ];
+                        let staged = [s.elastic, s.stiffness, s.contact_radius, s.load, s.pull];
+                        for (a, b) in picked.iter().zip(staged) {
+                            assert_eq!(a.to_bits(), b.to_bits(), "{law:?} at {overlap}");
+                        }
+                    }
+                    NormalOutcome::BridgeOnly(pull) => {
+                        bridges += 1;
+                        assert_eq!(lane.outcome, OUTCOME_BRIDGE_ONLY);
+                        assert_eq!(lane.pull.to_bits(), pull.to_bits());
+                    }
+                    NormalOutcome::Apart => {
+                        apart += 1;
+                        assert_eq!(lane.outcome, OUTCOME_APART, "{law:?} at {overlap}");
+                    }
+                }
+            }
+        }
+        assert!(contacts > 0 && bridges > 0 && apart > 0);
     }
 
     #[test]

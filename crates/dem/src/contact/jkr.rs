@@ -15,6 +15,8 @@
 
 use std::f64::consts::PI;
 
+use super::cube_root::cube_root_and_reciprocal;
+
 /// The pull-off force F_c = (3/2) π w R* [N] of work of adhesion `w` [J/m²] and effective
 /// radius `r_eff` [m]: the largest tension the contact holds.
 #[inline]
@@ -50,56 +52,24 @@ pub fn overlap_at(e_star: f64, r_eff: f64, w: f64, a: f64) -> f64 {
 /// The force F(a) = 4E* a³/(3R*) − √(8π w E* a³) [N] of contact radius `a` [m].
 #[inline]
 pub fn force_at(e_star: f64, r_eff: f64, w: f64, a: f64) -> f64 {
-    let a3 = a * a * a;
-    4.0 * e_star * a3 / (3.0 * r_eff) - (8.0 * PI * w * e_star * a3).sqrt()
+    JkrPair::new(e_star, w).force_at(r_eff, a)
 }
 
 /// Whether a bonded contact at `overlap` [m] still holds: δ ≥ δ_c, compared without the cube
 /// root as (−δ)³ ≤ (27/64) π² w² R*/E*² where δ < 0.
 #[inline]
 pub fn holds(e_star: f64, r_eff: f64, w: f64, overlap: f64) -> bool {
-    if overlap >= 0.0 {
-        return true;
-    }
-    let d = -overlap;
-    d * d * d <= 27.0 / 64.0 * (PI * w / e_star) * (PI * w / e_star) * r_eff
+    JkrPair::new(e_star, w).holds(r_eff, overlap)
 }
 
 /// The contact radius a [m] of a bonded contact at overlap `overlap` [m]: the largest root of
-/// δ(a) = overlap, or `None` below the breaking overlap, where the contact has no state.
-///
-/// In s = √a the equation is the depressed quartic s⁴ − cR* s − δR* = 0, c = √(2πw/E*),
-/// solved in closed form (Ferrari): with m the positive root of the resolvent cubic
-/// m³ + δR* m − c²R*²/8 = 0, (s² + m)² = 2m (s − cR*/(4m))², and the largest root is
-/// s = (√(2m) + √(2cR*/√(2m) − 2m))/2. The cubic's discriminant (c²R*²/16)² + (δR*/3)³ is
-/// ≥ 0 exactly where δ ≥ δ_c, so Cardano's real form gives m = u − δR*/(3u),
-/// u = ∛(c²R*²/16 + √disc). One Newton step on the quartic then removes the cancellation
-/// in m at large overlaps, leaving the root to round-off.
+/// δ(a) = overlap, or `None` below the breaking overlap, where the contact has no state
+/// ([`JkrPair::contact_radius`]).
 #[inline]
 pub fn contact_radius(e_star: f64, r_eff: f64, w: f64, overlap: f64) -> Option<f64> {
-    if !holds(e_star, r_eff, w, overlap) {
-        return None;
-    }
-    let c = (2.0 * PI * w / e_star).sqrt();
-    let p = overlap * r_eff;
-    let half_q = c * c * r_eff * r_eff / 16.0;
-    let third_p = p / 3.0;
-    let disc = (half_q * half_q + third_p * third_p * third_p)
-        .max(0.0)
-        .sqrt();
-    let u = (half_q + disc).cbrt();
-    let m = u - third_p / u;
-    let root_2m = (2.0 * m).sqrt();
-    let s = 0.5 * (root_2m + (2.0 * c * r_eff / root_2m - 2.0 * m).max(0.0).sqrt());
-    let s3 = s * s * s;
-    let slope = 4.0 * s3 / r_eff - c;
-    // At the breaking overlap the root is where the slope vanishes: no step there.
-    let s = if slope > 0.0 {
-        s - (s3 * s / r_eff - c * s - overlap) / slope
-    } else {
-        s
-    };
-    Some(s * s)
+    let pair = JkrPair::new(e_star, w);
+    pair.holds(r_eff, overlap)
+        .then(|| pair.contact_radius(r_eff, overlap))
 }
 
 /// A bonded JKR contact.
@@ -117,12 +87,117 @@ pub struct JkrForce {
 /// The JKR force at `overlap` [m], or `None` where a bonded contact breaks.
 #[inline]
 pub fn jkr(e_star: f64, r_eff: f64, w: f64, overlap: f64) -> Option<JkrForce> {
-    let a = contact_radius(e_star, r_eff, w, overlap)?;
-    Some(JkrForce {
-        force: force_at(e_star, r_eff, w, a),
-        contact_radius: a,
-        stiffness: 2.0 * e_star * a,
-    })
+    let pair = JkrPair::new(e_star, w);
+    pair.holds(r_eff, overlap)
+        .then(|| pair.force(r_eff, overlap))
+}
+
+/// The numbers of one material pair's JKR curve that depend neither on R* nor on the
+/// overlap, formed once per pair so that a contact's evaluation is arithmetic only: the
+/// functions above go through it, and so does the batched kernel's lane, with the same
+/// bits.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JkrPair {
+    /// Effective Young's modulus E* [Pa].
+    pub e_star: f64,
+    /// c = √(2π w/E*) [m^{1/2}], of δ(a) = a²/R* − c √a.
+    pub c: f64,
+    /// (3/2) π w [N/m]: the pull-off force is this times R*.
+    pub pull_off: f64,
+    /// (27/64)(π w/E*)² [m²]: a bonded contact holds while (−δ)³ is at most this times R*.
+    pub break_cubed: f64,
+    /// 8π w E* [N²/m³], under the root of F's adhesive term √(8π w E* a³).
+    pub adhesion: f64,
+}
+
+impl JkrPair {
+    /// The curve's constants for effective modulus `e_star` [Pa] and work of adhesion `w`
+    /// [J/m²].
+    pub fn new(e_star: f64, w: f64) -> Self {
+        Self {
+            e_star,
+            c: (2.0 * PI * w / e_star).sqrt(),
+            pull_off: 1.5 * PI * w,
+            break_cubed: 27.0 / 64.0 * (PI * w / e_star) * (PI * w / e_star),
+            adhesion: 8.0 * PI * w * e_star,
+        }
+    }
+
+    /// The pull-off force F_c [N] at effective radius `r_eff` [m] ([`pull_off_force`]).
+    #[inline(always)]
+    pub fn pull_off_force(&self, r_eff: f64) -> f64 {
+        self.pull_off * r_eff
+    }
+
+    /// Whether a bonded contact at `overlap` [m] holds ([`holds`]); without a branch.
+    #[inline(always)]
+    pub fn holds(&self, r_eff: f64, overlap: f64) -> bool {
+        let d = -overlap;
+        (overlap >= 0.0) | (d * d * d <= self.break_cubed * r_eff)
+    }
+
+    /// The force F(a) [N] of contact radius `a` [m] ([`force_at`]).
+    #[inline(always)]
+    pub fn force_at(&self, r_eff: f64, a: f64) -> f64 {
+        self.force_with(1.0 / r_eff, a)
+    }
+
+    /// [`JkrPair::force_at`] with 1/R* [1/m] given.
+    #[inline(always)]
+    fn force_with(&self, inv_r: f64, a: f64) -> f64 {
+        let a3 = a * a * a;
+        (4.0 / 3.0) * self.e_star * a3 * inv_r - (self.adhesion * a3).sqrt()
+    }
+
+    /// The contact radius a [m] at `overlap` [m] of a contact that holds there
+    /// ([`JkrPair::holds`]; elsewhere the number means nothing). Without a branch or a
+    /// library call, so that the batched kernel's lanes take it.
+    #[inline(always)]
+    pub fn contact_radius(&self, r_eff: f64, overlap: f64) -> f64 {
+        self.contact_radius_with(r_eff, 1.0 / r_eff, overlap)
+    }
+
+    /// [`JkrPair::contact_radius`] with 1/R* [1/m] given.
+    ///
+    /// In s = √a the equation δ(a) = overlap is the depressed quartic s⁴ − cR* s − δR* = 0,
+    /// solved in closed form (Ferrari): with m the positive root of the resolvent cubic
+    /// m³ + δR* m − c²R*²/8 = 0, (s² + m)² = 2m (s − cR*/(4m))², and the largest root is
+    /// s = (√(2m) + √(2cR*/√(2m) − 2m))/2. The cubic's discriminant (c²R*²/16)² + (δR*/3)³
+    /// is ≥ 0 exactly where δ ≥ δ_c, so Cardano's real form gives m = u − δR*/(3u),
+    /// u = ∛(c²R*²/16 + √disc), with 1/u the cube root's reciprocal. One Newton step on the
+    /// quartic then removes the cancellation in m at large overlaps and the reciprocal's
+    /// error (both of first order), leaving the root to round-off.
+    #[inline(always)]
+    fn contact_radius_with(&self, r_eff: f64, inv_r: f64, overlap: f64) -> f64 {
+        let c = self.c;
+        let half_q = c * c * r_eff * r_eff * (1.0 / 16.0);
+        let third_p = overlap * r_eff * (1.0 / 3.0);
+        let disc = (half_q * half_q + third_p * third_p * third_p)
+            .max(0.0)
+            .sqrt();
+        let (u, inv_u) = cube_root_and_reciprocal(half_q + disc);
+        let m = u - third_p * inv_u;
+        let root_2m = (2.0 * m).sqrt();
+        let s = 0.5 * (root_2m + (2.0 * c * r_eff / root_2m - 2.0 * m).max(0.0).sqrt());
+        let s3 = s * s * s;
+        let slope = 4.0 * s3 * inv_r - c;
+        // At the breaking overlap the root is where the slope vanishes: no step there.
+        let step = (s3 * s * inv_r - c * s - overlap) / slope;
+        let s = if slope > 0.0 { s - step } else { s };
+        s * s
+    }
+
+    /// The bonded contact at `overlap` [m], for a contact that holds there.
+    #[inline(always)]
+    pub fn force(&self, r_eff: f64, overlap: f64) -> JkrForce {
+        let inv_r = 1.0 / r_eff;
+        let a = self.contact_radius_with(r_eff, inv_r, overlap);
+        JkrForce {
+            force: self.force_with(inv_r, a),
+            contact_radius: a,
+            stiffness: 2.0 * self.e_star * a,
+        }
+    }
 }
 
 /// The work [J] a contact takes on one approach and separation without damping: the area

@@ -40,12 +40,51 @@ pub fn bridge_force(
     contact_angle: f64,
     separation: f64,
 ) -> f64 {
-    if separation > rupture_distance(volume, contact_angle) {
-        return 0.0;
+    BridgePair::new(volume, surface_tension, contact_angle).force(r_eff, separation)
+}
+
+/// The numbers of one material pair's bridge that do not depend on R* or the separation,
+/// formed once per pair (the cosine and the cube root), so that a contact's evaluation is
+/// arithmetic only: [`bridge_force`] goes through it, and so does the batched kernel's
+/// lane, with the same bits.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BridgePair {
+    /// Bridge volume V [m³].
+    pub volume: f64,
+    /// Surface tension γ [N/m].
+    pub surface_tension: f64,
+    /// cos θ of the contact angle [-].
+    pub cos_angle: f64,
+    /// The rupture distance S_c [m] ([`rupture_distance`]).
+    pub rupture: f64,
+}
+
+impl BridgePair {
+    /// The bridge of volume `volume` [m³], surface tension `surface_tension` [N/m] and
+    /// contact angle `contact_angle` [rad].
+    pub fn new(volume: f64, surface_tension: f64, contact_angle: f64) -> Self {
+        Self {
+            volume,
+            surface_tension,
+            cos_angle: contact_angle.cos(),
+            rupture: rupture_distance(volume, contact_angle),
+        }
     }
-    let r = 2.0 * r_eff;
-    let s = 0.5 * separation.max(0.0) * (r / volume).sqrt();
-    2.0 * PI * r * surface_tension * contact_angle.cos() / (1.0 + 2.1 * s + 10.0 * s * s)
+
+    /// The force [N] at `separation` [m] for effective radius `r_eff` [m] ([`bridge_force`]),
+    /// without a branch.
+    #[inline(always)]
+    pub fn force(&self, r_eff: f64, separation: f64) -> f64 {
+        let r = 2.0 * r_eff;
+        let s = 0.5 * separation.max(0.0) * (r / self.volume).sqrt();
+        let f =
+            2.0 * PI * r * self.surface_tension * self.cos_angle / (1.0 + 2.1 * s + 10.0 * s * s);
+        if separation > self.rupture {
+            0.0
+        } else {
+            f
+        }
+    }
 }
 
 #[cfg(test)]

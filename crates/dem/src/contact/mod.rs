@@ -4,6 +4,7 @@
 //! Each stage is a pure function in its own file; this module only orders them.
 
 pub mod cohesion;
+pub mod cube_root;
 pub mod damping;
 pub mod geometry;
 pub mod jkr;

@@ -5,12 +5,12 @@ use glam::{BVec3, DVec3};
 
 use super::{compact, gather, prefetch, PREFETCH_AHEAD, PREFETCH_BODIES};
 use crate::contact::geometry::plane_distance;
-use crate::history::{LIVE, WAS_LIVE};
+use crate::history::{BONDED, LIVE, WAS_LIVE};
 use crate::particles::ParticleSet;
 
 /// Lists (in `touching[..count]`, count returned) the candidates of `pi`/`pj` whose spheres
-/// overlap, without a branch on the outcome, and marks the others' histories as not live
-/// (see [`note_live`]).
+/// overlap, and with `bonds` those bonded as well ([`note_live_or_bonded`]), without a
+/// branch on the outcome, and marks the others' histories as not live (see [`note_live`]).
 #[inline(never)]
 pub(super) fn filter_touching(
     p: &ParticleSet,
@@ -18,6 +18,7 @@ pub(super) fn filter_touching(
     live: &mut [u8],
     touching: &mut Vec<u32>,
     uniform_radius: Option<f64>,
+    bonds: bool,
 ) -> usize {
     let radius = &p.radius[..p.len()];
     match uniform_radius {
@@ -25,7 +26,7 @@ pub(super) fn filter_touching(
         // as the general branch computes for every pair.
         Some(r) => {
             let cut2 = (r + r) * (r + r);
-            filter_touching_with(p, ids, live, touching, (Some(cut2), |_, _| cut2))
+            filter_touching_with(p, ids, live, touching, (Some(cut2), |_, _| cut2), bonds)
         }
         None => filter_touching_with(
             p,
@@ -36,7 +37,21 @@ pub(super) fn filter_touching(
                 let sum = radius[i] + radius[j];
                 sum * sum
             }),
+            bonds,
         ),
+    }
+}
+
+/// The live flags of a listed contact after the laws, from its flags `old`: none if its bond
+/// broke or it had none apart (`kept` false; its history is then zero), else [`LIVE`], with
+/// [`BONDED`] where its pair's law bonds (`bonds`).
+#[inline(always)]
+pub(super) fn settle_bond(old: u8, kept: bool, bonds: bool) -> u8 {
+    let base = old & WAS_LIVE;
+    if kept {
+        base | LIVE | (u8::from(bonds) * BONDED)
+    } else {
+        base
     }
 }
 
@@ -49,6 +64,7 @@ pub(super) fn filter_touching_with(
     live: &mut [u8],
     touching: &mut Vec<u32>,
     (shared, cut2): (Option<f64>, impl Fn(usize, usize) -> f64),
+    bonds: bool,
 ) -> usize {
     let pos = &p.position[..p.len()];
     // Only grown, never cleared: see `batched_wall_loop`.
@@ -67,8 +83,27 @@ pub(super) fn filter_touching_with(
         let rest = (&pi[done..], &pj[done..]);
         pair_flags::<false>(pos, rest, &mut flags[done..], &cut2);
     }
-    note_live(flags, live);
+    if bonds {
+        note_live_or_bonded(flags, live);
+    } else {
+        note_live(flags, live);
+    }
     compact::in_place(flags)
+}
+
+/// Pass 2 of the pair filter where pairs may bond (JKR, liquid bridges): a candidate is
+/// listed while touching (`flags[k]` 1) or bonded, however far apart (the laws decide
+/// whether its bond holds), and the live flags follow the listing ([`live_flags`]). A
+/// listed bonded candidate keeps its [`BONDED`] bit; the pair loop sets the bits of every
+/// listed one after the laws ([`settle_bond`]). Over bytes, with no count: vectorised.
+#[inline(always)]
+fn note_live_or_bonded(flags: &mut [u32], live: &mut [u8]) {
+    for (f, l) in flags.iter_mut().zip(live.iter_mut()) {
+        let bonded = *l & (LIVE | BONDED) == LIVE | BONDED;
+        let listed = (*f != 0) | bonded;
+        *f = u32::from(listed);
+        *l = live_flags(u8::from(listed), *l) | (u8::from(bonded) * BONDED);
+    }
 }
 
 /// Pass 1 of the pair filter: `flags[k]` is 1 when candidate k's spheres overlap, with

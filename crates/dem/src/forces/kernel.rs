@@ -16,6 +16,11 @@
 
 use glam::DVec3;
 
+use super::bond_rows::BondRows;
+use crate::contact::cohesion::{
+    bonded_stage_lane, BondConstants, LAWS_MIXED, LAW_BRIDGE, LAW_DRY, LAW_JKR,
+    OUTCOME_BRIDGE_ONLY, OUTCOME_CONTACT,
+};
 use crate::contact::geometry::{effective_radius, lever_arm};
 use crate::contact::tangential;
 use crate::contact::{damping, normal, rolling};
@@ -66,6 +71,11 @@ pub struct Batch {
     pub overlap_fraction: [f64; BATCH],
     /// Intermediate values of the kernel's passes.
     stages: Stages,
+    /// Bonding laws of the contacts, and what they made of each (read and written only by
+    /// the bonded resolves).
+    pub bond: BondRows,
+    /// Each material pair's bonding constants, by pair index (the bonded pair loop's).
+    pub bond_table: Vec<BondConstants>,
     /// Contacts filled in [-].
     pub len: usize,
 }
@@ -89,6 +99,8 @@ impl Default for Batch {
             torque_j: [z; 3],
             overlap_fraction: z,
             stages: Stages::default(),
+            bond: BondRows::default(),
+            bond_table: Vec::new(),
         }
     }
 }
@@ -137,7 +149,7 @@ impl Batch {
     /// updating `xi`.
     #[inline(never)]
     pub fn resolve_pairs(&mut self, dt: f64) {
-        self.resolve::<false, false>(dt, SharedBody::default());
+        self.resolve::<false, false, LAW_DRY>(dt, SharedBody::default());
     }
 
     /// As [`Batch::resolve_pairs`], for a batch whose spheres all have radius `radius` [m] and
@@ -153,7 +165,7 @@ impl Batch {
             m_eff: mass * mass / (mass + mass),
             inv_radius: 1.0 / radius,
         };
-        self.resolve::<false, true>(dt, shared);
+        self.resolve::<false, true, LAW_DRY>(dt, shared);
     }
 
     /// Evaluates every particle–wall contact of the batch for time step `dt` [s], updating
@@ -161,7 +173,36 @@ impl Batch {
     /// R* = R_i, m* = m_i, lever a_j = 0, ω_j = 0 (the caller stores zero there).
     #[inline(never)]
     pub fn resolve_walls(&mut self, dt: f64) {
-        self.resolve::<true, false>(dt, SharedBody::default());
+        self.resolve::<true, false, LAW_DRY>(dt, SharedBody::default());
+    }
+
+    /// As [`Batch::resolve_pairs`], for pairs whose material pairs may bond (JKR, liquid
+    /// bridges; `bond` holds each slot's law): the slots may be bonded pairs apart
+    /// (overlap ≤ 0). Each slot's outcome is left in `bond.outcome`; a slot whose bond broke
+    /// gets no force and no history, one held by a bridge alone the bridge's pull and no
+    /// history.
+    #[inline(never)]
+    pub fn resolve_bonded_pairs(&mut self, dt: f64) {
+        match self.bond.laws(self.len) {
+            LAW_JKR => self.resolve::<false, false, LAW_JKR>(dt, SharedBody::default()),
+            LAW_BRIDGE => self.resolve::<false, false, LAW_BRIDGE>(dt, SharedBody::default()),
+            _ => self.resolve::<false, false, LAWS_MIXED>(dt, SharedBody::default()),
+        }
+    }
+
+    /// [`Batch::resolve_bonded_pairs`] for equal spheres ([`Batch::resolve_pairs_uniform`]).
+    #[inline(never)]
+    pub fn resolve_bonded_pairs_uniform(&mut self, dt: f64, radius: f64, mass: f64) {
+        let shared = SharedBody {
+            r_eff: radius * radius / (radius + radius),
+            m_eff: mass * mass / (mass + mass),
+            inv_radius: 1.0 / radius,
+        };
+        match self.bond.laws(self.len) {
+            LAW_JKR => self.resolve::<false, true, LAW_JKR>(dt, shared),
+            LAW_BRIDGE => self.resolve::<false, true, LAW_BRIDGE>(dt, shared),
+            _ => self.resolve::<false, true, LAWS_MIXED>(dt, shared),
+        }
     }
 
     /// The laws over the batch in four passes, each a loop over the contacts.
@@ -174,7 +215,11 @@ impl Batch {
     /// several contacts at once. Every contact still gets the same operations in the same
     /// order; the intermediate values wait in [`Stages`] (L1-resident).
     #[inline(always)]
-    fn resolve<const WALL: bool, const UNIFORM: bool>(&mut self, dt: f64, shared: SharedBody) {
+    fn resolve<const WALL: bool, const UNIFORM: bool, const LAWS: u8>(
+        &mut self,
+        dt: f64,
+        shared: SharedBody,
+    ) {
         // The contacts rounded up to whole vectors of the widest build. The slots past
         // `len` hold what an earlier batch left there (finite numbers from real contacts,
         // or a new batch's zeros) and are resolved too, their results never read. Otherwise
@@ -219,6 +264,15 @@ impl Batch {
             }
         }
 
+        // Pass 1b, bonds only: the normal stage of each slot's bonding law
+        // (`bonded_stage_lane`), in a loop of its own so that it vectorises.
+        if LAWS != LAW_DRY {
+            for k in 0..n {
+                let rows = (&self.radius, &self.coeff.e_star, &mut self.bond);
+                bonded_stage::<WALL, UNIFORM, LAWS>(rows, st, k, shared);
+            }
+        }
+
         // Pass 2, normal force (§2.1: `normal::hertz`, `damping::dashpot`), contact-point
         // velocity, and the rolling torque's scale (Eq. 8).
         for k in 0..n {
@@ -256,13 +310,29 @@ impl Batch {
                 st.v_t[c][k] = v[c] - v_n * nrm[c];
             }
 
-            let hertz = normal::hertz(e_star, r_eff, overlap);
-            let f_ne = hertz.force;
-            let gamma_n = damping::dashpot(prefactor, hertz.stiffness, m_eff);
-            st.a[k] = hertz.contact_radius;
+            // The elastic force, its stiffness and contact radius, and the load of friction
+            // and rolling: Hertz's, or the pair's bonding law's (pass 1b).
+            let (f_ne, stiffness, contact_radius, load) = if LAWS != LAW_DRY {
+                (st.f_ne[k], st.stiffness[k], st.a[k], st.load[k])
+            } else {
+                let hertz = normal::hertz(e_star, r_eff, overlap);
+                (
+                    hertz.force,
+                    hertz.stiffness,
+                    hertz.contact_radius,
+                    hertz.force,
+                )
+            };
+            let gamma_n = damping::dashpot(prefactor, stiffness, m_eff);
+            st.a[k] = contact_radius;
             st.f_ne[k] = f_ne;
             st.gamma_n[k] = gamma_n;
-            st.f_n[k] = f_ne - gamma_n * v_n;
+            st.f_n[k] = if LAWS != LAW_DRY {
+                // The attraction after the dashpot, as `ContactLaws::resolve` subtracts it.
+                f_ne - gamma_n * v_n - st.pull[k]
+            } else {
+                f_ne - gamma_n * v_n
+            };
 
             // s = μ_r F_ne/|ω_rel| (Eq. 8), zero without relative spin or rolling friction.
             let omega_rel = [
@@ -271,7 +341,7 @@ impl Batch {
                 self.omega[0][2][k] - self.omega[1][2][k],
             ];
             let w2 = dot(omega_rel, omega_rel);
-            st.rolling[k] = rolling::constant_torque_scale(rolling_friction, f_ne, w2);
+            st.rolling[k] = rolling::constant_torque_scale(rolling_friction, load, w2);
         }
 
         // Pass 3, history into the tangent plane keeping its length (a zero or normal history
@@ -298,7 +368,12 @@ impl Batch {
             let v_t = [st.v_t[0][k], st.v_t[1][k], st.v_t[2][k]];
             let s_t = tangential::mindlin_stiffness(g_star, st.a[k]);
             let gamma_t = tangential::no_slip_dashpot(st.gamma_n[k], ratio);
-            let cap = tangential::coulomb_limit(friction, st.f_ne[k]);
+            let load = if LAWS != LAW_DRY {
+                st.load[k]
+            } else {
+                st.f_ne[k]
+            };
+            let cap = tangential::coulomb_limit(friction, load);
             let mut xi = [self.xi[0][k], self.xi[1][k], self.xi[2][k]];
             let f_t = tangential::no_slip_force_lane(&mut xi, v_t, s_t, cap, gamma_t);
 
@@ -322,7 +397,53 @@ impl Batch {
                 self.torque_j[c][k] = torque_j[c];
             }
         }
+
+        // Pass 5, bonds only: a slot held by a bridge alone gets the bridge's pull along n,
+        // one whose bond broke nothing; neither keeps a history (`ContactLaws::resolve`).
+        if LAWS != LAW_DRY {
+            for k in 0..n {
+                let outcome = self.bond.outcome[k];
+                let (contact, bridge) =
+                    (outcome == OUTCOME_CONTACT, outcome == OUTCOME_BRIDGE_ONLY);
+                let nrm = normal_of::<WALL>(&self.d, &st.normal, k);
+                let pull = st.pull[k];
+                for (c, n_c) in nrm.into_iter().enumerate() {
+                    let alone = if bridge { -pull * n_c } else { 0.0 };
+                    self.force[c][k] = if contact { self.force[c][k] } else { alone };
+                    self.torque_i[c][k] = if contact { self.torque_i[c][k] } else { 0.0 };
+                    self.torque_j[c][k] = if contact { self.torque_j[c][k] } else { 0.0 };
+                    self.xi[c][k] = if contact { self.xi[c][k] } else { 0.0 };
+                }
+            }
+        }
     }
+}
+
+/// The normal stage of slot `k`'s bonding law into the stages (pass 1b of
+/// [`Batch::resolve`]), from the batch's radii, E* and bonding rows.
+#[inline(always)]
+fn bonded_stage<const WALL: bool, const UNIFORM: bool, const LAWS: u8>(
+    (radius, e_star, bond): (&[[f64; BATCH]; 2], &[f64; BATCH], &mut BondRows),
+    st: &mut Stages,
+    k: usize,
+    shared: SharedBody,
+) {
+    let r_eff = if WALL {
+        radius[0][k]
+    } else if UNIFORM {
+        shared.r_eff
+    } else {
+        st.r_eff[k]
+    };
+    let e_star = e_star[k];
+    let constants = bond.constants(k, e_star);
+    let lane = bonded_stage_lane::<LAWS>(&constants, e_star, r_eff, st.overlap[k]);
+    bond.outcome[k] = lane.outcome;
+    st.f_ne[k] = lane.elastic;
+    st.stiffness[k] = lane.stiffness;
+    st.a[k] = lane.contact_radius;
+    st.load[k] = lane.load;
+    st.pull[k] = lane.pull;
 }
 
 /// The unit normal of contact `k`: a wall's comes in `d`, a pair's is formed in pass 1.
@@ -361,6 +482,12 @@ struct Stages {
     f_n: [f64; BATCH],
     /// Rolling torque scale s = μ_r F_ne/|ω_rel| [N m s].
     rolling: [f64; BATCH],
+    /// Normal load of friction and rolling [N] (bonded resolves only; F_ne otherwise).
+    load: [f64; BATCH],
+    /// Normal stiffness of the dashpot [N/m] (bonded resolves only).
+    stiffness: [f64; BATCH],
+    /// Cohesive attraction [N] (bonded resolves only).
+    pull: [f64; BATCH],
 }
 
 impl Default for Stages {
@@ -378,6 +505,9 @@ impl Default for Stages {
             gamma_n: z,
             f_n: z,
             rolling: z,
+            load: z,
+            stiffness: z,
+            pull: z,
         }
     }
 }

@@ -23,6 +23,7 @@ use walls::{batched_wall_loop, WallProbe};
 
 mod accumulator;
 pub(crate) mod area_cohesion;
+mod bond_rows;
 mod chunked;
 mod compact;
 mod filter;
@@ -56,9 +57,12 @@ pub(crate) struct KernelInput<'a> {
     pub dt: f64,
     /// The quanta of the walls' fixed-point loads.
     pub quanta: LoadQuanta,
-    /// Some pair bonds beyond contact (JKR, a liquid bridge): every contact goes through
+    /// Some particle pair bonds beyond contact (JKR, a liquid bridge): the pair filter
+    /// keeps bonded pairs apart, and the batched kernel resolves them with the bonding laws.
+    pub pair_bonds: bool,
+    /// Some particle–wall pair bonds beyond contact: the wall contacts go through
     /// `ContactLaws::resolve`.
-    pub bonds: bool,
+    pub wall_bonds: bool,
     /// Some pair has the simplified JKR's attraction, added to the batched kernel's dry
     /// forces ([`area_cohesion`]).
     pub area_cohesion: bool,
@@ -67,10 +71,18 @@ pub(crate) struct KernelInput<'a> {
 }
 
 impl KernelInput<'_> {
-    /// Whether the contacts go through the batched kernel: the paper's laws, dry.
+    /// Whether the particle–particle contacts go through the batched kernel: the paper's
+    /// laws, with any cohesion.
+    #[inline(always)]
+    pub(crate) fn batched_pairs(&self) -> bool {
+        *self.laws == ContactLaws::default()
+    }
+
+    /// Whether the wall contacts go through the batched kernel: the paper's laws, with no
+    /// wall cohesion that bonds.
     #[inline(always)]
     pub(crate) fn batched(&self) -> bool {
-        *self.laws == ContactLaws::default() && !self.bonds
+        *self.laws == ContactLaws::default() && !self.wall_bonds
     }
 }
 
@@ -384,7 +396,7 @@ fn pair_loop(
     scratch: (&mut Vec<u32>, &mut Batch),
     sink: &mut impl PairSink,
 ) -> WorstOverlap {
-    if input.batched() {
+    if input.batched_pairs() {
         // The paper's laws keep no rolling history: only ξ is passed.
         batched_pair_loop(input, ids, base, (tangential, live), scratch, sink)
     } else {

@@ -3,9 +3,10 @@
 
 use glam::DVec3;
 
-use super::filter::filter_touching;
+use super::filter::{filter_touching, settle_bond};
 use super::kernel::{Batch, BATCH};
 use super::{gather, prefetch, KernelInput, PairSink, WorstOverlap, PREFETCH_BODIES};
+use crate::contact::cohesion::{BondConstants, LAW_DRY, OUTCOME_APART};
 use crate::contact::ContactForce;
 use crate::material::PairCoefficients;
 
@@ -53,18 +54,32 @@ pub(super) fn batched_pair_loop(
     let (pi, pj) = (&pi[base..base + len], &pj[base..base + len]);
 
     let live = &mut live[..len];
+    // Pairs that may bond are listed while bonded as well as while touching.
+    let bonds = input.pair_bonds;
     let count = filter_touching(
         p,
         (pi, pj),
         live,
         touching,
         input.uniform_body.map(|(r, _)| r),
+        bonds,
     );
     let touching = &touching[..count];
 
     let uniform = uniform_coefficients(input.pair_coeffs, input.materials);
     if let Some(c) = uniform {
         batch.fill_coefficients(c);
+    }
+    if bonds {
+        // Each material pair's bonding constants, formed once (a cosine, a cube root).
+        batch.bond_table.clear();
+        batch
+            .bond_table
+            .extend(input.pair_coeffs.iter().map(BondConstants::of));
+        if let Some(c) = uniform {
+            let table = batch.bond_table[0];
+            batch.bond.fill(&table, c.e_star);
+        }
     }
     if let Some((r, m)) = input.uniform_body {
         batch.radius[0].fill(r);
@@ -117,15 +132,21 @@ pub(super) fn batched_pair_loop(
                 batch.mass[1][m] = mass[j];
             }
             if uniform.is_none() {
-                let c = &input.pair_coeffs
-                    [material[i] as usize * input.materials + material[j] as usize];
+                let pair = material[i] as usize * input.materials + material[j] as usize;
+                let c = &input.pair_coeffs[pair];
                 batch.coeff.set(m, c);
+                if bonds {
+                    let table = batch.bond_table[pair];
+                    batch.bond.set(m, &table, c.e_star);
+                }
             }
         }
         batch.len = group.len();
-        match input.uniform_body {
-            Some((r, m)) => batch.resolve_pairs_uniform(input.dt, r, m),
-            None => batch.resolve_pairs(input.dt),
+        match (input.uniform_body, bonds) {
+            (Some((r, m)), false) => batch.resolve_pairs_uniform(input.dt, r, m),
+            (None, false) => batch.resolve_pairs(input.dt),
+            (Some((r, m)), true) => batch.resolve_bonded_pairs_uniform(input.dt, r, m),
+            (None, true) => batch.resolve_bonded_pairs(input.dt),
         }
         if input.area_cohesion {
             super::area_cohesion::pairs(batch, group.len(), |m| {
@@ -135,6 +156,19 @@ pub(super) fn batched_pair_loop(
             });
         }
         worst.see_batch(batch, group.iter().map(|&k| base + k as usize));
+        if bonds {
+            for (m, &k) in group.iter().enumerate() {
+                let m = m & (BATCH - 1);
+                let k = k as usize;
+                history[k] = DVec3::new(batch.xi[0][m], batch.xi[1][m], batch.xi[2][m]);
+                let kept = batch.bond.outcome[m] != OUTCOME_APART;
+                live[k] = settle_bond(live[k], kept, batch.bond.law[m] != LAW_DRY);
+                if kept {
+                    sink.contact(pi[k] as usize, pj[k] as usize, &batch_force(batch, m));
+                }
+            }
+            continue;
+        }
         for (m, &k) in group.iter().enumerate() {
             let m = m & (BATCH - 1);
             let k = k as usize;

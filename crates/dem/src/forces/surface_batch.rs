@@ -352,7 +352,8 @@ mod tests {
             uniform_body: None,
             dt: 2.5e-6,
             quanta: Default::default(),
-            bonds: false,
+            pair_bonds: false,
+            wall_bonds: false,
             area_cohesion: false,
             reach: 0.0,
         };

@@ -362,7 +362,9 @@ impl Simulation {
         }
         self.wall_coeffs = wall_coeffs;
         let mut coefficients = self.pair_coeffs.iter().chain(&self.wall_coeffs);
-        self.bonds = coefficients.clone().any(|c| c.cohesion.bonds());
+        self.pair_bonds = self.pair_coeffs.iter().any(|c| c.cohesion.bonds());
+        self.wall_bonds = self.wall_coeffs.iter().any(|c| c.cohesion.bonds());
+        self.bonds = self.pair_bonds || self.wall_bonds;
         self.area_cohesion =
             coefficients.any(|c| matches!(c.cohesion, crate::Cohesion::SimplifiedJkr { .. }));
         if let Some(t_r) = self.rayleigh_time() {

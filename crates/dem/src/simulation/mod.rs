@@ -146,9 +146,14 @@ pub struct Simulation {
     pair_coeffs: Vec<PairCoefficients>,
     wall_coeffs: Vec<PairCoefficients>,
     /// Whether any pair of materials, or any material and wall, bonds beyond contact (JKR, a
-    /// liquid bridge; found with the coefficients): then every contact is resolved one at a
-    /// time (`forces::general`).
+    /// liquid bridge; found with the coefficients): the lists then reach beyond contact.
     bonds: bool,
+    /// Whether any pair of materials bonds: the batched kernel then resolves the pairs with
+    /// the bonding laws (`forces::pairs`).
+    pair_bonds: bool,
+    /// Whether any material and wall bond: the wall contacts are then resolved one at a
+    /// time (`forces::general`).
+    wall_bonds: bool,
     /// Whether any pair has the simplified JKR's attraction, which the batched kernel adds.
     area_cohesion: bool,
     /// Radius [m] and mass [kg] shared by every particle, when they are all alike; found at
@@ -269,6 +274,8 @@ impl Simulation {
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
             bonds: false,
+            pair_bonds: false,
+            wall_bonds: false,
             area_cohesion: false,
             uniform_body: None,
             uniform_free: None,

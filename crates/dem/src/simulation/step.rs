@@ -219,7 +219,7 @@ impl Simulation {
         self.pool.is_none()
             && self.state.particles.len() > FUSE_BODIES
             && self.state.config.laws == ContactLaws::default()
-            && !self.bonds
+            && !self.wall_bonds
     }
 
     /// The evaluation of the step's forces cut into chunks of bodies
@@ -280,7 +280,8 @@ impl Simulation {
             uniform_body: self.uniform_body,
             dt,
             quanta: self.load_quanta,
-            bonds: self.bonds,
+            pair_bonds: self.pair_bonds,
+            wall_bonds: self.wall_bonds,
             area_cohesion: self.area_cohesion,
             reach: s.list_reach,
         };
