@@ -263,6 +263,7 @@ impl BondConstants {
 /// What a lane's cohesion makes of its contact ([`StageLane::outcome`]): the bond broke, or
 /// there was none; the full pipeline runs.
 pub const OUTCOME_APART: u8 = 0;
+const _: () = assert!(OUTCOME_APART == 0 && OUTCOME_CONTACT == 1 && OUTCOME_BRIDGE_ONLY == 2);
 /// See [`OUTCOME_APART`]: the surfaces bear on each other, or a JKR bond holds them.
 pub const OUTCOME_CONTACT: u8 = 1;
 /// See [`OUTCOME_APART`]: only a liquid bridge acts across a gap, a pure attraction.
@@ -316,18 +317,11 @@ pub fn bonded_stage_lane<const LAWS: u8>(
     };
     let touching = overlap > 0.0;
     let pick = |jkr: f64, other: f64| if is_jkr { jkr } else { other };
-    let bridge_outcome = if touching {
-        OUTCOME_CONTACT
-    } else if wet > 0.0 {
-        OUTCOME_BRIDGE_ONLY
-    } else {
-        OUTCOME_APART
-    };
-    let jkr_outcome = if holds {
-        OUTCOME_CONTACT
-    } else {
-        OUTCOME_APART
-    };
+    // The outcomes as arithmetic on the tests (APART 0, CONTACT 1, BRIDGE_ONLY 2), which
+    // the compiler keeps in vector lanes where nested selects become branches.
+    let bridge_outcome = u8::from(touching) + 2 * u8::from(!touching & (wet > 0.0));
+    let jkr_outcome = u8::from(holds);
+    let dry_outcome = u8::from(touching);
     StageLane {
         elastic: pick(glued.force, dry.force),
         stiffness: pick(glued.stiffness, dry.stiffness),
@@ -341,10 +335,8 @@ pub fn bonded_stage_lane<const LAWS: u8>(
             jkr_outcome
         } else if is_bridge {
             bridge_outcome
-        } else if touching {
-            OUTCOME_CONTACT
         } else {
-            OUTCOME_APART
+            dry_outcome
         },
     }
 }

@@ -106,7 +106,7 @@ pub struct JkrPair {
     pub pull_off: f64,
     /// (27/64)(π w/E*)² [m²]: a bonded contact holds while (−δ)³ is at most this times R*.
     pub break_cubed: f64,
-    /// 8π w E* [N²/m³], under the root of F's adhesive term √(8π w E* a³).
+    /// √(8π w E*) [N/m^{3/2}]: F's adhesive term √(8π w E* a³) is this times a^{3/2}.
     pub adhesion: f64,
 }
 
@@ -119,7 +119,7 @@ impl JkrPair {
             c: (2.0 * PI * w / e_star).sqrt(),
             pull_off: 1.5 * PI * w,
             break_cubed: 27.0 / 64.0 * (PI * w / e_star) * (PI * w / e_star),
-            adhesion: 8.0 * PI * w * e_star,
+            adhesion: (8.0 * PI * w * e_star).sqrt(),
         }
     }
 
@@ -139,14 +139,16 @@ impl JkrPair {
     /// The force F(a) [N] of contact radius `a` [m] ([`force_at`]).
     #[inline(always)]
     pub fn force_at(&self, r_eff: f64, a: f64) -> f64 {
-        self.force_with(1.0 / r_eff, a)
+        self.force_with(1.0 / r_eff, a.sqrt())
     }
 
-    /// [`JkrPair::force_at`] with 1/R* [1/m] given.
+    /// F(a) [N] with 1/R* [1/m] and s = √a [m^{1/2}] given: the adhesive term
+    /// √(8π w E*) a^{3/2} is then a product, s³, with no root of its own.
     #[inline(always)]
-    fn force_with(&self, inv_r: f64, a: f64) -> f64 {
+    fn force_with(&self, inv_r: f64, s: f64) -> f64 {
+        let a = s * s;
         let a3 = a * a * a;
-        (4.0 / 3.0) * self.e_star * a3 * inv_r - (self.adhesion * a3).sqrt()
+        (4.0 / 3.0) * self.e_star * a3 * inv_r - self.adhesion * (a * s)
     }
 
     /// The contact radius a [m] at `overlap` [m] of a contact that holds there
@@ -154,10 +156,12 @@ impl JkrPair {
     /// library call, so that the batched kernel's lanes take it.
     #[inline(always)]
     pub fn contact_radius(&self, r_eff: f64, overlap: f64) -> f64 {
-        self.contact_radius_with(r_eff, 1.0 / r_eff, overlap)
+        let s = self.root_contact_radius(r_eff, 1.0 / r_eff, overlap);
+        s * s
     }
 
-    /// [`JkrPair::contact_radius`] with 1/R* [1/m] given.
+    /// The root s = √a [m^{1/2}] of the contact radius of [`JkrPair::contact_radius`], with
+    /// 1/R* [1/m] given.
     ///
     /// In s = √a the equation δ(a) = overlap is the depressed quartic s⁴ − cR* s − δR* = 0,
     /// solved in closed form (Ferrari): with m the positive root of the resolvent cubic
@@ -168,7 +172,7 @@ impl JkrPair {
     /// quartic then removes the cancellation in m at large overlaps and the reciprocal's
     /// error (both of first order), leaving the root to round-off.
     #[inline(always)]
-    fn contact_radius_with(&self, r_eff: f64, inv_r: f64, overlap: f64) -> f64 {
+    fn root_contact_radius(&self, r_eff: f64, inv_r: f64, overlap: f64) -> f64 {
         let c = self.c;
         let half_q = c * c * r_eff * r_eff * (1.0 / 16.0);
         let third_p = overlap * r_eff * (1.0 / 3.0);
@@ -183,17 +187,21 @@ impl JkrPair {
         let slope = 4.0 * s3 * inv_r - c;
         // At the breaking overlap the root is where the slope vanishes: no step there.
         let step = (s3 * s * inv_r - c * s - overlap) / slope;
-        let s = if slope > 0.0 { s - step } else { s };
-        s * s
+        if slope > 0.0 {
+            s - step
+        } else {
+            s
+        }
     }
 
     /// The bonded contact at `overlap` [m], for a contact that holds there.
     #[inline(always)]
     pub fn force(&self, r_eff: f64, overlap: f64) -> JkrForce {
         let inv_r = 1.0 / r_eff;
-        let a = self.contact_radius_with(r_eff, inv_r, overlap);
+        let s = self.root_contact_radius(r_eff, inv_r, overlap);
+        let a = s * s;
         JkrForce {
-            force: self.force_with(inv_r, a),
+            force: self.force_with(inv_r, s),
             contact_radius: a,
             stiffness: 2.0 * self.e_star * a,
         }

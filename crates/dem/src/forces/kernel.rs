@@ -265,9 +265,11 @@ impl Batch {
         }
 
         // Pass 1b, bonds only: the normal stage of each slot's bonding law
-        // (`bonded_stage_lane`), in a loop of its own so that it vectorises.
+        // (`bonded_stage_lane`), in a loop of its own so that it vectorises. Over every
+        // slot: with a trip count the compiler does not know, it keeps a bridge's loop
+        // scalar (it weighs the vector loop's set-up against a count that may be small).
         if LAWS != LAW_DRY {
-            for k in 0..n {
+            for k in 0..BATCH {
                 let rows = (&self.radius, &self.coeff.e_star, &mut self.bond);
                 bonded_stage::<WALL, UNIFORM, LAWS>(rows, st, k, shared);
             }
