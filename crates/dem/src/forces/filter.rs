@@ -96,14 +96,49 @@ pub(super) fn filter_touching_with(
 /// whether its bond holds), and the live flags follow the listing ([`live_flags`]). A
 /// listed bonded candidate keeps its [`BONDED`] bit; the pair loop sets the bits of every
 /// listed one after the laws ([`settle_bond`]). Over bytes, with no count: vectorised.
+/// The flags are bytes for the plane filter and 32-bit words for the pair filter.
 #[inline(always)]
-fn note_live_or_bonded(flags: &mut [u32], live: &mut [u8]) {
+pub(super) fn note_live_or_bonded<T: Copy + Into<u32> + From<u8>>(
+    flags: &mut [T],
+    live: &mut [u8],
+) {
     for (f, l) in flags.iter_mut().zip(live.iter_mut()) {
-        let bonded = *l & (LIVE | BONDED) == LIVE | BONDED;
-        let listed = (*f != 0) | bonded;
-        *f = u32::from(listed);
-        *l = live_flags(u8::from(listed), *l) | (u8::from(bonded) * BONDED);
+        let (listed, flags) = listed_or_bonded((*f).into() != 0, *l);
+        *f = T::from(u8::from(listed));
+        *l = flags;
     }
+}
+
+/// Whether a candidate that touches (`touch`) or not, with live flags `old`, is listed where
+/// pairs may bond (touching, or bonded however far apart), and its live flags after the
+/// filter ([`live_flags`], keeping [`BONDED`] where it is bonded).
+#[inline(always)]
+fn listed_or_bonded(touch: bool, old: u8) -> (bool, u8) {
+    let bonded = old & (LIVE | BONDED) == LIVE | BONDED;
+    let listed = touch | bonded;
+    (
+        listed,
+        live_flags(u8::from(listed), old) | (u8::from(bonded) * BONDED),
+    )
+}
+
+/// [`compact_touching`] where contacts may bond: lists the candidates that touch or are
+/// bonded ([`listed_or_bonded`]).
+#[inline(always)]
+pub(super) fn compact_touching_or_bonded(
+    touches: impl Iterator<Item = bool>,
+    live: &mut [u8],
+    hits: &mut [u32],
+) -> usize {
+    let len = live.len();
+    let mut count = 0;
+    for (k, (touch, l)) in touches.zip(live.iter_mut()).enumerate() {
+        let (listed, flags) = listed_or_bonded(touch, *l);
+        hits[count.min(len - 1)] = k as u32;
+        count += usize::from(listed);
+        *l = flags;
+    }
+    count
 }
 
 /// Pass 1 of the pair filter: `flags[k]` is 1 when candidate k's spheres overlap, with

@@ -190,6 +190,19 @@ impl Batch {
         }
     }
 
+    /// As [`Batch::resolve_walls`], for particle–wall pairs that may bond, as
+    /// [`Batch::resolve_bonded_pairs`] does for pairs: `d` holds the unit normal and
+    /// `overlap` the overlap, negative across a gap.
+    #[inline(never)]
+    pub fn resolve_bonded_walls(&mut self, dt: f64) {
+        let shared = SharedBody::default();
+        match self.bond.laws(self.len) {
+            LAW_JKR => self.resolve::<true, false, LAW_JKR>(dt, shared),
+            LAW_BRIDGE => self.resolve::<true, false, LAW_BRIDGE>(dt, shared),
+            _ => self.resolve::<true, false, LAWS_MIXED>(dt, shared),
+        }
+    }
+
     /// [`Batch::resolve_bonded_pairs`] for equal spheres ([`Batch::resolve_pairs_uniform`]).
     #[inline(never)]
     pub fn resolve_bonded_pairs_uniform(&mut self, dt: f64, radius: f64, mass: f64) {

@@ -140,7 +140,7 @@ pub(super) fn resolve_stretch(
     worst: &mut WorstOverlap,
     book: &mut impl FnMut(u32, DVec3, DVec3),
 ) -> usize {
-    if input.batched() {
+    if input.batched_surfaces() {
         return super::surface_batch::resolve_batched(input, stretch, sinks, scratch, worst, book);
     }
     resolve_one_by_one(input, stretch, sinks, scratch, worst, book)

@@ -542,14 +542,16 @@ fn the_simplified_jkr_added_to_batches_matches_the_scalar_contact_laws() {
 }
 
 #[test]
-fn bonded_pairs_in_batches_match_the_scalar_contact_laws() {
-    // JKR and liquid bridges through the batched kernel's bonded lanes against the
-    // one-contact pipeline, on equal spheres of one material and on unequal spheres of two
-    // (where only the second material's pairs are wet and the mixed pairs dry). Every
-    // candidate starts bonded, so the lists hold bonds across gaps: some within the laws'
-    // reach (a JKR bond in tension, a bridge alone) and some beyond it (broken). Forces and
-    // torques agree to 1e-12 of each body's own (the same formulas, a few operations
-    // regrouped), and every candidate's history and bond after the step to 1e-12 of ξ.
+fn bonded_pairs_and_walls_in_batches_match_the_scalar_contact_laws() {
+    // JKR and liquid bridges through the batched kernel's bonded lanes, for pairs and for
+    // the walls (planes and polygons), against the one-contact pipeline, on equal spheres of
+    // one material and on unequal spheres of two (where only the second material's pairs are
+    // wet, and the mixed pairs and the second material's wall contacts dry). Every candidate
+    // starts bonded, so the lists hold bonds across gaps: some within the laws' reach (a JKR
+    // bond in tension, a bridge alone) and some beyond it (broken); dry pairs flagged bonded
+    // (as a changed material table leaves them) are apart. Forces and torques agree to 1e-12
+    // of each body's own (the same formulas, a few operations regrouped), and every
+    // candidate's history and bond after the step to 1e-12 of ξ.
     use crate::contact::Cohesion;
     use crate::history::{BONDED, LIVE};
     // w = 100 J/m² makes the JKR reach about 12 µm here, so that gaps of the jumble fall
@@ -568,12 +570,20 @@ fn bonded_pairs_in_batches_match_the_scalar_contact_laws() {
         if materials == 2 {
             jumble.pair_coeffs[3].cohesion = water;
         }
+        // The walls bond with the first material by the same law, the second stays dry.
+        for w in 0..jumble.walls.len() {
+            jumble.wall_coeffs[w * materials].cohesion = law;
+        }
         let (mut pairs, mut wall_pairs) = jumble.lists();
         pairs.history.live.fill(LIVE | BONDED);
+        wall_pairs.history.live.fill(LIVE | BONDED);
         let laws = ContactLaws::default();
         let mut input = jumble_input(&jumble, &laws);
         input.pair_bonds = true;
-        assert!(input.batched_pairs() && input.batched());
+        input.wall_bonds = true;
+        // A bonding wall reaches across gaps: the jumble's walls are planes and polygons,
+        // which the batched wall loop takes.
+        assert!(input.batched_pairs() && input.batched() && !input.batched_surfaces());
         let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
         let (buffers, _) = batched_forces(&input, &mut pairs, &mut wall_pairs);
         let (force, torque, _) = scalar_forces(&input, laws, &mut p2, &mut w2);
@@ -602,5 +612,17 @@ fn bonded_pairs_in_batches_match_the_scalar_contact_laws() {
             gaps_held > 0 && gaps_broken > 0,
             "bonds held across gaps: {gaps_held}, broken: {gaps_broken}"
         );
+        let mut wall_bonds = 0;
+        for k in 0..wall_pairs.history.len() {
+            let (a, b) = (wall_pairs.history.get(k), w2.history.get(k));
+            assert_eq!(a.bonded, b.bonded, "bond of wall candidate {k}");
+            let scale = b.tangential.length().max(1e-30);
+            assert!(
+                (a.tangential - b.tangential).length() <= 1e-12 * scale,
+                "wall ξ of {k}"
+            );
+            wall_bonds += usize::from(b.bonded);
+        }
+        assert!(wall_bonds > 0, "no wall contact bonded");
     }
 }

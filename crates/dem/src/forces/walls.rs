@@ -3,11 +3,15 @@
 
 use glam::DVec3;
 
-use super::filter::{compact_touching, live_history, note_live, plane_touches};
+use super::filter::{
+    compact_touching, compact_touching_or_bonded, live_history, note_live, note_live_or_bonded,
+    plane_touches, settle_bond,
+};
 use super::kernel::{Batch, BATCH};
 use super::loads::{add_batch_loads, LoadSum};
 use super::pairs::batch_force;
 use super::{compact, gather, KernelInput, WorstOverlap};
+use crate::contact::cohesion::{BondConstants, LAW_DRY, OUTCOME_APART};
 use crate::contact::geometry::plane_distance;
 use crate::contact::ContactForce;
 use crate::wall::geometry::{ShapeVisitor, WallGeometry};
@@ -44,6 +48,32 @@ pub(super) fn wall_contact(
         }
         WallProbe::ClosestPoint => input.walls[w].as_ref()?.shape().visit(Touching { x, r }),
         WallProbe::Absent | WallProbe::Deferred => None,
+    }
+}
+
+/// The normal from wall `w` (not a plane: [`WallProbe::ClosestPoint`]) to a sphere at `x` of
+/// radius `r` [m] and their overlap δ [m], negative across a gap: a bonded contact's
+/// geometry, touching or not.
+#[inline(always)]
+fn nearest(input: &KernelInput, w: usize, x: DVec3, r: f64) -> (DVec3, f64) {
+    input.walls[w].as_ref().map_or((DVec3::ZERO, 0.0), |wall| {
+        wall.shape().visit(Nearest { x, r })
+    })
+}
+
+/// See [`nearest`].
+struct Nearest {
+    x: DVec3,
+    r: f64,
+}
+
+impl ShapeVisitor<'_> for Nearest {
+    type Output = (DVec3, f64);
+    #[inline(always)]
+    fn visit<S: WallGeometry>(self, shape: &S) -> (DVec3, f64) {
+        let Self { x, r } = self;
+        let (cp, dist) = shape.closest_point(x);
+        (shape.contact_normal(x, cp, dist), r - dist)
     }
 }
 
@@ -209,7 +239,23 @@ pub(super) fn wall_pieces<'a>(
     (worst, contacts)
 }
 
-/// Filters and resolves the candidates `pi` of one wall; returns how many touch.
+/// [`compact_touching`], or with `bonds` [`compact_touching_or_bonded`].
+#[inline(always)]
+fn compact_listed(
+    bonds: bool,
+    touches: impl Iterator<Item = bool>,
+    live: &mut [u8],
+    hits: &mut [u32],
+) -> usize {
+    if bonds {
+        compact_touching_or_bonded(touches, live, hits)
+    } else {
+        compact_touching(touches, live, hits)
+    }
+}
+
+/// Filters and resolves the candidates `pi` of one wall; returns how many are contacts
+/// (touching, or held by a bond).
 #[inline(always)]
 pub(super) fn wall_run(
     input: &KernelInput,
@@ -224,14 +270,20 @@ pub(super) fn wall_run(
     let n = p.len();
     let (pos, radius) = (&p.position[..n], &p.radius[..n]);
     // Pass 1: which candidates touch. A separated contact (or one with a removed wall)
-    // forgets its history (§3.1): it loses its live flag.
+    // forgets its history (§3.1): it loses its live flag. Where the wall's contacts may
+    // bond, the bonded ones are listed too, however far apart.
+    let bonds = input.wall_bonds;
     let count = match wall.probe {
         // `!(≥)` so that a NaN distance counts as touching and reaches the NaN check.
         WallProbe::Plane { normal, offset } => match input.uniform_body {
             Some((r, _)) => {
                 let touch = &mut touch[..pi.len()];
                 plane_touches(pos, pi, (normal, offset, r), touch);
-                note_live(touch, live);
+                if bonds {
+                    note_live_or_bonded(touch, live);
+                } else {
+                    note_live(touch, live);
+                }
                 compact::from_bytes(touch, hits)
             }
             None => {
@@ -239,7 +291,7 @@ pub(super) fn wall_run(
                     let i = i as usize;
                     !(plane_distance(pos[i], normal, offset) >= radius[i])
                 });
-                compact_touching(touches, live, hits)
+                compact_listed(bonds, touches, live, hits)
             }
         },
         WallProbe::ClosestPoint => {
@@ -247,7 +299,7 @@ pub(super) fn wall_run(
                 let i = i as usize;
                 wall_contact(input, &wall.probe, wall.index, pos[i], radius[i]).is_some()
             });
-            compact_touching(touches, live, hits)
+            compact_listed(bonds, touches, live, hits)
         }
         WallProbe::Absent => {
             live.fill(0);
@@ -264,6 +316,16 @@ pub(super) fn wall_run(
     if let Some(c) = uniform {
         batch.fill_coefficients(c);
     }
+    if bonds {
+        // The wall's bonding constants with each material, formed once per run.
+        let row = &input.wall_coeffs[w * input.materials..(w + 1) * input.materials];
+        batch.bond_table.clear();
+        batch.bond_table.extend(row.iter().map(BondConstants::of));
+        if let Some(c) = uniform {
+            let table = batch.bond_table[0];
+            batch.bond.fill(&table, c.e_star);
+        }
+    }
     // Whether the wall's load is summed (`Wall::sums_load`).
     let sums_load = input.walls[w].as_ref().is_some_and(|w| w.sums_load);
     let plane = match wall.probe {
@@ -278,6 +340,8 @@ pub(super) fn wall_run(
     let coefficients = uniform.is_none().then_some(w);
     // The centres of a batch's particles, for the torques on the wall.
     let mut centres = [[0.0; BATCH]; 3];
+    // Listed candidates whose bond broke this step: not contacts.
+    let mut apart = 0;
     for group in hits.chunks(BATCH) {
         let source = WallSource {
             input,
@@ -304,8 +368,11 @@ pub(super) fn wall_run(
                 })
             }
             None => source.gather(group, 0, batch, |b, m, x, r| {
-                let (normal, overlap) =
-                    wall_contact(input, &wall.probe, w, x, r).unwrap_or_default();
+                let (normal, overlap) = if bonds {
+                    nearest(input, w, x, r)
+                } else {
+                    wall_contact(input, &wall.probe, w, x, r).unwrap_or_default()
+                };
                 for (a, v) in normal.to_array().into_iter().enumerate() {
                     b.d[a][m] = v;
                 }
@@ -313,7 +380,11 @@ pub(super) fn wall_run(
             }),
         }
         batch.len = group.len();
-        batch.resolve_walls(input.dt);
+        if bonds {
+            batch.resolve_bonded_walls(input.dt);
+        } else {
+            batch.resolve_walls(input.dt);
+        }
         if input.area_cohesion {
             super::area_cohesion::walls(batch, group.len(), |m| {
                 let i = pi[group[m] as usize] as usize;
@@ -331,13 +402,22 @@ pub(super) fn wall_run(
                     centres[a][m] = v;
                 }
             }
+            if bonds {
+                // A broken bond's slot holds zero force (and adds nothing to the load).
+                let kept = batch.bond.outcome[m] != OUTCOME_APART;
+                live[k] = settle_bond(live[k], kept, batch.bond.law[m] != LAW_DRY);
+                if !kept {
+                    apart += 1;
+                    continue;
+                }
+            }
             sink(i, &batch_force(batch, m));
         }
         if sums_load {
             add_batch_loads(load, &input.quanta, batch, &centres, group.len());
         }
     }
-    count
+    count - apart
 }
 
 /// Where one wall run's gather reads: the bodies, the wall's velocity and coefficients, the
@@ -402,6 +482,10 @@ impl WallSource<'_> {
             if let Some(w) = coefficients {
                 let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
                 batch.coeff.set(m, c);
+                if input.wall_bonds {
+                    let table = batch.bond_table[material[i] as usize];
+                    batch.bond.set(m, &table, c.e_star);
+                }
             }
         }
     }
