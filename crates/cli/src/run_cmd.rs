@@ -251,7 +251,13 @@ fn refuse_saved_bed(args: &RunArgs, case: &Case) -> Option<i32> {
 /// else, nothing with --quiet) and refuses a run that could not finish unless
 /// --no-cost-check: `Some(exit code)` to stop with, `None` to go on and run.
 fn check_cost(args: &RunArgs, case: &Case, start: &Start) -> Option<i32> {
-    let estimate = match run::cost::estimate_cost(case, start, args.threads) {
+    // A short run is not timed (`run::cost::SHORT_RUN_PARTICLE_STEPS`); --estimate always is.
+    let timing = if args.estimate {
+        run::cost::Timing::Always
+    } else {
+        run::cost::Timing::UnlessShort
+    };
+    let estimate = match run::cost::estimate_cost(case, start, args.threads, timing) {
         Ok(e) => e,
         Err(e) if args.estimate => {
             eprintln!("error: the cost could not be estimated: {e}");

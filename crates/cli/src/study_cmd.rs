@@ -85,6 +85,12 @@ fn check_cost(
     let threads = args.case_threads as usize;
     let mut speeds: Vec<(String, run::cost::MeasuredSpeed)> = Vec::new();
     let mut estimates = Vec::new();
+    // Short cases are not timed (`run::cost::SHORT_RUN_PARTICLE_STEPS`); --estimate always is.
+    let timing = if args.estimate {
+        run::cost::Timing::Always
+    } else {
+        run::cost::Timing::UnlessShort
+    };
     for sweep_case in &plan.cases {
         if paths
             .case_dir(&sweep_case.id)
@@ -100,12 +106,12 @@ fn check_cost(
                 .unwrap_or_default();
         let estimate = match speeds.iter().find(|(k, _)| *k == key) {
             Some((_, speed)) => run::cost::estimate_cost_at(case, start, *speed),
-            None => run::cost::estimate_cost(case, start, threads),
+            None => run::cost::estimate_cost(case, start, threads, timing),
         };
         match estimate {
             Ok(e) => {
-                if !speeds.iter().any(|(k, _)| *k == key) {
-                    speeds.push((key, e.speed));
+                if let Some(speed) = e.speed.filter(|_| !speeds.iter().any(|(k, _)| *k == key)) {
+                    speeds.push((key, speed));
                 }
                 estimates.push(e);
             }
@@ -126,7 +132,9 @@ fn check_cost(
             eprintln!("{line}");
         }
     }
-    let excesses = run::cost::CostExcess::of(cost.study_wall_time, cost.peak_memory, physical);
+    // The likely wall time is checked, as for a run (`run::cost::cost_refusal`).
+    let excesses =
+        run::cost::CostExcess::of(cost.likely_study_wall_time, cost.peak_memory, physical);
     if !excesses.is_empty() && !args.no_cost_check {
         let list: Vec<String> = excesses.iter().map(ToString::to_string).collect();
         eprintln!("error: this study could not finish: {}", list.join("; "));
@@ -138,15 +146,20 @@ fn check_cost(
                     .iter()
                     .filter(|c| !paths.case_dir(&c.id).join(files::SUMMARY_FILE).exists()),
             )
-            .max_by(|a, b| a.0.wall_time.total().total_cmp(&b.0.wall_time.total()))
+            .max_by(|a, b| {
+                a.0.likely
+                    .wall_time
+                    .total()
+                    .total_cmp(&b.0.likely.wall_time.total())
+            })
         {
             if let Some(why) = run::cost::cost_refusal(&c.case, e, physical) {
                 eprintln!("the costliest case, {}: {why}", c.id);
             } else {
                 eprintln!(
-                    "the costliest case, {}, takes at most {}: the cases together are too many",
+                    "the costliest case, {}, likely takes {}: the cases together are too many",
                     c.id,
-                    run::cost::duration_in_words(e.wall_time.total())
+                    run::cost::duration_in_words(e.likely.wall_time.total())
                 );
             }
         }

@@ -107,8 +107,9 @@ pub fn bed_case_text(dir: PathBuf) -> PyResult<String> {
 
 /// The cost estimate of running `case` (`hopperflow run --estimate --json`), as JSON text:
 /// spheres, time step, simulated time, steps, particle-steps and wall time by part of the
-/// protocol (the settling and the discharge at most), the engine's speed timed on this
-/// machine, peak memory, and why the command line would refuse the run (`refusal`, or null).
+/// protocol (the settling and the discharge at most, and `likely`), the engine's speed timed
+/// on this machine, peak memory, and why the command line would refuse the run (`refusal`,
+/// or null).
 #[pyfunction]
 #[pyo3(signature = (case, threads = 1, from_bed = None, packing = None))]
 pub fn estimate_cost(
@@ -122,13 +123,14 @@ pub fn estimate_cost(
     let start = start_of(&case.case, from_bed, packing)?;
     let case = case.case.clone();
     let estimate = py
-        .detach(|| run::cost::estimate_cost(&case, &start, threads))
+        .detach(|| run::cost::estimate_cost(&case, &start, threads, run::cost::Timing::Always))
         .map_err(|e| PyRuntimeError::new_err(format!("the cost could not be estimated: {e}")))?;
     let physical = run::cost::physical_memory();
     let refusal = run::cost::cost_refusal(&case, &estimate, physical);
     let mut value =
         serde_json::to_value(&estimate).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     value["wall_time_total_s"] = estimate.wall_time.total().into();
+    value["likely_wall_time_total_s"] = estimate.likely.wall_time.total().into();
     value["physical_memory"] = physical.into();
     value["max_wall_time_s"] = run::cost::MAX_WALL_TIME.into();
     value["refusal"] = refusal.into();

@@ -34,7 +34,7 @@ const INSERT_BAND: f64 = 0.08;
 pub(crate) const INSERT_INTERVAL: f64 = 0.01;
 /// Settling starts being checked this long after the last insertion [s] (the last batch
 /// needs about √(2H/g) ≈ 0.3 s to land from the top of a 400 mm hopper).
-const MIN_SETTLE_AFTER_FILL: f64 = 0.05;
+pub(crate) const MIN_SETTLE_AFTER_FILL: f64 = 0.05;
 /// Simulated time between settling checks and particle deletions [s].
 pub(crate) const CHECK_INTERVAL: f64 = 0.0025;
 /// Particles observed by the crossing probe lie within this many diameters of the outlet

@@ -1,5 +1,10 @@
-//! Runs that could not finish: a predicted wall time beyond a month, or more memory than the
+//! Runs that could not finish: a likely wall time beyond a month, or more memory than the
 //! machine has. A front end refuses them unless told to run them anyway.
+//!
+//! The wall time checked is the likely one ([`super::LikelyCost`]), not the upper bound: a
+//! generous `protocol.time_limit` only bounds a discharge that the orifice's law says ends
+//! far sooner, and such a run is not refused. Where no law applies (the heap test, an orifice
+//! that may clog) the likely discharge is its bound, so the bound is what is checked.
 
 use super::words::{bytes_in_words, duration_in_words};
 use super::CostEstimate;
@@ -13,9 +18,9 @@ pub const MAX_WALL_TIME: f64 = 30.0 * 86_400.0;
 /// What makes a run or a study too costly to start.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CostExcess {
-    /// The predicted wall time [s] is over [`MAX_WALL_TIME`].
+    /// The likely wall time [s] is over [`MAX_WALL_TIME`].
     WallTime {
-        /// Predicted wall time [s].
+        /// Likely wall time [s].
         predicted: f64,
     },
     /// The predicted peak memory [bytes] is over the machine's physical memory [bytes].
@@ -52,7 +57,7 @@ impl std::fmt::Display for CostExcess {
         match *self {
             Self::WallTime { predicted } => write!(
                 f,
-                "its predicted wall time, {} ({predicted:.3e} s), is over the limit of {}",
+                "its likely wall time, {} ({predicted:.3e} s), is over the limit of {}",
                 duration_in_words(predicted),
                 duration_in_words(MAX_WALL_TIME)
             ),
@@ -71,9 +76,9 @@ impl std::fmt::Display for CostExcess {
 
 /// Why a run of `case` with the estimate `estimate` could not finish on a machine of
 /// `physical` bytes of memory, naming the keys, their values and the estimate; `None` when
-/// it can.
+/// it can. The wall time checked is the likely one (module docs).
 pub fn cost_refusal(case: &Case, estimate: &CostEstimate, physical: Option<f64>) -> Option<String> {
-    let wall = estimate.wall_time.total();
+    let wall = estimate.likely.wall_time.total();
     let excesses = CostExcess::of(wall, estimate.peak_memory, physical);
     if excesses.is_empty() {
         return None;
@@ -85,25 +90,47 @@ pub fn cost_refusal(case: &Case, estimate: &CostEstimate, physical: Option<f64>)
         .any(|e| matches!(e, CostExcess::WallTime { .. }))
     {
         let p = &case.protocol;
+        let likely = &estimate.likely;
+        let steps = |t: f64| super::steps_of(case.time_step, t);
+        let discharge = match (&likely.discharge.bounded, likely.discharge.law) {
+            (Some(why), _) => format!(
+                "at most {:.3e} steps ({why})",
+                steps(likely.simulated.discharge)
+            ),
+            (None, law) => format!(
+                "about {:.3e} steps ({:.3} kg at {:.3e} kg/s by {}, at most protocol.time_limit)",
+                steps(likely.simulated.discharge),
+                likely.discharge.fraction * likely.discharge.mass,
+                likely.discharge.rate,
+                law.unwrap_or("the law"),
+            ),
+        };
         text += &format!(
-            " time.time_step = {:e} s with protocol.time_limit = {} s (the discharge, at most \
-             {:.3e} steps), protocol.max_settle_time = {} s (the settling, at most {:.3e} \
-             steps) and a fill of about {:.3e} steps give at most {:.3e} steps; for {} \
-             spheres at {:.1} ns per particle-step (measured on this machine, {} thread{}) \
-             that is {:.3e} particle-steps. A larger time.time_step, a shorter \
-             protocol.time_limit or fewer particles.count make it shorter.",
+            " time.time_step = {:e} s with protocol.time_limit = {} s (the discharge, {discharge}), \
+             protocol.max_settle_time = {} s (the settling, about {:.3e} steps) and a fill of \
+             about {:.3e} steps give about {:.3e} steps (at most {:.3e}); for {} spheres at \
+             {:.1} ns per particle-step ({}, {} thread{}) that is about {:.3e} particle-steps. \
+             A larger time.time_step, a shorter protocol.time_limit or fewer particles.count \
+             make it shorter.",
             case.time_step,
             p.time_limit,
-            super::steps_of(case.time_step, estimate.simulated.discharge),
             p.max_settle_time,
-            super::steps_of(case.time_step, estimate.simulated.settle),
-            super::steps_of(case.time_step, estimate.simulated.fill),
+            steps(likely.simulated.settle),
+            steps(likely.simulated.fill),
+            steps(likely.simulated.fill)
+                + steps(likely.simulated.settle)
+                + steps(likely.simulated.discharge),
             estimate.steps,
             estimate.particles,
-            estimate.speed.ns_per_particle_step,
+            estimate.ns_per_particle_step,
+            if estimate.speed.is_some() {
+                "measured on this machine"
+            } else {
+                "not timed, the slow end of the engine's range"
+            },
             estimate.threads,
             if estimate.threads == 1 { "" } else { "s" },
-            estimate.particle_steps.total(),
+            likely.particle_steps.total(),
         );
     }
     if excesses

@@ -34,22 +34,27 @@ impl PhaseTimes {
     }
 }
 
+/// Time for a particle starting down at `protocol.fill_speed` to fall `height` [m] under
+/// gravity [s]; infinite where it never gets there.
+pub(crate) fn fall_time(case: &Case, height: f64) -> f64 {
+    let h = height.max(0.0);
+    let (v0, g) = (case.protocol.fill_speed, case.gravity);
+    // h = v0 t + g t²/2, in the form without cancellation for small g.
+    let root = (v0 * v0 + 2.0 * g * h).sqrt();
+    if v0 + root > 0.0 {
+        2.0 * h / (v0 + root)
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Time for a particle inserted at the top of the insertion band to fall out of its bottom
 /// [s]: it starts downward at `protocol.fill_speed` under gravity `gravity`. The band holds
 /// about one batch, so the fill inserts about one batch per clearing. Never more than a
 /// fill may wait without inserting.
 pub(crate) fn band_clear_time(case: &Case) -> f64 {
     let (bottom, top) = fill_band(case);
-    let h = (top - bottom).max(0.0);
-    let (v0, g) = (case.protocol.fill_speed, case.gravity);
-    // h = v0 t + g t²/2, in the form without cancellation for small g.
-    let root = (v0 * v0 + 2.0 * g * h).sqrt();
-    let t = if v0 + root > 0.0 {
-        2.0 * h / (v0 + root)
-    } else {
-        f64::INFINITY
-    };
-    t.clamp(INSERT_INTERVAL, FILL_GIVES_UP_AFTER + INSERT_INTERVAL)
+    fall_time(case, top - bottom).clamp(INSERT_INTERVAL, FILL_GIVES_UP_AFTER + INSERT_INTERVAL)
 }
 
 /// The fill's remaining time [s] with `inserted` of the case's particles in at time `t`
@@ -65,7 +70,7 @@ pub(crate) fn fill_time_left(case: &Case, inserted: usize, t: f64, first_batch: 
 }
 
 /// Simulated time of the wall slip (`protocol.wall_slip` at the slip's speed) [s].
-fn slip_time(case: &Case) -> f64 {
+pub(crate) fn slip_time(case: &Case) -> f64 {
     let steps = (case.protocol.wall_slip / (WALL_SLIP_SPEED * case.time_step)).ceil();
     if case.protocol.wall_slip > 0.0 {
         steps.max(1.0) * case.time_step
