@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 
 mod bench_cmd;
 mod calibrate_cmd;
+mod cost_report;
 mod exit_codes;
 mod report_cmd;
 mod run_cmd;

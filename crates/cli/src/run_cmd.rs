@@ -61,6 +61,18 @@ pub struct RunArgs {
     /// gate closed, and the run goes on.
     #[arg(long, value_name = "FILE")]
     packing: Option<PathBuf>,
+    /// Print the cost estimate (spheres, time step, steps, particle-steps, wall time on this
+    /// machine from a short timed run of the case's spheres, peak memory) and exit without
+    /// running; exit 2 if the run would be refused as unable to finish.
+    #[arg(long)]
+    estimate: bool,
+    /// With --estimate: print it as JSON.
+    #[arg(long, requires = "estimate")]
+    json: bool,
+    /// Run even when the estimate says the run could not finish: a predicted wall time over
+    /// 30 days, or more memory than the machine has (refused otherwise, exit 2).
+    #[arg(long)]
+    no_cost_check: bool,
 }
 
 #[derive(Args)]
@@ -235,12 +247,61 @@ fn refuse_saved_bed(args: &RunArgs, case: &Case) -> Option<i32> {
     }
 }
 
+/// Estimates the run's cost, prints it (to standard output with --estimate, standard error
+/// else, nothing with --quiet) and refuses a run that could not finish unless
+/// --no-cost-check: `Some(exit code)` to stop with, `None` to go on and run.
+fn check_cost(args: &RunArgs, case: &Case, start: &Start) -> Option<i32> {
+    // A short run is not timed (`run::cost::SHORT_RUN_PARTICLE_STEPS`); --estimate always is.
+    let timing = if args.estimate {
+        run::cost::Timing::Always
+    } else {
+        run::cost::Timing::UnlessShort
+    };
+    let estimate = match run::cost::estimate_cost(case, start, args.threads, timing) {
+        Ok(e) => e,
+        Err(e) if args.estimate => {
+            eprintln!("error: the cost could not be estimated: {e}");
+            return Some(1);
+        }
+        Err(e) => {
+            eprintln!("warning: no cost estimate: {e}");
+            return None;
+        }
+    };
+    let physical = run::cost::physical_memory();
+    let refusal = run::cost::cost_refusal(case, &estimate, physical);
+    if args.estimate && args.json {
+        let value = crate::cost_report::estimate_json(&estimate, physical, refusal.as_deref());
+        println!("{value:#}");
+    } else if args.estimate {
+        for line in crate::cost_report::estimate_lines(&estimate, physical) {
+            println!("{line}");
+        }
+    } else if !args.quiet {
+        for line in crate::cost_report::estimate_lines(&estimate, physical) {
+            eprintln!("{line}");
+        }
+    }
+    match refusal {
+        Some(why) if !args.no_cost_check => {
+            eprintln!("error: {why}");
+            eprintln!("hint: --no-cost-check runs it anyway");
+            Some(EXIT_BAD_INPUT)
+        }
+        _ if args.estimate => Some(0),
+        _ => None,
+    }
+}
+
 pub fn run(args: RunArgs) -> i32 {
     // Validate everything before touching the output directory: bad input leaves nothing.
     let (case, start) = match case_and_start(&args) {
         Ok(c) => c,
         Err(code) => return code,
     };
+    if args.estimate {
+        return check_cost(&args, &case, &start).unwrap_or(0);
+    }
     if !args.resume && !args.restart {
         if let Some(code) = refuse_occupied(&args.out) {
             return code;
@@ -249,13 +310,16 @@ pub fn run(args: RunArgs) -> i32 {
     if let Some(code) = refuse_saved_bed(&args, &case) {
         return code;
     }
+    if let Some(code) = check_cost(&args, &case, &start) {
+        return code;
+    }
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
         let bar = ProgressBar::new(1000);
         bar.set_style(
             ProgressStyle::with_template(
-                "{spinner} {prefix:>9} [{bar:30}] {msg} (elapsed {elapsed}, eta {eta})",
+                "{spinner} {prefix:>9} [{bar:30}] {msg} (elapsed {elapsed})",
             )
             .unwrap_or_else(|_| ProgressStyle::default_bar())
             .progress_chars("=> "),
@@ -266,8 +330,16 @@ pub fn run(args: RunArgs) -> i32 {
     let progress = Arc::new(move |p: &Progress| {
         b.set_prefix(p.phase);
         b.set_position((p.fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+        let left = if p.remaining_at_most.is_finite() {
+            format!(
+                ", ≤ {} left",
+                run::cost::duration_in_words(p.remaining_at_most)
+            )
+        } else {
+            String::new()
+        };
         b.set_message(format!(
-            "t = {:.3} s, {} particles, {:.2e} particle-steps/s",
+            "t = {:.3} s, {} particles, {:.2e} particle-steps/s{left}",
             p.time, p.particles, p.particle_steps_per_second
         ));
     });

@@ -60,6 +60,113 @@ pub struct StudyArgs {
     /// keys; each takes the bed's seed, and replicas are refused (they would repeat one run).
     #[arg(long, value_name = "DIR")]
     from_bed: Option<PathBuf>,
+    /// Print the cost estimate of the cases still to run, summed (particle-steps, wall time
+    /// on this machine at --jobs cases at a time, peak memory), and exit without running;
+    /// exit 2 if the study would be refused as unable to finish.
+    #[arg(long)]
+    estimate: bool,
+    /// Run even when the estimate says the study could not finish: a predicted wall time
+    /// over 30 days, or more memory than the machine has (refused otherwise, exit 2).
+    #[arg(long)]
+    no_cost_check: bool,
+}
+
+/// Estimates the cases of `plan` that `out` does not hold finished, prints the sum (to
+/// standard output with --estimate, standard error else) and refuses a study that could
+/// not finish unless --no-cost-check: `Some(exit code)` to stop with, `None` to go on.
+/// The engine's speed is timed once for each set of spheres and laws among the cases.
+fn check_cost(
+    args: &StudyArgs,
+    plan: &case::SweepPlan,
+    out: &std::path::Path,
+    start: &Start,
+) -> Option<i32> {
+    let paths = files::StudyPaths::new(out);
+    let threads = args.case_threads as usize;
+    let mut speeds: Vec<(String, run::cost::MeasuredSpeed)> = Vec::new();
+    let mut estimates = Vec::new();
+    // Short cases are not timed (`run::cost::SHORT_RUN_PARTICLE_STEPS`); --estimate always is.
+    let timing = if args.estimate {
+        run::cost::Timing::Always
+    } else {
+        run::cost::Timing::UnlessShort
+    };
+    for sweep_case in &plan.cases {
+        if paths
+            .case_dir(&sweep_case.id)
+            .join(files::SUMMARY_FILE)
+            .exists()
+        {
+            continue;
+        }
+        let case = &sweep_case.case;
+        // The cases' spheres and laws, which set the engine's speed.
+        let key =
+            serde_json::to_string(&(&case.particles, &case.materials, &case.contact, &case.wall))
+                .unwrap_or_default();
+        let estimate = match speeds.iter().find(|(k, _)| *k == key) {
+            Some((_, speed)) => run::cost::estimate_cost_at(case, start, *speed),
+            None => run::cost::estimate_cost(case, start, threads, timing),
+        };
+        match estimate {
+            Ok(e) => {
+                if let Some(speed) = e.speed.filter(|_| !speeds.iter().any(|(k, _)| *k == key)) {
+                    speeds.push((key, speed));
+                }
+                estimates.push(e);
+            }
+            Err(e) => {
+                eprintln!("warning: no cost estimate of {}: {e}", sweep_case.id);
+                return if args.estimate { Some(1) } else { None };
+            }
+        }
+    }
+    let available = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = args.jobs.filter(|&j| j > 0).unwrap_or(available);
+    let cost = crate::cost_report::StudyCost::of(&estimates, jobs.min(estimates.len()));
+    let physical = run::cost::physical_memory();
+    for line in cost.lines(physical) {
+        if args.estimate {
+            println!("{line}");
+        } else {
+            eprintln!("{line}");
+        }
+    }
+    // The likely wall time is checked, as for a run (`run::cost::cost_refusal`).
+    let excesses =
+        run::cost::CostExcess::of(cost.likely_study_wall_time, cost.peak_memory, physical);
+    if !excesses.is_empty() && !args.no_cost_check {
+        let list: Vec<String> = excesses.iter().map(ToString::to_string).collect();
+        eprintln!("error: this study could not finish: {}", list.join("; "));
+        // The costliest case, by its own estimate's keys and values.
+        if let Some((e, c)) = estimates
+            .iter()
+            .zip(
+                plan.cases
+                    .iter()
+                    .filter(|c| !paths.case_dir(&c.id).join(files::SUMMARY_FILE).exists()),
+            )
+            .max_by(|a, b| {
+                a.0.likely
+                    .wall_time
+                    .total()
+                    .total_cmp(&b.0.likely.wall_time.total())
+            })
+        {
+            if let Some(why) = run::cost::cost_refusal(&c.case, e, physical) {
+                eprintln!("the costliest case, {}: {why}", c.id);
+            } else {
+                eprintln!(
+                    "the costliest case, {}, likely takes {}: the cases together are too many",
+                    c.id,
+                    run::cost::duration_in_words(e.likely.wall_time.total())
+                );
+            }
+        }
+        eprintln!("hint: --no-cost-check runs it anyway");
+        return Some(crate::exit_codes::EXIT_BAD_INPUT);
+    }
+    args.estimate.then_some(0)
 }
 
 /// The hopperflow binary and this study's own arguments, as an array task or the report
@@ -219,6 +326,9 @@ pub fn run(args: StudyArgs) -> i32 {
     if let Err(e) = study::check_study_dir(&plan, &out) {
         eprintln!("error: {e}");
         return crate::exit_codes::study_exit_code(&e);
+    }
+    if let Some(code) = check_cost(&args, &plan, &out, &runner.start) {
+        return code;
     }
     if let Err(e) = std::fs::create_dir_all(&out) {
         eprintln!("error: cannot create {}: {e}", out.display());

@@ -28,6 +28,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<engine::Simulation>()?;
     m.add_function(wrap_pyfunction!(case::overrides_of, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_case, m)?)?;
+    m.add_function(wrap_pyfunction!(run::estimate_cost, m)?)?;
     m.add_function(wrap_pyfunction!(run::bed_case_text, m)?)?;
     m.add_function(wrap_pyfunction!(engine::engine_reference, m)?)?;
     m.add_function(wrap_pyfunction!(studies::run_study, m)?)?;

@@ -105,6 +105,38 @@ pub fn bed_case_text(dir: PathBuf) -> PyResult<String> {
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// The cost estimate of running `case` (`hopperflow run --estimate --json`), as JSON text:
+/// spheres, time step, simulated time, steps, particle-steps and wall time by part of the
+/// protocol (the settling and the discharge at most, and `likely`), the engine's speed timed
+/// on this machine, peak memory, and why the command line would refuse the run (`refusal`,
+/// or null).
+#[pyfunction]
+#[pyo3(signature = (case, threads = 1, from_bed = None, packing = None))]
+pub fn estimate_cost(
+    py: Python<'_>,
+    case: PyRef<'_, Case>,
+    threads: i64,
+    from_bed: Option<PathBuf>,
+    packing: Option<PathBuf>,
+) -> PyResult<String> {
+    let threads = checked_threads(threads)?;
+    let start = start_of(&case.case, from_bed, packing)?;
+    let case = case.case.clone();
+    let estimate = py
+        .detach(|| run::cost::estimate_cost(&case, &start, threads, run::cost::Timing::Always))
+        .map_err(|e| PyRuntimeError::new_err(format!("the cost could not be estimated: {e}")))?;
+    let physical = run::cost::physical_memory();
+    let refusal = run::cost::cost_refusal(&case, &estimate, physical);
+    let mut value =
+        serde_json::to_value(&estimate).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    value["wall_time_total_s"] = estimate.wall_time.total().into();
+    value["likely_wall_time_total_s"] = estimate.likely.wall_time.total().into();
+    value["physical_memory"] = physical.into();
+    value["max_wall_time_s"] = run::cost::MAX_WALL_TIME.into();
+    value["refusal"] = refusal.into();
+    Ok(value.to_string())
+}
+
 /// Runs `case` into `out`; returns "finished", or raises KeyboardInterrupt after writing a
 /// checkpoint when interrupted. `progress(phase, time, particles, fraction, rate)` is
 /// called with the latest progress a few times a second. `from_bed`, `packing` and

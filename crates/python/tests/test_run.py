@@ -101,6 +101,25 @@ def test_bad_thread_counts(threads, error, tmp_path):
     assert not (tmp_path / "t").exists()
 
 
+def test_estimate_bounds_the_tiny_run_and_reckons_its_discharge_by_beverloo(tmp_path):
+    e = hf.estimate(hf.Case.load(str(TINY)))
+    assert e["particles"] == 250 and e["refusal"] is None
+    # hf.estimate always times the engine (the command line skips it for short runs only).
+    assert e["speed"] is not None and e["speed"]["ns_per_particle_step"] > 0
+    d = e["likely"]["discharge"]
+    # The slot's 2D Beverloo law at D = 18 mm with C = 0.58, k = 1.55, ρ_b = 1475 kg/m³:
+    # 12.5 g/s (docs/physics.md §8.2, which rounds it to 0.1 g/s).
+    assert d["law"] == "beverloo_2d"
+    assert abs(d["rate"] - 0.0125) < 1e-4
+    # The 8.8 g fill would take 0.71 s to leave, past the 0.6 s limit: the likely discharge
+    # is the bound, never more (equal up to the rounding of a sum, 1e-12 s).
+    assert d["flowing"] > 0.6
+    assert abs(e["likely"]["simulated"]["discharge"] - e["simulated"]["discharge"]) < 1e-12
+    # The likely wall time is never over the bound; an estimate writes nothing.
+    assert e["likely_wall_time_total_s"] <= e["wall_time_total_s"]
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_bad_case_argument(tmp_path):
     with pytest.raises(TypeError, match="case"):
         hf.run(42, out=tmp_path / "x", progress=False)  # type: ignore[arg-type]  # the misuse tested

@@ -7,6 +7,7 @@ pub mod bench;
 mod checkpoint;
 mod composition;
 mod container;
+pub mod cost;
 mod fill;
 mod outputs;
 mod packing;
@@ -185,6 +186,11 @@ pub struct Progress {
     pub fraction: f64,
     /// Particle-steps per second of wall time since the last report.
     pub particle_steps_per_second: f64,
+    /// Wall time left, at most [s]: the particle-steps the protocol still allows
+    /// ([`cost::particle_steps_left`]: the fill estimated, the settling and the discharge to
+    /// their limits) at this process's speed so far in the current phase. NaN before a
+    /// phase's first report. The discharge usually ends well before its limit.
+    pub remaining_at_most: f64,
 }
 
 /// A progress callback, shared with the thread that draws the bar.
@@ -622,6 +628,9 @@ pub fn run_case_from(
     let checkpoint_path = out_dir.join(CHECKPOINT_FILE);
     let summary_path = out_dir.join(SUMMARY_FILE);
     let mut next_checkpoint = run.simulation().time() + case.output.checkpoint_interval;
+    // This process's wall time [s] and particle-steps in the current phase, for the speed
+    // that the remaining time is reckoned at.
+    let mut phase_speed = (phase_name(run.phase()), 0.0, 0.0);
     let mut chunks = 0u64;
     loop {
         let phase = run.phase();
@@ -668,12 +677,26 @@ pub fn run_case_from(
                     run.state.discharged_mass / (total_mass(case)).max(f64::MIN_POSITIVE)
                 }
             };
+            let phase = run.phase();
+            if phase_speed.0 != phase_name(phase) {
+                phase_speed = (phase_name(phase), 0.0, 0.0);
+            } else {
+                phase_speed.1 += elapsed;
+                phase_speed.2 += psteps;
+            }
+            let left =
+                cost::particle_steps_left(case, phase, t, sim.steps(), sim.particles().len());
             report(&Progress {
-                phase: phase_name(run.phase()),
+                phase: phase_name(phase),
                 time: t,
                 particles: sim.particles().len(),
                 fraction,
                 particle_steps_per_second: if elapsed > 0.0 { psteps / elapsed } else { 0.0 },
+                remaining_at_most: if phase_speed.2 > 0.0 {
+                    left * phase_speed.1 / phase_speed.2
+                } else {
+                    f64::NAN
+                },
             });
             last_report = (Instant::now(), sim.steps(), sim.particles().len());
         }

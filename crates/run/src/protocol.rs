@@ -31,12 +31,12 @@ use super::RunError;
 /// particles per batch at random-sequential-addition density, short enough to start low.
 const INSERT_BAND: f64 = 0.08;
 /// Simulated time between insertion attempts [s].
-const INSERT_INTERVAL: f64 = 0.01;
+pub(crate) const INSERT_INTERVAL: f64 = 0.01;
 /// Settling starts being checked this long after the last insertion [s] (the last batch
 /// needs about √(2H/g) ≈ 0.3 s to land from the top of a 400 mm hopper).
-const MIN_SETTLE_AFTER_FILL: f64 = 0.05;
+pub(crate) const MIN_SETTLE_AFTER_FILL: f64 = 0.05;
 /// Simulated time between settling checks and particle deletions [s].
-const CHECK_INTERVAL: f64 = 0.0025;
+pub(crate) const CHECK_INTERVAL: f64 = 0.0025;
 /// Particles observed by the crossing probe lie within this many diameters of the outlet
 /// line: between two observations (≤ 100 steps) a particle moves far less than that.
 const CROSSING_BAND_DIAMETERS: f64 = 2.0;
@@ -49,7 +49,7 @@ const PRESSURE_ZONE_DIAMETERS: f64 = 2.0;
 /// kinetic energy, below the default settling threshold of 1e-9 J, and the slip's 10⁴–10⁵
 /// steps are hundreds of contact times), fast enough that a slip of a tenth of a diameter
 /// costs under 0.1 s of simulated time.
-const WALL_SLIP_SPEED: f64 = 0.003;
+pub(crate) const WALL_SLIP_SPEED: f64 = 0.003;
 /// The discharge's pressure windows, in W(t) bins.
 const PRESSURE_WINDOW_BINS: f64 = 10.0;
 
@@ -296,6 +296,13 @@ pub fn outlet_geometry(case: &Case) -> OutletGeometry {
             },
         },
     }
+}
+
+/// The insertion band of the fill, (bottom, top) above the outlet plane [m]: `INSERT_BAND`
+/// below the fill top (or the container's top, if lower), not below `protocol.fill_bottom`.
+pub(crate) fn fill_band(case: &Case) -> (f64, f64) {
+    let top = case.protocol.fill_top.min(case.geometry.height());
+    ((top - INSERT_BAND).max(case.protocol.fill_bottom), top)
 }
 
 /// The region a 3D container's fill is poured into (all kinds but the slab).
@@ -588,47 +595,7 @@ impl CaseRun {
         let mut last = last_insert;
         if t >= self.state.next_check {
             self.state.next_check = t + INSERT_INTERVAL;
-            let top = self.case.protocol.fill_top.min(self.case.geometry.height());
-            let band = ((top - INSERT_BAND).max(self.case.protocol.fill_bottom), top);
-            let want = total - inserted;
-            let draws = ParticleDraws::new(&self.case.particles, &self.state.materials);
-            let v0 = DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed);
-            let attempts = 20 * want + 1000;
-            let state = &mut self.state;
-            let placed = match &self.case.geometry {
-                Geometry::Slab(g) => insert_slab_batch(
-                    &mut self.sim,
-                    g,
-                    &mut state.rng,
-                    want,
-                    &draws,
-                    &mut state.pending,
-                    band,
-                    v0,
-                    attempts,
-                )?,
-                Geometry::Cylinder(_)
-                | Geometry::Cuboid(_)
-                | Geometry::Mesh(_)
-                | Geometry::Heap(_)
-                | Geometry::DrawDown(_) => insert_silo_batch(
-                    &mut self.sim,
-                    fill_region(&self.case.geometry),
-                    &mut state.rng,
-                    want,
-                    &draws,
-                    &mut state.pending,
-                    band,
-                    v0,
-                    attempts,
-                )?,
-            };
-            if draws.is_mixture() {
-                for &(tag, component) in &placed {
-                    state.record_component(tag, component);
-                }
-            }
-            let n = placed.len();
+            let n = self.insert_batch(total - inserted)?;
             if n > 0 {
                 inserted += n;
                 last = t;
@@ -649,6 +616,52 @@ impl CaseRun {
             }
         };
         Ok(())
+    }
+
+    /// Inserts one batch of up to `want` particles into the insertion band by random
+    /// sequential addition, as the fill does every `INSERT_INTERVAL`; returns how many it
+    /// placed. The cost estimate inserts the first batch the same way to learn how many
+    /// particles the band holds.
+    pub(crate) fn insert_batch(&mut self, want: usize) -> Result<usize, RunError> {
+        let band = fill_band(&self.case);
+        let draws = ParticleDraws::new(&self.case.particles, &self.state.materials);
+        let v0 = DVec3::new(0.0, 0.0, -self.case.protocol.fill_speed);
+        let attempts = 20 * want + 1000;
+        let state = &mut self.state;
+        let placed = match &self.case.geometry {
+            Geometry::Slab(g) => insert_slab_batch(
+                &mut self.sim,
+                g,
+                &mut state.rng,
+                want,
+                &draws,
+                &mut state.pending,
+                band,
+                v0,
+                attempts,
+            )?,
+            Geometry::Cylinder(_)
+            | Geometry::Cuboid(_)
+            | Geometry::Mesh(_)
+            | Geometry::Heap(_)
+            | Geometry::DrawDown(_) => insert_silo_batch(
+                &mut self.sim,
+                fill_region(&self.case.geometry),
+                &mut state.rng,
+                want,
+                &draws,
+                &mut state.pending,
+                band,
+                v0,
+                attempts,
+            )?,
+        };
+        if draws.is_mixture() {
+            for &(tag, component) in &placed {
+                state.record_component(tag, component);
+            }
+        }
+        Ok(placed.len())
     }
 
     fn mean_kinetic_energy(&self) -> f64 {

@@ -312,3 +312,45 @@ fn output_into_a_closed_pipe_ends_quietly_not_in_a_panic() {
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn a_run_that_could_not_finish_is_refused_with_status_two_and_writes_nothing() {
+    // Δt = 1e-12 s with a discharge of up to 10^9 s: 10^21 steps at most, and likely the base
+    // case's 3000 spheres drain in 3.5 s of simulated time, 3.5·10^12 steps: years at any
+    // speed. The refusal must name both keys with their values and leave no output folder.
+    let tmp = tempfile::tempdir().expect("temporary folder");
+    let out = tmp.path().join("run");
+    let args = [
+        "run",
+        "--set",
+        "time.time_step=1e-12",
+        "--set",
+        "protocol.time_limit=1e9",
+        "--quiet",
+        "--out",
+        utf8(&out),
+    ];
+    let output = hopperflow(&args);
+    assert_status(&output, EXIT_BAD_INPUT, "run of 10^21 steps");
+    let stderr = stderr_of(&output);
+    for fragment in [
+        "could not finish",
+        "time.time_step = 1e-12 s",
+        "protocol.time_limit = 1000000000 s",
+        "--no-cost-check",
+    ] {
+        assert!(stderr.contains(fragment), "{fragment:?} not in {stderr}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+    // `--estimate` prints the same verdict without running: JSON with the refusal, status 2.
+    let output = hopperflow(&[&args[..6], &["--estimate", "--json"]].concat());
+    assert_status(&output, EXIT_BAD_INPUT, "run --estimate of 10^21 steps");
+    let json: serde_json::Value =
+        serde_json::from_slice(&output.stdout).expect("--estimate --json prints JSON");
+    assert!(json["refusal"].as_str().is_some(), "{json}");
+    assert!(json["steps"].as_f64().is_some_and(|s| s > 1e20), "{json}");
+    // The likely wall time, which the refusal checks, is over the 30 days too.
+    let likely = json["likely_wall_time_total_s"].as_f64();
+    assert!(likely.is_some_and(|s| s > 30.0 * 86_400.0), "{json}");
+    assert!(!out.exists());
+}

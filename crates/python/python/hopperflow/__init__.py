@@ -12,15 +12,15 @@ DataFrames when pandas is installed and dicts of numpy arrays otherwise.
 
 The package is split by job, and this module only gathers its public names: ``_native``
 (the Rust extension: cases, the engine, running), ``_tables`` (reading CSV tables),
-``_progress`` (what a progress callable receives, the built-in bar), ``_runs`` (``run``
-and ``Run``), ``_studies`` (``study`` and ``Study``) and ``_calibration`` (``calibrate``
+``_progress`` (what a progress callable receives, the built-in bar), ``_runs`` (``run``,
+``estimate`` and ``Run``), ``_studies`` (``study`` and ``Study``) and ``_calibration`` (``calibrate``
 and ``Calibration``).
 """
 
 from ._calibration import Calibration, calibrate, load_calibration
 from ._native import Case, CaseError, RunError, Simulation, __version__
 from ._progress import Progress, RunProgress, StudyProgress
-from ._runs import CaseLike, Run, load_run, run
+from ._runs import CaseLike, Run, estimate, load_run, run
 from ._studies import Study, StudyOutcome, builtin_sweeps, load_study, study
 from ._tables import RUN_TABLES, PathLike, Table, read_table
 
@@ -43,6 +43,7 @@ __all__ = [
     "__version__",
     "builtin_sweeps",
     "calibrate",
+    "estimate",
     "load_calibration",
     "load_run",
     "load_study",

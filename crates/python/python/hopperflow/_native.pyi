@@ -142,6 +142,12 @@ class Simulation:
 
 def overrides_of(values: Mapping[str, Any]) -> list[str]: ...
 def bed_case_text(dir: _Path) -> str: ...
+def estimate_cost(
+    case: Case,
+    threads: int = 1,
+    from_bed: Optional[_Path] = None,
+    packing: Optional[_Path] = None,
+) -> str: ...
 def run_case(
     case: Case,
     out: _Path,

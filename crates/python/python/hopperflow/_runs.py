@@ -212,6 +212,38 @@ def run(
     return Run(out)
 
 
+def estimate(
+    case: CaseLike = None,
+    threads: int = 1,
+    from_bed: Optional[PathLike] = None,
+    packing: Optional[PathLike] = None,
+) -> Dict[str, Any]:
+    """What running ``case`` would cost, as ``hopperflow run --estimate --json`` prints it.
+
+    A dict (SI units): ``particles``, ``time_step`` [s], ``threads``; ``simulated``,
+    ``particle_steps`` and ``wall_time`` [s], each by part of the protocol (``fill``,
+    ``settle``, ``discharge``: the fill estimated, the settling and the discharge at most as
+    long as ``protocol.max_settle_time`` and ``protocol.time_limit`` allow); ``likely``, the
+    same three likely (the settling until the last poured spheres land, the discharge as the
+    mass in the container over its Beverloo rate), with ``likely["discharge"]``: ``law``
+    ("beverloo_2d", "beverloo_3d" or None), ``rate`` [kg/s], ``mass`` [kg], ``fraction``,
+    ``flowing`` [s] and ``bounded`` (why the bound is kept, or None); ``steps`` (at most),
+    ``wall_time_total_s`` and ``likely_wall_time_total_s``, ``speed`` (the engine's ns per
+    particle-step, timed on a dense block of the case's spheres on this machine),
+    ``peak_memory`` and ``physical_memory`` [bytes], and ``refusal``: why ``hopperflow run``
+    would refuse the run as unable to finish (its likely wall time over 30 days, or its
+    memory over the machine's), or None. Takes about 0.1-0.3 s.
+    """
+    if case is None and from_bed is not None:
+        case = Case.from_toml(_native.bed_case_text(os.fspath(from_bed)), f"{os.fspath(from_bed)} (its case)")
+    case = _as_case(case)
+    if not isinstance(threads, int) or isinstance(threads, bool):
+        raise TypeError(f"threads: expected an int, not {type(threads).__name__}")
+    text = _native.estimate_cost(case, threads=threads, from_bed=_path(from_bed), packing=_path(packing))
+    result: Dict[str, Any] = json.loads(text)
+    return result
+
+
 def load_run(path: PathLike) -> Run:
     """A finished run folder (one with summary.json), as ``run`` returns it."""
     path = Path(path)

@@ -151,7 +151,7 @@ pub fn time_steps(
 }
 
 /// A memory figure of this process from Linux's /proc/self/status (`VmHWM`, `VmRSS`) [bytes].
-fn process_memory(key: &str) -> Option<u64> {
+pub(crate) fn process_memory(key: &str) -> Option<u64> {
     let s = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = s.lines().find(|l| l.starts_with(key))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
