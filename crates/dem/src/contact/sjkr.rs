@@ -12,18 +12,38 @@ use std::f64::consts::PI;
 /// contact): a² = 2R_i δ − δ². Zero when the surfaces do not overlap.
 #[inline]
 pub fn intersection_area(ri: f64, rj: f64, overlap: f64) -> f64 {
-    if !(overlap > 0.0) {
-        return 0.0;
-    }
-    let a2 = if rj.is_finite() {
-        let sum = ri + rj;
-        let d = sum - overlap;
-        let diff = ri - rj;
-        (d * d - diff * diff) * (sum * sum - d * d) / (4.0 * d * d)
+    if rj.is_finite() {
+        pair_intersection_area(ri, rj, overlap)
     } else {
-        overlap * (2.0 * ri - overlap)
-    };
-    PI * a2.max(0.0)
+        wall_intersection_area(ri, overlap)
+    }
+}
+
+/// [`intersection_area`] of two spheres, without a branch (for the batched kernel's lanes).
+#[inline(always)]
+pub fn pair_intersection_area(ri: f64, rj: f64, overlap: f64) -> f64 {
+    let sum = ri + rj;
+    let d = sum - overlap;
+    let diff = ri - rj;
+    let a2 = (d * d - diff * diff) * (sum * sum - d * d) / (4.0 * d * d);
+    touching_area(overlap, a2)
+}
+
+/// [`intersection_area`] of a sphere of radius `ri` [m] and a plane, without a branch.
+#[inline(always)]
+pub fn wall_intersection_area(ri: f64, overlap: f64) -> f64 {
+    touching_area(overlap, overlap * (2.0 * ri - overlap))
+}
+
+/// π a² [m²] from a² [m²] where the surfaces overlap, else zero (and for a NaN overlap).
+#[inline(always)]
+fn touching_area(overlap: f64, a2: f64) -> f64 {
+    let area = PI * a2.max(0.0);
+    if overlap > 0.0 {
+        area
+    } else {
+        0.0
+    }
 }
 
 /// The attractive normal force k_c A [N] (to be subtracted from the repulsion) of energy

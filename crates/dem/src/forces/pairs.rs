@@ -149,11 +149,16 @@ pub(super) fn batched_pair_loop(
             (None, true) => batch.resolve_bonded_pairs(input.dt),
         }
         if input.area_cohesion {
-            super::area_cohesion::pairs(batch, group.len(), |m| {
-                let k = group[m] as usize;
-                let (i, j) = (pi[k] as usize, pj[k] as usize);
-                &input.pair_coeffs[material[i] as usize * input.materials + material[j] as usize]
-            });
+            super::area_cohesion::pairs(
+                batch,
+                group.len(),
+                (uniform, |m| {
+                    let k = group[m] as usize;
+                    let (i, j) = (pi[k] as usize, pj[k] as usize);
+                    &input.pair_coeffs
+                        [material[i] as usize * input.materials + material[j] as usize]
+                }),
+            );
         }
         worst.see_batch(batch, group.iter().map(|&k| base + k as usize));
         if bonds {

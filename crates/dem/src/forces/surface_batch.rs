@@ -137,10 +137,15 @@ fn hand_out(
     batch.resolve_walls(input.dt);
     if input.area_cohesion {
         let material = &input.particles.material;
-        super::area_cohesion::walls(batch, pending.len(), |m| {
-            let i = pending[m].particle as usize;
-            &input.wall_coeffs[w * input.materials + material[i] as usize]
-        });
+        let uniform = (input.materials == 1).then(|| &input.wall_coeffs[w]);
+        super::area_cohesion::walls(
+            batch,
+            pending.len(),
+            (uniform, |m| {
+                let i = pending[m].particle as usize;
+                &input.wall_coeffs[w * input.materials + material[i] as usize]
+            }),
+        );
     }
     for (m, q) in pending.iter().enumerate() {
         let cf = batch_force(batch, m);

@@ -386,10 +386,14 @@ pub(super) fn wall_run(
             batch.resolve_walls(input.dt);
         }
         if input.area_cohesion {
-            super::area_cohesion::walls(batch, group.len(), |m| {
-                let i = pi[group[m] as usize] as usize;
-                &input.wall_coeffs[w * input.materials + p.material[i] as usize]
-            });
+            super::area_cohesion::walls(
+                batch,
+                group.len(),
+                (uniform, |m| {
+                    let i = pi[group[m] as usize] as usize;
+                    &input.wall_coeffs[w * input.materials + p.material[i] as usize]
+                }),
+            );
         }
         worst.see_batch(batch, group.iter().map(|&k| wall.base + k as usize));
         for (m, &k) in group.iter().enumerate() {
