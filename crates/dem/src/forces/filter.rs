@@ -122,25 +122,6 @@ fn listed_or_bonded(touch: bool, old: u8) -> (bool, u8) {
     )
 }
 
-/// [`compact_touching`] where contacts may bond: lists the candidates that touch or are
-/// bonded ([`listed_or_bonded`]).
-#[inline(always)]
-pub(super) fn compact_touching_or_bonded(
-    touches: impl Iterator<Item = bool>,
-    live: &mut [u8],
-    hits: &mut [u32],
-) -> usize {
-    let len = live.len();
-    let mut count = 0;
-    for (k, (touch, l)) in touches.zip(live.iter_mut()).enumerate() {
-        let (listed, flags) = listed_or_bonded(touch, *l);
-        hits[count.min(len - 1)] = k as u32;
-        count += usize::from(listed);
-        *l = flags;
-    }
-    count
-}
-
 /// Pass 1 of the pair filter: `flags[k]` is 1 when candidate k's spheres overlap, with
 /// `cut2(i, j)` the squared contact distance [m²]. With `FAR` (bodies beyond the caches,
 /// [`PREFETCH_BODIES`]) it also asks for the position of the partner
@@ -166,11 +147,12 @@ pub(super) fn pair_flags<const FAR: bool>(
 
 /// Lists in `hits` (count returned) the indices of the candidates for which `touches` yields
 /// true, in order, and records in `live` which contacts keep their history (docs/physics.md §3.1:
-/// a contact that opens forgets it; see [`note_live`]). Branch-free: every index is stored
-/// and the count advances only for a touching one, because a branch on the outcome is
-/// mispredicted about as often as taken.
+/// a contact that opens forgets it; see [`note_live`]). With `BONDS` (contacts that may bond)
+/// it lists the bonded candidates too, however far apart ([`listed_or_bonded`]).
+/// Branch-free: every index is stored and the count advances only for a listed one, because
+/// a branch on the outcome is mispredicted about as often as taken.
 #[inline(always)]
-pub(super) fn compact_touching(
+pub(super) fn compact_touching<const BONDS: bool>(
     touches: impl Iterator<Item = bool>,
     live: &mut [u8],
     hits: &mut [u32],
@@ -178,9 +160,14 @@ pub(super) fn compact_touching(
     let len = live.len();
     let mut count = 0;
     for (k, (touch, l)) in touches.zip(live.iter_mut()).enumerate() {
+        let (listed, flags) = if BONDS {
+            listed_or_bonded(touch, *l)
+        } else {
+            (touch, live_flags(u8::from(touch), *l))
+        };
         hits[count.min(len - 1)] = k as u32;
-        count += touch as usize;
-        *l = live_flags(u8::from(touch), *l);
+        count += usize::from(listed);
+        *l = flags;
     }
     count
 }

@@ -160,12 +160,7 @@ impl Batch {
     /// its last bit.
     #[inline(never)]
     pub fn resolve_pairs_uniform(&mut self, dt: f64, radius: f64, mass: f64) {
-        let shared = SharedBody {
-            r_eff: radius * radius / (radius + radius),
-            m_eff: mass * mass / (mass + mass),
-            inv_radius: 1.0 / radius,
-        };
-        self.resolve::<false, true, LAW_DRY>(dt, shared);
+        self.resolve::<false, true, LAW_DRY>(dt, SharedBody::of(radius, mass));
     }
 
     /// Evaluates every particle–wall contact of the batch for time step `dt` [s], updating
@@ -183,10 +178,20 @@ impl Batch {
     /// history.
     #[inline(never)]
     pub fn resolve_bonded_pairs(&mut self, dt: f64) {
+        self.resolve_bonded::<false, false>(dt, SharedBody::default());
+    }
+
+    /// The bonded resolve for the batch's laws: the loop of one law where every slot has it.
+    #[inline(always)]
+    fn resolve_bonded<const WALL: bool, const UNIFORM: bool>(
+        &mut self,
+        dt: f64,
+        shared: SharedBody,
+    ) {
         match self.bond.laws(self.len) {
-            LAW_JKR => self.resolve::<false, false, LAW_JKR>(dt, SharedBody::default()),
-            LAW_BRIDGE => self.resolve::<false, false, LAW_BRIDGE>(dt, SharedBody::default()),
-            _ => self.resolve::<false, false, LAWS_MIXED>(dt, SharedBody::default()),
+            LAW_JKR => self.resolve::<WALL, UNIFORM, LAW_JKR>(dt, shared),
+            LAW_BRIDGE => self.resolve::<WALL, UNIFORM, LAW_BRIDGE>(dt, shared),
+            _ => self.resolve::<WALL, UNIFORM, LAWS_MIXED>(dt, shared),
         }
     }
 
@@ -195,27 +200,13 @@ impl Batch {
     /// `overlap` the overlap, negative across a gap.
     #[inline(never)]
     pub fn resolve_bonded_walls(&mut self, dt: f64) {
-        let shared = SharedBody::default();
-        match self.bond.laws(self.len) {
-            LAW_JKR => self.resolve::<true, false, LAW_JKR>(dt, shared),
-            LAW_BRIDGE => self.resolve::<true, false, LAW_BRIDGE>(dt, shared),
-            _ => self.resolve::<true, false, LAWS_MIXED>(dt, shared),
-        }
+        self.resolve_bonded::<true, false>(dt, SharedBody::default());
     }
 
     /// [`Batch::resolve_bonded_pairs`] for equal spheres ([`Batch::resolve_pairs_uniform`]).
     #[inline(never)]
     pub fn resolve_bonded_pairs_uniform(&mut self, dt: f64, radius: f64, mass: f64) {
-        let shared = SharedBody {
-            r_eff: radius * radius / (radius + radius),
-            m_eff: mass * mass / (mass + mass),
-            inv_radius: 1.0 / radius,
-        };
-        match self.bond.laws(self.len) {
-            LAW_JKR => self.resolve::<false, true, LAW_JKR>(dt, shared),
-            LAW_BRIDGE => self.resolve::<false, true, LAW_BRIDGE>(dt, shared),
-            _ => self.resolve::<false, true, LAWS_MIXED>(dt, shared),
-        }
+        self.resolve_bonded::<false, true>(dt, SharedBody::of(radius, mass));
     }
 
     /// The laws over the batch in four passes, each a loop over the contacts.
@@ -590,6 +581,19 @@ struct SharedBody {
     r_eff: f64,
     m_eff: f64,
     inv_radius: f64,
+}
+
+impl SharedBody {
+    /// Of equal spheres of radius `radius` [m] and mass `mass` [kg]: R* and m* by the
+    /// harmonic means' own expressions, so the same bits as for unequal spheres.
+    #[inline(always)]
+    fn of(radius: f64, mass: f64) -> Self {
+        Self {
+            r_eff: radius * radius / (radius + radius),
+            m_eff: mass * mass / (mass + mass),
+            inv_radius: 1.0 / radius,
+        }
+    }
 }
 
 #[inline(always)]

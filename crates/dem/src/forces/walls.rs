@@ -4,8 +4,7 @@
 use glam::DVec3;
 
 use super::filter::{
-    compact_touching, compact_touching_or_bonded, live_history, note_live, note_live_or_bonded,
-    plane_touches, settle_bond,
+    compact_touching, live_history, note_live, note_live_or_bonded, plane_touches, settle_bond,
 };
 use super::kernel::{Batch, BATCH};
 use super::loads::{add_batch_loads, LoadSum};
@@ -239,7 +238,7 @@ pub(super) fn wall_pieces<'a>(
     (worst, contacts)
 }
 
-/// [`compact_touching`], or with `bonds` [`compact_touching_or_bonded`].
+/// [`compact_touching`], listing bonded candidates too where `bonds`.
 #[inline(always)]
 fn compact_listed(
     bonds: bool,
@@ -248,9 +247,9 @@ fn compact_listed(
     hits: &mut [u32],
 ) -> usize {
     if bonds {
-        compact_touching_or_bonded(touches, live, hits)
+        compact_touching::<true>(touches, live, hits)
     } else {
-        compact_touching(touches, live, hits)
+        compact_touching::<false>(touches, live, hits)
     }
 }
 
