@@ -60,9 +60,8 @@ pub(crate) struct KernelInput<'a> {
     /// Some particle pair bonds beyond contact (JKR, a liquid bridge): the pair filter
     /// keeps bonded pairs apart, and the batched kernel resolves them with the bonding laws.
     pub pair_bonds: bool,
-    /// Some particle–wall pair bonds beyond contact: the wall filter keeps bonded contacts
-    /// apart, and the batched kernel resolves the planar walls' contacts with the bonding
-    /// laws; the curved and meshed walls' go through `ContactLaws::resolve`.
+    /// Some particle–wall pair bonds beyond contact: the wall filters keep bonded contacts
+    /// apart, and the batched kernel resolves them with the bonding laws.
     pub wall_bonds: bool,
     /// Some pair has the simplified JKR's attraction, added to the batched kernel's dry
     /// forces ([`area_cohesion`]).
@@ -79,18 +78,11 @@ impl KernelInput<'_> {
         *self.laws == ContactLaws::default()
     }
 
-    /// Whether the contacts with planes and polygons go through the batched kernel: the
-    /// paper's laws, with any cohesion.
+    /// Whether the wall contacts go through the batched kernel: the paper's laws, with any
+    /// cohesion.
     #[inline(always)]
     pub(crate) fn batched(&self) -> bool {
         *self.laws == ContactLaws::default()
-    }
-
-    /// Whether the contacts with curved, meshed and spinning walls go through the batched
-    /// kernel: the paper's laws, with no wall cohesion that bonds.
-    #[inline(always)]
-    pub(crate) fn batched_surfaces(&self) -> bool {
-        self.batched() && !self.wall_bonds
     }
 }
 

@@ -16,6 +16,7 @@ use super::loads::add_load;
 use super::pairs::batch_force;
 use super::surfaces::{continued, remember, touching, Stretch, StretchSinks, SurfaceScratch};
 use super::{KernelInput, WorstOverlap};
+use crate::contact::cohesion::{BondConstants, LAW_DRY, OUTCOME_APART};
 use crate::history::{SurfaceContact, SurfaceSlot};
 
 /// A contact gathered into the batch and not yet handed out: its particle, where its
@@ -55,14 +56,32 @@ pub(super) fn resolve_batched(
         taken,
         pending,
         batch,
+        broken,
     } = scratch;
     pending.clear();
+    broken.clear();
+    let bonds = input.wall_bonds;
+    if bonds {
+        // The wall's bonding constants with each material, formed once per stretch.
+        let row = &input.wall_coeffs[w * input.materials..(w + 1) * input.materials];
+        batch.bond_table.clear();
+        batch.bond_table.extend(row.iter().map(BondConstants::of));
+    }
+    // With a bonding cohesion, the places within its reach: a bonded contact may act across
+    // a gap (docs/physics.md §2.4, §2.6).
+    let reach = if bonds { input.reach } else { 0.0 };
     let mut count = 0;
     for (candidate, &i) in ids.iter().enumerate() {
         let i = i as usize;
         let (x, r) = (p.position[i], p.radius[i]);
         let slot = &mut slots[candidate];
-        touching(wall, (x, r), bands, slot, (&mut *mesh, &mut *contacts));
+        touching(
+            wall,
+            (x, r + reach),
+            bands,
+            slot,
+            (&mut *mesh, &mut *contacts),
+        );
         if contacts.is_empty() {
             slot.contacts.clear();
             continue;
@@ -73,8 +92,12 @@ pub(super) fn resolve_batched(
         for contact in contacts.iter() {
             // `geometry::sphere_wall`: δ = R − distance; the kernel forms the lever arm.
             let overlap = r - contact.distance;
-            worst.see(overlap / r, first + candidate);
             let history = continued(contact.normal, previous, taken);
+            if overlap <= 0.0 && !history.bonded {
+                // Within the cohesion's reach but not bonded: no contact.
+                continue;
+            }
+            worst.see(overlap / r, first + candidate);
             let m = pending.len();
             let dv = p.velocity[i] - wall.velocity_at(contact.point);
             let (wi, wj, xi) = (p.omega[i], wall.angular_velocity, history.tangential);
@@ -96,6 +119,10 @@ pub(super) fn resolve_batched(
             batch.radius[0][m] = r;
             batch.mass[0][m] = p.mass[i];
             batch.coeff.set(m, c);
+            if bonds {
+                let table = batch.bond_table[p.material[i] as usize];
+                batch.bond.set(m, &table, c.e_star);
+            }
             pending.push(Pending {
                 particle: i as u32,
                 candidate: candidate as u32,
@@ -110,22 +137,26 @@ pub(super) fn resolve_batched(
             });
             count += 1;
             if pending.len() == BATCH {
-                hand_out(input, w, batch, pending, slots, sinks, book);
+                hand_out(input, w, (batch, pending, broken), slots, sinks, book);
             }
         }
     }
-    hand_out(input, w, batch, pending, slots, sinks, book);
-    count
+    hand_out(input, w, (batch, pending, broken), slots, sinks, book);
+    // A broken bond leaves its slot, last first so that the indices stay true.
+    for &(candidate, contact) in broken.iter().rev() {
+        slots[candidate as usize].contacts.remove(contact as usize);
+    }
+    count - broken.len()
 }
 
 /// Resolves the batch of `pending` (contacts with wall `w`) and hands each contact's force
 /// out in order: to its particle, to the wall's load and to `book`; its new history goes to
-/// its slot.
+/// its slot. With a bonding wall cohesion, a contact whose bond broke gets nothing and is
+/// listed in `broken`.
 fn hand_out(
     input: &KernelInput,
     w: usize,
-    batch: &mut Batch,
-    pending: &mut Vec<Pending>,
+    (batch, pending, broken): (&mut Batch, &mut Vec<Pending>, &mut Vec<(u32, u32)>),
     slots: &mut [SurfaceSlot],
     sinks: &mut StretchSinks,
     book: &mut impl FnMut(u32, DVec3, DVec3),
@@ -134,7 +165,12 @@ fn hand_out(
         return;
     }
     batch.len = pending.len();
-    batch.resolve_walls(input.dt);
+    let bonds = input.wall_bonds;
+    if bonds {
+        batch.resolve_bonded_walls(input.dt);
+    } else {
+        batch.resolve_walls(input.dt);
+    }
     if input.area_cohesion {
         let material = &input.particles.material;
         let uniform = (input.materials == 1).then(|| &input.wall_coeffs[w]);
@@ -148,6 +184,14 @@ fn hand_out(
         );
     }
     for (m, q) in pending.iter().enumerate() {
+        let history = &mut slots[q.candidate as usize].contacts[q.contact as usize].history;
+        if bonds {
+            if batch.bond.outcome[m] == OUTCOME_APART {
+                broken.push((q.candidate, q.contact));
+                continue;
+            }
+            history.bonded = batch.bond.law[m] != LAW_DRY;
+        }
         let cf = batch_force(batch, m);
         let i = q.particle as usize;
         sinks.force[i - sinks.offset] += cf.force;
@@ -322,6 +366,123 @@ mod tests {
         (force, torque, bookings, count, worst.index)
     }
 
+    /// The coefficients of the two materials (densities 2500 and 5000 kg/m³) with each wall.
+    fn coefficients(walls: &[Option<Wall>]) -> Vec<PairCoefficients> {
+        let materials: Vec<Material> = (0..2)
+            .map(|k| Material {
+                density: 2500.0 * (1.0 + k as f64),
+                ..Material::fan2023()
+            })
+            .collect();
+        walls
+            .iter()
+            .flatten()
+            .flat_map(|w| {
+                materials
+                    .iter()
+                    .map(|a| PairCoefficients::with_wall(a, &w.material, &w.interaction))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn bonded_surface_contacts_match_the_one_by_one_laws() {
+        // The first material's contacts with the walls bond by JKR (w = 100 J/m², a reach
+        // of about 15 µm here), the second's by liquid bridges (V = 10⁻¹² m³, about
+        // 0.13 mm): mixed batches. Step 1 bonds the touching contacts; then every sphere
+        // moves 0.1 R away from its wall, so that step 2 holds some bonds across gaps and
+        // breaks others. The batches agree with `ContactLaws::resolve` as in
+        // `batched_surface_contacts_match_the_one_by_one_laws` (1e-12 of each body's own
+        // force or torque; the same counts, bookings, slots and bonds).
+        use crate::contact::Cohesion;
+        let (mut set, ids) = spheres();
+        let walls = walls();
+        let mut wall_coeffs = coefficients(&walls);
+        let laws = [
+            Cohesion::Jkr {
+                work_of_adhesion: 100.0,
+            },
+            Cohesion::LiquidBridge {
+                volume: 1e-12,
+                surface_tension: 0.072,
+                contact_angle: 0.35,
+            },
+        ];
+        for (k, c) in wall_coeffs.iter_mut().enumerate() {
+            c.cohesion = laws[k % 2];
+        }
+        let reach = wall_coeffs
+            .iter()
+            .map(|c| c.cohesion.reach(c.e_star, R))
+            .fold(0.0, f64::max);
+        let contact_laws = crate::contact::ContactLaws::default();
+        let close = |a: DVec3, b: DVec3, scale: f64| (a - b).length() <= 1e-12 * scale;
+        let mut counts = Vec::new();
+        for (w, ids) in ids.iter().enumerate() {
+            let mut batched = vec![SurfaceSlot::default(); ids.len()];
+            let mut scalar = batched.clone();
+            for step in 0..2 {
+                if step == 1 {
+                    let wall = walls[w].as_ref().expect("present");
+                    for &i in ids {
+                        let x = set.position[i as usize];
+                        let (cp, dist) = wall.closest_point(x);
+                        set.position[i as usize] = x + (x - cp) / dist * (0.1 * R);
+                    }
+                }
+                let input = KernelInput {
+                    particles: &set,
+                    laws: &contact_laws,
+                    pair_coeffs: &[],
+                    materials: 2,
+                    walls: &walls,
+                    wall_coeffs: &wall_coeffs,
+                    uniform_body: None,
+                    dt: 2.5e-6,
+                    quanta: Default::default(),
+                    pair_bonds: false,
+                    wall_bonds: true,
+                    area_cohesion: false,
+                    reach,
+                };
+                let a = pass(&input, w, ids, &mut batched, true);
+                let b = pass(&input, w, ids, &mut scalar, false);
+                assert_eq!(a.3, b.3, "wall {w} step {step}: contacts");
+                assert_eq!(a.4, b.4, "wall {w} step {step}: worst overlap");
+                for i in 0..set.len() {
+                    let scale = b.0[i].length().max(1e-300);
+                    assert!(close(a.0[i], b.0[i], scale), "force {i}");
+                    let scale = b.1[i].length().max(1e-300);
+                    assert!(close(a.1[i], b.1[i], scale), "torque {i}");
+                }
+                assert_eq!(a.2.len(), b.2.len());
+                for (x, y) in a.2.iter().zip(&b.2) {
+                    assert_eq!((x.0, x.1), (y.0, y.1), "booking order");
+                    assert!(close(x.2, y.2, y.2.length()), "booked force");
+                }
+                let mut gaps_held = 0;
+                for ((x, y), &i) in batched.iter().zip(&scalar).zip(ids.iter()) {
+                    assert_eq!(x.contacts.len(), y.contacts.len());
+                    for (p, q) in x.contacts.iter().zip(&y.contacts) {
+                        let t = q.history.tangential;
+                        assert!(close(p.history.tangential, t, t.length()), "history");
+                        assert_eq!(p.history.bonded, q.history.bonded, "bond");
+                    }
+                    let wall = walls[w].as_ref().expect("present");
+                    let apart = wall.closest_point(set.position[i as usize]).1 > R;
+                    gaps_held += usize::from(apart && !y.contacts.is_empty());
+                }
+                counts.push((a.3, gaps_held));
+            }
+        }
+        // On each wall: bonds held across gaps in step 2, and fewer contacts than in step 1
+        // (bonds broke, or never formed).
+        for pair in counts.chunks(2) {
+            let ((first, _), (second, held)) = (pair[0], pair[1]);
+            assert!(held > 0 && second < first, "{counts:?}");
+        }
+    }
+
     #[test]
     fn batched_surface_contacts_match_the_one_by_one_laws() {
         // The batches against `ContactLaws::resolve` over the same contacts, for two steps
@@ -331,21 +492,7 @@ mod tests {
         // element bookings are equal.
         let (set, ids) = spheres();
         let walls = walls();
-        let materials: Vec<Material> = (0..2)
-            .map(|k| Material {
-                density: 2500.0 * (1.0 + k as f64),
-                ..Material::fan2023()
-            })
-            .collect();
-        let wall_coeffs: Vec<PairCoefficients> = walls
-            .iter()
-            .flatten()
-            .flat_map(|w| {
-                materials
-                    .iter()
-                    .map(|a| PairCoefficients::with_wall(a, &w.material, &w.interaction))
-            })
-            .collect();
+        let wall_coeffs = coefficients(&walls);
         let laws = crate::contact::ContactLaws::default();
         let input = KernelInput {
             particles: &set,

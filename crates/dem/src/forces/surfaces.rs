@@ -34,6 +34,9 @@ pub(crate) struct SurfaceScratch {
     /// The batched path's contacts found and not yet resolved, and their batch.
     pub(super) pending: Vec<super::surface_batch::Pending>,
     pub(super) batch: Box<super::kernel::Batch>,
+    /// The batched path's contacts whose bond broke, as (candidate, contact within the
+    /// candidate's slot), in the order found: removed from the slots after the stretch.
+    pub(super) broken: Vec<(u32, u32)>,
 }
 
 /// Where the pass writes: the bodies' forces and torques, each wall's load in fixed point,
@@ -140,7 +143,7 @@ pub(super) fn resolve_stretch(
     worst: &mut WorstOverlap,
     book: &mut impl FnMut(u32, DVec3, DVec3),
 ) -> usize {
-    if input.batched_surfaces() {
+    if input.batched() {
         return super::surface_batch::resolve_batched(input, stretch, sinks, scratch, worst, book);
     }
     resolve_one_by_one(input, stretch, sinks, scratch, worst, book)

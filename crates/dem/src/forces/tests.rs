@@ -581,9 +581,7 @@ fn bonded_pairs_and_walls_in_batches_match_the_scalar_contact_laws() {
         let mut input = jumble_input(&jumble, &laws);
         input.pair_bonds = true;
         input.wall_bonds = true;
-        // A bonding wall reaches across gaps: the jumble's walls are planes and polygons,
-        // which the batched wall loop takes.
-        assert!(input.batched_pairs() && input.batched() && !input.batched_surfaces());
+        assert!(input.batched_pairs() && input.batched());
         let (mut p2, mut w2) = (pairs.clone(), wall_pairs.clone());
         let (buffers, _) = batched_forces(&input, &mut pairs, &mut wall_pairs);
         let (force, torque, _) = scalar_forces(&input, laws, &mut p2, &mut w2);
