@@ -366,6 +366,53 @@ mod tests {
         (force, torque, bookings, count, worst.index)
     }
 
+    /// Agreement to 1e-12 of `b`'s magnitude: the same formulas with a few operations
+    /// regrouped (`forces::kernel`).
+    fn close(a: DVec3, b: DVec3, scale: f64) -> bool {
+        (a - b).length() <= 1e-12 * scale
+    }
+
+    /// The batched pass's `a` against the one-by-one pass's `b`: each body's force and
+    /// torque, and the element bookings in the same order with the same forces, [`close`].
+    fn assert_same_sums(a: &Outcome, b: &Outcome) {
+        for i in 0..b.0.len() {
+            let scale = b.0[i].length().max(1e-300);
+            assert!(close(a.0[i], b.0[i], scale), "force {i}");
+            let scale = b.1[i].length().max(1e-300);
+            assert!(close(a.1[i], b.1[i], scale), "torque {i}");
+        }
+        assert_eq!(a.2.len(), b.2.len());
+        for (x, y) in a.2.iter().zip(&b.2) {
+            assert_eq!((x.0, x.1), (y.0, y.1), "booking order");
+            assert!(close(x.2, y.2, y.2.length()), "booked force");
+        }
+    }
+
+    /// The kernel input of the spheres `set` and two materials with `walls`, their
+    /// coefficients and the laws; with a bonding wall cohesion where `reach` [m] is not 0.
+    fn surface_input<'a>(
+        set: &'a ParticleSet,
+        (walls, wall_coeffs): (&'a [Option<Wall>], &'a [PairCoefficients]),
+        laws: &'a crate::contact::ContactLaws,
+        reach: f64,
+    ) -> KernelInput<'a> {
+        KernelInput {
+            particles: set,
+            laws,
+            pair_coeffs: &[],
+            materials: 2,
+            walls,
+            wall_coeffs,
+            uniform_body: None,
+            dt: 2.5e-6,
+            quanta: Default::default(),
+            pair_bonds: false,
+            wall_bonds: reach > 0.0,
+            area_cohesion: false,
+            reach,
+        }
+    }
+
     /// The coefficients of the two materials (densities 2500 and 5000 kg/m³) with each wall.
     fn coefficients(walls: &[Option<Wall>]) -> Vec<PairCoefficients> {
         let materials: Vec<Material> = (0..2)
@@ -416,7 +463,6 @@ mod tests {
             .map(|c| c.cohesion.reach(c.e_star, R))
             .fold(0.0, f64::max);
         let contact_laws = crate::contact::ContactLaws::default();
-        let close = |a: DVec3, b: DVec3, scale: f64| (a - b).length() <= 1e-12 * scale;
         let mut counts = Vec::new();
         for (w, ids) in ids.iter().enumerate() {
             let mut batched = vec![SurfaceSlot::default(); ids.len()];
@@ -430,36 +476,12 @@ mod tests {
                         set.position[i as usize] = x + (x - cp) / dist * (0.1 * R);
                     }
                 }
-                let input = KernelInput {
-                    particles: &set,
-                    laws: &contact_laws,
-                    pair_coeffs: &[],
-                    materials: 2,
-                    walls: &walls,
-                    wall_coeffs: &wall_coeffs,
-                    uniform_body: None,
-                    dt: 2.5e-6,
-                    quanta: Default::default(),
-                    pair_bonds: false,
-                    wall_bonds: true,
-                    area_cohesion: false,
-                    reach,
-                };
+                let input = surface_input(&set, (&walls, &wall_coeffs), &contact_laws, reach);
                 let a = pass(&input, w, ids, &mut batched, true);
                 let b = pass(&input, w, ids, &mut scalar, false);
                 assert_eq!(a.3, b.3, "wall {w} step {step}: contacts");
                 assert_eq!(a.4, b.4, "wall {w} step {step}: worst overlap");
-                for i in 0..set.len() {
-                    let scale = b.0[i].length().max(1e-300);
-                    assert!(close(a.0[i], b.0[i], scale), "force {i}");
-                    let scale = b.1[i].length().max(1e-300);
-                    assert!(close(a.1[i], b.1[i], scale), "torque {i}");
-                }
-                assert_eq!(a.2.len(), b.2.len());
-                for (x, y) in a.2.iter().zip(&b.2) {
-                    assert_eq!((x.0, x.1), (y.0, y.1), "booking order");
-                    assert!(close(x.2, y.2, y.2.length()), "booked force");
-                }
+                assert_same_sums(&a, &b);
                 let mut gaps_held = 0;
                 for ((x, y), &i) in batched.iter().zip(&scalar).zip(ids.iter()) {
                     assert_eq!(x.contacts.len(), y.contacts.len());
@@ -494,22 +516,7 @@ mod tests {
         let walls = walls();
         let wall_coeffs = coefficients(&walls);
         let laws = crate::contact::ContactLaws::default();
-        let input = KernelInput {
-            particles: &set,
-            laws: &laws,
-            pair_coeffs: &[],
-            materials: 2,
-            walls: &walls,
-            wall_coeffs: &wall_coeffs,
-            uniform_body: None,
-            dt: 2.5e-6,
-            quanta: Default::default(),
-            pair_bonds: false,
-            wall_bonds: false,
-            area_cohesion: false,
-            reach: 0.0,
-        };
-        let close = |a: DVec3, b: DVec3, scale: f64| (a - b).length() <= 1e-12 * scale;
+        let input = surface_input(&set, (&walls, &wall_coeffs), &laws, 0.0);
         for (w, ids) in ids.iter().enumerate() {
             let mut batched = vec![SurfaceSlot::default(); ids.len()];
             let mut scalar = batched.clone();
@@ -523,17 +530,7 @@ mod tests {
                     a.3
                 );
                 assert_eq!(a.4, b.4, "wall {w} step {step}: worst overlap");
-                for i in 0..set.len() {
-                    let scale = b.0[i].length().max(1e-300);
-                    assert!(close(a.0[i], b.0[i], scale), "force {i}");
-                    let scale = b.1[i].length().max(1e-300);
-                    assert!(close(a.1[i], b.1[i], scale), "torque {i}");
-                }
-                assert_eq!(a.2.len(), b.2.len());
-                for (x, y) in a.2.iter().zip(&b.2) {
-                    assert_eq!((x.0, x.1), (y.0, y.1), "booking order");
-                    assert!(close(x.2, y.2, y.2.length()), "booked force");
-                }
+                assert_same_sums(&a, &b);
                 for (x, y) in batched.iter().zip(&scalar) {
                     assert_eq!(x.contacts.len(), y.contacts.len());
                     for (p, q) in x.contacts.iter().zip(&y.contacts) {
