@@ -15,7 +15,6 @@ use crate::slurm_cmd::SlurmArgs;
 use case::{
     builtin_sweep, load_sweep, parse_sweep, sweep_with_replicas, SweepPlan, BUILTIN_SWEEP_NAMES,
 };
-use files::CaseStatus;
 use indicatif::{ProgressBar, ProgressStyle};
 use run::Start;
 use study::{run_study, SimulationRunner, StudyEvent, StudyOptions};
@@ -373,15 +372,7 @@ pub fn run(args: StudyArgs) -> i32 {
                 ..
             } => {
                 bar.set_position(*done as u64);
-                let what = match status {
-                    CaseStatus::Complete => format!("W = {:.1} g/s", discharge_rate * 1e3),
-                    CaseStatus::Clogged => {
-                        format!("CLOGGED (W before = {:.1} g/s)", discharge_rate * 1e3)
-                    }
-                    CaseStatus::Failed => {
-                        format!("FAILED: {}", reason.as_deref().unwrap_or("unknown error"))
-                    }
-                };
+                let what = status.outcome_words(*discharge_rate, reason.as_deref());
                 bar.println(format!(
                     "{id:<28} D = {:>4.1} mm  {what}  ({wall_time:.0} s)",
                     outlet_width * 1e3

@@ -32,6 +32,16 @@ impl CaseStatus {
             Self::Failed => "failed",
         }
     }
+
+    /// How a case that ended so reads in a progress line: its discharge rate `rate` [kg/s]
+    /// (before the arch, where it clogged), or the failure's `reason`.
+    pub fn outcome_words(self, rate: f64, reason: Option<&str>) -> String {
+        match self {
+            Self::Complete => format!("W = {:.1} g/s", rate * 1e3),
+            Self::Clogged => format!("CLOGGED (W before = {:.1} g/s)", rate * 1e3),
+            Self::Failed => format!("FAILED: {}", reason.unwrap_or("unknown error")),
+        }
+    }
 }
 
 /// One row of `results.csv`. Numbers are SI; measurements of a failed case are NaN.

@@ -6,7 +6,6 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use case::{builtin_sweep, parse_sweep, SweepPlan, BUILTIN_SWEEP_NAMES};
-use files::CaseStatus;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use run::Start;
@@ -134,15 +133,7 @@ pub fn run_study<'py>(
                     done,
                     total,
                 } => {
-                    let what = match status {
-                        CaseStatus::Complete => format!("W = {:.1} g/s", discharge_rate * 1e3),
-                        CaseStatus::Clogged => {
-                            format!("CLOGGED (W before = {:.1} g/s)", discharge_rate * 1e3)
-                        }
-                        CaseStatus::Failed => {
-                            format!("FAILED: {}", reason.as_deref().unwrap_or("unknown error"))
-                        }
-                    };
+                    let what = status.outcome_words(*discharge_rate, reason.as_deref());
                     (
                         *done,
                         *total,
