@@ -1,6 +1,7 @@
 //! The batched contact kernel: the force machinery that evaluates the paper's contact laws
 //! (Hertz + restitution dashpot, Mindlin no-slip, Eq. 8 constant rolling torque, no clamp)
-//! for a batch of contacts (touching, or bonded across a gap) stored as structure of arrays. It holds no law of its own.
+//! for a batch of contacts (touching, or bonded across a gap) stored as structure of
+//! arrays. It holds no law of its own.
 //!
 //! The scalar pipeline in `ContactLaws::resolve` is one long chain of dependent square roots
 //! and divisions per contact, too long for the processor to overlap consecutive contacts.
@@ -34,8 +35,8 @@ pub const BATCH: usize = 32;
 const VECTOR: usize = 8;
 const _: () = assert!(BATCH.is_multiple_of(VECTOR));
 
-/// One batch of contacts (touching, or bonded across a gap): inputs gathered by the caller, outputs filled by [`Batch::resolve`].
-/// All vectors are components x, y, z. Pair "i–j" follows `ContactGeometry`: n points from j to i.
+/// One batch of contacts (touching, or bonded across a gap): inputs gathered by the caller,
+/// outputs filled by [`Batch::resolve`]. All vectors are components x, y, z. Pair "i–j" follows `ContactGeometry`: n points from j to i.
 ///
 /// Laid out in declaration order from a 64-byte boundary, the count last, so that every
 /// lane array starts on a cache line: vector loads of a lane array then never straddle two
