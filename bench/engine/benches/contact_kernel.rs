@@ -3,8 +3,9 @@
 //! (sphere pairs, and sphere–wall contacts like those on the slab's faces).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use dem::contact::cohesion::BondConstants;
 use dem::contact::geometry::{sphere_sphere, Sphere};
-use dem::contact::{BodyMotion, ContactHistory, ContactLaws};
+use dem::contact::{BodyMotion, Cohesion, ContactHistory, ContactLaws};
 use dem::internals::{Batch, BATCH};
 use dem::material::{Interaction, Material, PairCoefficients};
 use dem::DVec3;
@@ -141,6 +142,37 @@ fn kernels(c: &mut Criterion) {
             short.force[0][0]
         })
     });
+    // The bonding laws in the equal-sphere kernel, every slot of one law: JKR at w = 0.1 J/m²
+    // (Bo ≈ 1 for Table-1 spheres) and a liquid bridge of 1 nl of water at θ = 20°.
+    for (name, law) in [
+        (
+            "batch_resolve_jkr_uniform_one_batch",
+            Cohesion::Jkr {
+                work_of_adhesion: 0.1,
+            },
+        ),
+        (
+            "batch_resolve_bridge_uniform_one_batch",
+            Cohesion::LiquidBridge {
+                volume: 1e-12,
+                surface_tension: 0.072,
+                contact_angle: 20f64.to_radians(),
+            },
+        ),
+    ] {
+        let bonded =
+            PairCoefficients::new(&m, Some(&m), &Interaction::fan2023().with_cohesion(law));
+        let mut batch = batch_of_table1_contacts(&bonded, r, mass);
+        batch.bond.fill(&BondConstants::of(&bonded), bonded.e_star);
+        let fresh = batch.xi;
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                batch.xi = fresh;
+                black_box(&mut batch).resolve_bonded_pairs_uniform(DT, r, mass);
+                batch.force[0][0]
+            })
+        });
+    }
     group.finish();
 }
 
