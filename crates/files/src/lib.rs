@@ -73,7 +73,9 @@ pub use plot::{
 };
 pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
-pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};
+pub use vtu::{
+    write_grid_vti, write_particles_vtu, write_walls_vtu, GridArray, GridFields, ParticleFields,
+};
 
 pub use defaults::DEFAULT_GRAVITY;
 pub use layout::{
