@@ -822,6 +822,8 @@ pub const PLATEAU_CHANGE: f64 = 0.05;
 pub fn width_scan(fields: &[CgField]) -> Result<WidthScan, MeasureError> {
     let mut order: Vec<&CgField> = fields.iter().collect();
     order.sort_by(|a, b| a.width.total_cmp(&b.width));
+    // A width given twice is one width.
+    order.dedup_by(|a, b| a.width == b.width);
     for f in &order {
         if f.grid != order[0].grid || f.cells.len() != order[0].cells.len() {
             return Err(MeasureError::BinsMismatch);
@@ -1174,9 +1176,9 @@ mod tests {
                 if x.abs() < half - 4.0 * a && z.abs() < half - 4.0 * a {
                     seen += 1;
                     let expected = [omega * z, 0.0, -omega * x];
-                    for k in 0..3 {
+                    for (v, e) in c.velocity.iter().zip(expected) {
                         assert!(
-                            (c.velocity[k] - expected[k]).abs() < 5e-3 * omega * a,
+                            (v - e).abs() < 5e-3 * omega * a,
                             "{kernel:?}: V {:?} at {:?}",
                             c.velocity,
                             c.centre
