@@ -183,7 +183,7 @@ pub struct OutputSpec {
     pub plots: bool,
 }
 
-/// The coarse-graining kernel of `[output.fields]` (docs/physics.md §7.12).
+/// The coarse-graining kernel of `[output.fields]` (docs/physics.md §7.13).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FieldKernel {
@@ -193,7 +193,7 @@ pub enum FieldKernel {
     Gaussian,
 }
 
-/// Coarse-grained continuum fields (`[output.fields]`, docs/physics.md §7.12): density,
+/// Coarse-grained continuum fields (`[output.fields]`, docs/physics.md §7.13): density,
 /// volume fraction, velocity and stress on an (x, z) grid for a slab or a box, (r, z) for a
 /// cylinder; off unless the section is given.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -214,7 +214,7 @@ pub struct FieldsSpec {
 }
 
 /// Smallest kernel width, in largest particle diameters: the branch quadrature is sized
-/// for w ≥ d/4 (docs/physics.md §7.12).
+/// for w ≥ d/4 (docs/physics.md §7.13).
 pub const MIN_FIELD_WIDTH_DIAMETERS: f64 = 0.25;
 /// Largest kernel width, in largest particle diameters: beyond it the fields are the
 /// container's averages, not a field.

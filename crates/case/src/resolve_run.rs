@@ -388,7 +388,7 @@ pub(crate) fn read_output(
     (output, fields)
 }
 
-/// Reads `[output.fields]` (docs/physics.md §7.12): every width within
+/// Reads `[output.fields]` (docs/physics.md §7.13): every width within
 /// [`MIN_FIELD_WIDTH_DIAMETERS`, `MAX_FIELD_WIDTH_DIAMETERS`] largest diameters, the cells
 /// no larger than the smallest width (so that they sample the kernel), the window and the
 /// interval at least a time step, the interval no longer than the window.

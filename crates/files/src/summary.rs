@@ -177,7 +177,7 @@ pub struct CaseSummary {
     /// §7.11); absent for the other kinds. Its discharge rate is `discharge_rate`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub draw_down: Option<DrawDownSummary>,
-    /// The coarse-grained fields (`[output.fields]`, docs/physics.md §7.12): their
+    /// The coarse-grained fields (`[output.fields]`, docs/physics.md §7.13): their
     /// kernel, the mass check and the check of the width; absent without the section.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fields: Option<FieldsSummary>,
@@ -304,7 +304,7 @@ fn not_measured() -> f64 {
     f64::NAN
 }
 
-/// The coarse-grained fields of a run (`summary.json`'s `fields`, docs/physics.md §7.12).
+/// The coarse-grained fields of a run (`summary.json`'s `fields`, docs/physics.md §7.13).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FieldsSummary {
     /// Kernel: "lucy" or "gaussian".

@@ -1,6 +1,6 @@
 //! Coarse-grained continuum fields: mass density, volume fraction, velocity, and the
 //! kinetic and contact stress tensors, on a grid in (x, z) for a slab or in (r, z) for an
-//! axisymmetric silo, averaged over time windows (docs/physics.md §7.12).
+//! axisymmetric silo, averaged over time windows (docs/physics.md §7.13).
 //!
 //! After Goldhirsch (Granular Matter 12, 239 (2010)) and Weinhart, Thornton, Luding and
 //! Bokhove (Granular Matter 14, 289 (2012)): with a kernel W of unit integral,

@@ -10,7 +10,7 @@
 //! - [`OutletSummary`]: v_c, φ_c, φ_max and the flux check W = (2/3) ρ_p d ∫ φ v dx (§7.4).
 //! - [`VelocityFieldProbe`] → [`VelocityFieldRecord`]: coarse-grained velocity maps (Fig. 9).
 //! - [`CoarseGrainProbe`] → [`CoarseGrainRecord`]: coarse-grained density, volume fraction,
-//!   velocity and kinetic and contact stress on an (x, z) or (r, z) grid (§7.12), and
+//!   velocity and kinetic and contact stress on an (x, z) or (r, z) grid (§7.13), and
 //!   [`width_scan`], the check of the kernel's width.
 //! - [`BulkProbe`]: settled φ_B and bed height.
 //! - [`find_arch`]: the arch over a clogged orifice.

@@ -1,4 +1,4 @@
-//! Coarse-grained continuum fields of a run (`[output.fields]`, docs/physics.md §7.12): the
+//! Coarse-grained continuum fields of a run (`[output.fields]`, docs/physics.md §7.13): the
 //! bed at rest when the gate opens, and the discharge averaged over its steady window, at
 //! the case's kernel width and at each width of its check.
 //!
@@ -267,7 +267,7 @@ fn write_field_vti(path: &Path, f: &CgField, what: &str) -> Result<(), RunError>
     let comment = format!(
         "hopperflow coarse-grained fields, {what}: {} kernel, width {} m, {} frames. Vectors \
          and tensors in the basis {basis}; tensors row-major; stresses compression positive \
-         [Pa]; pressure = tr(stress)/3. docs/physics.md 7.12",
+         [Pa]; pressure = tr(stress)/3. docs/physics.md 7.13",
         f.kernel.name(),
         f.width,
         f.frames

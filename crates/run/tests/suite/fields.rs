@@ -1,4 +1,4 @@
-//! Coarse-grained fields of a run (`[output.fields]`, docs/physics.md §7.12): the bed at rest
+//! Coarse-grained fields of a run (`[output.fields]`, docs/physics.md §7.13): the bed at rest
 //! against its weight, the mass the fields hold, the files and the check of the width.
 
 use crate::tiny_hopper::tiny_case;
