@@ -183,6 +183,45 @@ pub struct OutputSpec {
     pub plots: bool,
 }
 
+/// The coarse-graining kernel of `[output.fields]` (docs/physics.md §7.13).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FieldKernel {
+    /// Lucy's compact polynomial (the default).
+    Lucy,
+    /// A Gaussian cut at 3 widths.
+    Gaussian,
+}
+
+/// Coarse-grained continuum fields (`[output.fields]`, docs/physics.md §7.13): density,
+/// volume fraction, velocity and stress on an (x, z) grid for a slab or a box, (r, z) for a
+/// cylinder; off unless the section is given.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FieldsSpec {
+    /// The kernel.
+    pub kernel: FieldKernel,
+    /// Kernel width w [m] of the fields written.
+    pub width: f64,
+    /// Side h of the grid's square cells [m].
+    pub cell_size: f64,
+    /// Averaging window [s]: the frames are summed in blocks of this length, and the fields
+    /// written average the blocks of the discharge's steady window (all, where it has none).
+    pub window: f64,
+    /// Simulated time between the frames coarse-grained [s].
+    pub interval: f64,
+    /// Further widths [m] at which the fields are computed for the check of the width.
+    pub widths: Vec<f64>,
+}
+
+/// Smallest kernel width, in largest particle diameters: the branch quadrature is sized
+/// for w ≥ d/4 (docs/physics.md §7.13).
+pub const MIN_FIELD_WIDTH_DIAMETERS: f64 = 0.25;
+/// Largest kernel width, in largest particle diameters: beyond it the fields are the
+/// container's averages, not a field.
+pub const MAX_FIELD_WIDTH_DIAMETERS: f64 = 20.0;
+/// Most widths in `[output.fields] widths`.
+pub const MAX_FIELD_WIDTHS: usize = 8;
+
 /// Largest g [m/s²] a case may give: about 100 times the Earth's, the range of geotechnical
 /// centrifuges; beyond it the default time-step guidance no longer holds.
 pub const MAX_GRAVITY: f64 = 1000.0;
@@ -220,6 +259,9 @@ pub struct Case {
     pub measure: MeasureSpec,
     /// What the run writes (`[output]`).
     pub output: OutputSpec,
+    /// Coarse-grained fields (`[output.fields]`); `None`, the default, writes none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fields: Option<FieldsSpec>,
 }
 
 impl Case {
@@ -273,6 +315,7 @@ impl Case {
                 checkpoint_interval: 1.0,
                 plots: true,
             },
+            fields: None,
         }
     }
 

@@ -55,9 +55,10 @@ pub use calibration_file::{
     CalibrationTest, MAX_CALIBRATION_PARAMETERS, MAX_CALIBRATION_TARGETS,
 };
 pub use case::{
-    Case, ContactSpec, InteractionSpec, MeasureSpec, OutputSpec, Protocol, RollingLawSpec,
-    TangentialLawSpec, WallMaterialSpec, WallSpec, BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION,
-    MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION, THICK_SLAB_DIAMETERS,
+    Case, ContactSpec, FieldKernel, FieldsSpec, InteractionSpec, MeasureSpec, OutputSpec, Protocol,
+    RollingLawSpec, TangentialLawSpec, WallMaterialSpec, WallSpec, BULK_VOLUME_FRACTION,
+    CASE_FORMAT_VERSION, MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION,
+    THICK_SLAB_DIAMETERS,
 };
 pub use cuboid::{CuboidFace, CuboidGeometry, CuboidOutlet, HalfSpace};
 pub use cylinder::CylinderGeometry;

@@ -188,7 +188,19 @@ pub(crate) fn resolve_case(
         protocol.as_ref().map(|p| p.stop_fraction),
         &mut errors,
     );
-    let output = read_output(&mut root.section("output", &mut errors), &mut errors);
+    // Fields are gridded in (x, z) for a slab or a box, in (r, z) for a cylinder.
+    let gridded = geometry.as_ref().map(|g| {
+        matches!(
+            g,
+            Geometry::Slab(_) | Geometry::Cylinder(_) | Geometry::Cuboid(_)
+        )
+    });
+    let (output, fields) = read_output(
+        &mut root.section("output", &mut errors),
+        (d_max, d_max_source, gridded),
+        time_step.as_ref(),
+        &mut errors,
+    );
     root.finish(TOP_KEYS, &mut errors);
 
     let largest_diameter = d_max_source.map(str::to_string);
@@ -210,6 +222,7 @@ pub(crate) fn resolve_case(
                 protocol: pr,
                 measure: m,
                 output: o,
+                fields,
             })
         }
         _ => None,

@@ -1,6 +1,9 @@
 //! Validation of the run settings of a case: time step, protocol, measurement, output.
 
-use super::case::{Case, MeasureSpec, OutputSpec, Protocol, MAX_RAYLEIGH_FRACTION};
+use super::case::{
+    Case, FieldKernel, FieldsSpec, MeasureSpec, OutputSpec, Protocol, MAX_FIELD_WIDTHS,
+    MAX_FIELD_WIDTH_DIAMETERS, MAX_RAYLEIGH_FRACTION, MIN_FIELD_WIDTH_DIAMETERS,
+};
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::particles::ParticleSpec;
 use super::reader::Section;
@@ -342,20 +345,152 @@ pub(crate) fn read_measure(
     })
 }
 
-/// Reads `[output]`.
+/// Reads `[output]` and its optional `[output.fields]`; the largest diameter [m] (with the
+/// key it comes from) and the time step bound the fields' widths and intervals.
 pub(crate) fn read_output(
     section: &mut Section<'_>,
+    (d_max, d_max_source, gridded): (f64, Option<&str>, Option<bool>),
+    time_step: Option<&TimeStep>,
     errors: &mut Vec<ConfigError>,
-) -> Option<OutputSpec> {
+) -> (Option<OutputSpec>, Option<FieldsSpec>) {
     let base = Case::paper_base().output;
     let vtu = section.float_or("vtu_interval", "s", base.vtu_interval, errors);
     let checkpoint = section.float_or("checkpoint_interval", "s", base.checkpoint_interval, errors);
     let plots = section.boolean_or("plots", base.plots, errors);
-    section.finish(&["vtu_interval", "checkpoint_interval", "plots"], errors);
+    let fields = section
+        .has("fields")
+        .then(|| {
+            let mut fields = section.section("fields", errors);
+            if gridded == Some(false) {
+                errors.push(ConfigError::new(
+                    ErrorKind::Invalid,
+                    fields.location().clone(),
+                    fields.key("").trim_end_matches('.').to_string(),
+                    None,
+                    "coarse-grained fields need a geometry of kind \"slab\", \"box\" or \
+                     \"cylinder\" (an (x, z) or (r, z) grid)"
+                        .to_string(),
+                ));
+            }
+            read_fields(&mut fields, (d_max, d_max_source), time_step, errors)
+        })
+        .flatten();
+    section.finish(
+        &["vtu_interval", "checkpoint_interval", "plots", "fields"],
+        errors,
+    );
     let ok = vtu.require_non_negative(errors) & checkpoint.require_non_negative(errors);
-    ok.then_some(OutputSpec {
+    let output = ok.then_some(OutputSpec {
         vtu_interval: vtu.value,
         checkpoint_interval: checkpoint.value,
         plots,
+    });
+    (output, fields)
+}
+
+/// Reads `[output.fields]` (docs/physics.md §7.13): every width within
+/// [`MIN_FIELD_WIDTH_DIAMETERS`, `MAX_FIELD_WIDTH_DIAMETERS`] largest diameters, the cells
+/// no larger than the smallest width (so that they sample the kernel), the window and the
+/// interval at least a time step, the interval no longer than the window.
+fn read_fields(
+    section: &mut Section<'_>,
+    (d_max, d_max_source): (f64, Option<&str>),
+    time_step: Option<&TimeStep>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<FieldsSpec> {
+    let kernel = section.choice(
+        "kernel",
+        &[
+            ("lucy", FieldKernel::Lucy),
+            ("gaussian", FieldKernel::Gaussian),
+        ],
+        FieldKernel::Lucy,
+        errors,
+    );
+    let width = section.float_or("width", "m", 0.5 * d_max, errors);
+    let widths = section
+        .float_array("widths", "m", errors)
+        .unwrap_or_default();
+    let smallest = widths.iter().map(|w| w.value).fold(width.value, f64::min);
+    let cell = section.float_or("cell_size", "m", 0.5 * smallest, errors);
+    let window = section.float_or("window", "s", 0.5, errors);
+    let interval = section.float_or("interval", "s", 1.0e-3, errors);
+    section.finish(
+        &[
+            "kernel",
+            "width",
+            "widths",
+            "cell_size",
+            "window",
+            "interval",
+        ],
+        errors,
+    );
+    let mut ok = cell.require_positive(errors)
+        & window.require_positive(errors)
+        & interval.require_positive(errors);
+    let (low, high) = (
+        MIN_FIELD_WIDTH_DIAMETERS * d_max,
+        MAX_FIELD_WIDTH_DIAMETERS * d_max,
+    );
+    let diameter = d_max_source.unwrap_or("the largest particle diameter");
+    for w in std::iter::once(&width).chain(&widths) {
+        if !(w.value >= low && w.value <= high) {
+            errors.push(w.error(
+                ErrorKind::Invalid,
+                format!(
+                    "must be in [{}, {}] m: {MIN_FIELD_WIDTH_DIAMETERS} to {MAX_FIELD_WIDTH_DIAMETERS} times the largest diameter ({diameter}); the branch quadrature is sized for w ≥ d/4",
+                    number(low),
+                    number(high)
+                ),
+            ));
+            ok = false;
+        }
+    }
+    if widths.len() > MAX_FIELD_WIDTHS {
+        errors.push(widths[MAX_FIELD_WIDTHS].error(
+            ErrorKind::Invalid,
+            format!("at most {MAX_FIELD_WIDTHS} widths may be checked"),
+        ));
+        ok = false;
+    }
+    if ok && cell.value > smallest {
+        errors.push(cell.error(
+            ErrorKind::Invalid,
+            format!(
+                "must be in (0, {}] m: no larger than the smallest kernel width, so that the cells sample the kernel",
+                number(smallest)
+            ),
+        ));
+        ok = false;
+    }
+    if let Some((dt, origin)) = time_step {
+        for t in [&window, &interval] {
+            if t.value < *dt {
+                errors.push(t.error(
+                    ErrorKind::Invalid,
+                    format!("must be ≥ the time step ({} s), {origin}", rounded(*dt)),
+                ));
+                ok = false;
+            }
+        }
+    }
+    if window.value > 0.0 && interval.value > window.value {
+        errors.push(interval.error(
+            ErrorKind::Invalid,
+            format!(
+                "must be in (0, {}] s: no longer than output.fields.window, so that every                  window holds a frame",
+                number(window.value)
+            ),
+        ));
+        ok = false;
+    }
+    ok.then(|| FieldsSpec {
+        kernel,
+        width: width.value,
+        cell_size: cell.value,
+        window: window.value,
+        interval: interval.value,
+        widths: widths.iter().map(|w| w.value).collect(),
     })
 }

@@ -4,7 +4,9 @@ use std::fmt::{Display, Write};
 
 use dem::MaterialTable;
 
-use super::case::{Case, RollingLawSpec, TangentialLawSpec, WallMaterialSpec, CASE_FORMAT_VERSION};
+use super::case::{
+    Case, FieldKernel, RollingLawSpec, TangentialLawSpec, WallMaterialSpec, CASE_FORMAT_VERSION,
+};
 use super::error::rounded;
 use super::geometry::Geometry;
 use super::mesh::MeshOutlet;
@@ -440,6 +442,23 @@ impl Case {
         out.float("vtu_interval", o.vtu_interval, "[s]");
         out.float("checkpoint_interval", o.checkpoint_interval, "[s]");
         out.key("plots", o.plots, "");
+        // Written only when set, so that the resolved text (and the config hash) of every case
+        // without fields stays as it was.
+        if let Some(f) = &self.fields {
+            out.table("[output.fields]");
+            let kernel = match f.kernel {
+                FieldKernel::Lucy => "lucy",
+                FieldKernel::Gaussian => "gaussian",
+            };
+            out.word("kernel", kernel, "lucy or gaussian");
+            out.float("width", f.width, "[m]");
+            out.float("cell_size", f.cell_size, "[m]");
+            out.float("window", f.window, "[s]");
+            out.float("interval", f.interval, "[s]");
+            if !f.widths.is_empty() {
+                out.key("widths", floats(&f.widths), "[m], the check of the width");
+            }
+        }
         out.0
     }
 }

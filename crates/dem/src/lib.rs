@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 pub mod contact;
+mod contacts;
 mod error;
 mod forces;
 pub(crate) mod history;
@@ -29,6 +30,7 @@ mod watch;
 
 pub use contact::liquid_bridge::LARGEST_VOLUME_RATIO as LARGEST_BRIDGE_VOLUME_RATIO;
 pub use contact::{Cohesion, ContactLaws, RollingLaw, TangentialLaw};
+pub use contacts::{Contacts, PairContact, WallContact, SLIP_MARGIN};
 pub use error::DemError;
 pub use forces::loads::{ElementLoad, SurfaceLoads, WallLoad};
 pub use forces::ContactCount;

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::contacts::{ContactSource, Contacts};
 use crate::forces::loads::WallLoad;
 use crate::particles::{ParticleSet, ParticleTag, FLAG_FROZEN};
 use crate::wall::{Wall, WallId};
@@ -26,6 +27,9 @@ pub struct Watched<'a> {
     /// The pending kick: Δt/2 [s], and the reciprocal mass [1/kg] and inertia [1/(kg m²)]
     /// that all bodies share when they do (`integrator::uniform_free_body`).
     pending: Option<(f64, Option<(f64, f64)>)>,
+    /// What [`Watched::contacts`] recomputes the contacts from; `None` where the lists and
+    /// coefficients are not those of the bodies shown (before the first step, after an edit).
+    contacts: Option<ContactSource<'a>>,
 }
 
 impl<'a> Watched<'a> {
@@ -34,6 +38,7 @@ impl<'a> Watched<'a> {
         time: f64,
         walls: (&'a [Option<Wall>], &'a [WallLoad], &'a [WallLoad]),
         pending: Option<(f64, Option<(f64, f64)>)>,
+        contacts: Option<ContactSource<'a>>,
     ) -> Self {
         Self {
             particles,
@@ -42,7 +47,20 @@ impl<'a> Watched<'a> {
             wall_loads: walls.1,
             wall_impulses: walls.2,
             pending,
+            contacts,
         }
+    }
+
+    /// The contacts that carry force, recomputed from the state shown: for each
+    /// particle–particle contact the two indices, the force on the first [N] and the contact
+    /// point [m]; for each particle–wall contact the particle, the wall, the force on the
+    /// particle [N] and the wall's contact point [m] (`crates/dem/src/contacts.rs` says how,
+    /// and what it costs: one pass of the scalar contact laws over the candidate lists).
+    /// Reads only; the simulation keeps its bits. `None` where the view has no current
+    /// contact lists: before the first step, or after an edit until the next step.
+    pub fn contacts(&self) -> Option<Contacts> {
+        self.contacts
+            .map(|source| source.contacts(self.particles, self.walls))
     }
 
     /// The time integral of the load on wall `id` since it was added, as
@@ -95,6 +113,11 @@ impl<'a> Watched<'a> {
     /// Masses [kg].
     pub fn masses(&self) -> &'a [f64] {
         self.particles.masses()
+    }
+
+    /// Total force on body `k` in the step [N]: its weight and every contact's force.
+    pub fn force(&self, k: usize) -> DVec3 {
+        self.particles.force[k]
     }
 
     /// Centre velocity of body `k` at the full step [m/s].

@@ -73,7 +73,9 @@ pub use plot::{
 };
 pub use pvd::{PvdCollection, PvdEntry};
 pub use table::{write_csv_columns, write_csv_table, Cell};
-pub use vtu::{write_particles_vtu, write_walls_vtu, ParticleFields};
+pub use vtu::{
+    write_grid_vti, write_particles_vtu, write_walls_vtu, GridArray, GridFields, ParticleFields,
+};
 
 pub use defaults::DEFAULT_GRAVITY;
 pub use layout::{
@@ -85,6 +87,6 @@ pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow
 pub use start::{describe_start, StartKind, StartRecord};
 pub use study_file_error::StudyFileError;
 pub use summary::{
-    ArchSummary, CaseSummary, DrawDownSummary, JanssenSummary, ProfileRow, RadialFit,
-    ReposeSummary, StopReason,
+    ArchSummary, CaseSummary, DrawDownSummary, FieldsSummary, JanssenSummary, ProfileRow,
+    RadialFit, ReposeSummary, StopReason, WidthChange,
 };

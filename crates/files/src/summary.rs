@@ -177,6 +177,10 @@ pub struct CaseSummary {
     /// §7.11); absent for the other kinds. Its discharge rate is `discharge_rate`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub draw_down: Option<DrawDownSummary>,
+    /// The coarse-grained fields (`[output.fields]`, docs/physics.md §7.13): their
+    /// kernel, the mass check and the check of the width; absent without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fields: Option<FieldsSummary>,
 }
 
 /// The angle of repose of a heap left by a lifted cylinder: the line h(r) = h₀ − r tan θ
@@ -298,4 +302,45 @@ pub struct ProfileRow {
 /// NaN: the value of a column that a profiles table written before it existed lacks.
 fn not_measured() -> f64 {
     f64::NAN
+}
+
+/// The coarse-grained fields of a run (`summary.json`'s `fields`, docs/physics.md §7.13).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FieldsSummary {
+    /// Kernel: "lucy" or "gaussian".
+    pub kernel: String,
+    /// Kernel width w of `fields.vti` [m].
+    pub width: f64,
+    /// Grid cell side [m].
+    pub cell_size: f64,
+    /// Discharge frames averaged in `fields.vti`.
+    pub frames: u64,
+    /// The mass the field of the bed at rest holds, Σ ρ ΔV over the grid [kg] (`null` when
+    /// no settled frame was taken).
+    pub settled_field_mass: Option<f64>,
+    /// The particles' mass when the gate opened [kg].
+    pub settled_particle_mass: Option<f64>,
+    /// The check of the width (`field_widths.csv`): one row per pair of consecutive widths;
+    /// empty where no `widths` were given.
+    pub widths: Vec<WidthChange>,
+    /// The width at which the fields depend least on it [m], where the largest relative
+    /// change of ρ and p to the next width is at most 5 %; `null` otherwise.
+    pub plateau_width: Option<f64>,
+    /// That smallest largest change [-]; `null` without widths.
+    pub least_change: Option<f64>,
+}
+
+/// How the fields change from one kernel width to the next.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WidthChange {
+    /// The width [m].
+    pub width: f64,
+    /// The next width [m].
+    pub next_width: f64,
+    /// Relative L2 change of the density [-].
+    pub density_change: f64,
+    /// Relative L2 change of the pressure [-].
+    pub pressure_change: f64,
+    /// Relative L2 change of the velocity [-].
+    pub velocity_change: f64,
 }

@@ -9,6 +9,9 @@
 //! - [`StripProbe`] → [`StripRecord`]: φ(x), ⟨φ v⟩(x) and the snapshot v(x) (§7.3–7.4).
 //! - [`OutletSummary`]: v_c, φ_c, φ_max and the flux check W = (2/3) ρ_p d ∫ φ v dx (§7.4).
 //! - [`VelocityFieldProbe`] → [`VelocityFieldRecord`]: coarse-grained velocity maps (Fig. 9).
+//! - [`CoarseGrainProbe`] → [`CoarseGrainRecord`]: coarse-grained density, volume fraction,
+//!   velocity and kinetic and contact stress on an (x, z) or (r, z) grid (§7.13), and
+//!   [`width_scan`], the check of the kernel's width.
 //! - [`BulkProbe`]: settled φ_B and bed height.
 //! - [`find_arch`]: the arch over a clogged orifice.
 //! - [`heap_angle`]: the angle of repose of a heap, fitted to its surface by sector (§7.10).
@@ -24,6 +27,7 @@
 mod arch;
 mod block_error;
 mod bulk;
+mod coarse_grain;
 mod crossing;
 mod disc_area;
 mod error;
@@ -42,6 +46,11 @@ mod x_profile;
 pub use arch::{find_arch, Arch, ArchMember};
 pub use block_error::ERROR_BLOCKS;
 pub use bulk::{sphere_volume_below, BulkMeasurement, BulkProbe, ContainerOutline, CrossSection};
+pub use coarse_grain::{
+    width_scan, CgBlock, CgCell, CgContacts, CgField, CgGeometry, CgGrid, CgKernel, CgPairContact,
+    CgWallContact, CoarseGrainProbe, CoarseGrainRecord, WidthScan, WidthStep,
+    GAUSSIAN_CUT_PER_WIDTH, LUCY_CUTOFF_PER_WIDTH, MAX_CELLS, PLATEAU_CHANGE,
+};
 pub use crossing::{
     CrossingDensityProfile, CrossingEvent, CrossingProbe, CrossingRecord, CrossingTally,
     DischargeSeries, ProfileBin, VelocityProfile, DEFAULT_DISCHARGE_BIN_WIDTH,

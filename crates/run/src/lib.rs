@@ -8,6 +8,7 @@ mod checkpoint;
 mod composition;
 mod container;
 pub mod cost;
+mod fields;
 mod fill;
 mod outputs;
 mod packing;

@@ -462,6 +462,12 @@ pub fn finish(
         None
     };
 
+    // fields.vti and its kin: the coarse-grained fields, where the case asks for them.
+    let fields = match &state.fields {
+        Some(f) => Some(f.write(out_dir, outlet_window)?),
+        None => None,
+    };
+
     // remaining.csv: N(t), the particles still above the orifice plane.
     write_csv_table(
         out_dir.join("remaining.csv"),
@@ -692,6 +698,7 @@ pub fn finish(
         arch,
         repose,
         draw_down,
+        fields,
     })
 }
 

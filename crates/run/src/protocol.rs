@@ -22,6 +22,7 @@ use measure::{
     StripConfig, StripProbe, VelocityFieldProbe,
 };
 
+use super::fields::FieldsRecorder;
 use super::remaining::RemainingRecorder;
 use super::wall_forces::WallForceRecorder;
 use super::wall_pressure::WallPressureRecorder;
@@ -161,6 +162,11 @@ pub struct RunState {
     pub(crate) remaining: RemainingRecorder,
     /// Wall pressure against height of a silo (`wall_pressure.csv`; `None` for a slab).
     pub(crate) pressure: Option<WallPressureRecorder>,
+    /// Coarse-grained fields (`[output.fields]`; `None` without). Not in checkpoints, so
+    /// that a run without fields writes the checkpoint bytes it always wrote: a resumed run
+    /// starts its fields afresh at the resume.
+    #[serde(skip)]
+    pub(crate) fields: Option<FieldsRecorder>,
 }
 
 impl RunState {
@@ -407,6 +413,7 @@ impl CaseRun {
             wall_forces,
             remaining: RemainingRecorder::new(case.measure.rate_bin_width),
             pressure,
+            fields: FieldsRecorder::new(case)?,
         };
         Ok(Self {
             case: case.clone(),
@@ -419,8 +426,11 @@ impl CaseRun {
     }
 
     /// Resumes from a checkpointed state.
-    pub fn resume(case: &Case, state: RunState, threads: usize) -> Result<Self, RunError> {
+    pub fn resume(case: &Case, mut state: RunState, threads: usize) -> Result<Self, RunError> {
         let sim = Simulation::from_state(state.sim.clone(), threads)?;
+        if state.fields.is_none() {
+            state.fields = FieldsRecorder::new(case)?;
+        }
         Ok(Self {
             case: case.clone(),
             sim,
@@ -771,6 +781,10 @@ impl CaseRun {
     /// Removes the gate at the current time and starts the discharge.
     fn open_gate(&mut self) -> Result<(), RunError> {
         let t = self.sim.time();
+        if let Some(fields) = &mut self.state.fields {
+            // The bed at rest, its gate still under it.
+            fields.observe_settled(&self.sim.watched())?;
+        }
         self.sim.remove_wall(self.state.walls.gate())?;
         self.state.remaining.open(t);
         if let Some(p) = &mut self.state.pressure {
@@ -947,6 +961,9 @@ impl CaseRun {
                 last_crossing = t;
             }
             state.remaining.observe(seen);
+            if let Some(fields) = &mut state.fields {
+                fields.observe(seen)?;
+            }
             if t >= state.next_frame {
                 state.next_frame += case.measure.frame_interval;
                 if let Some(probe) = &mut state.strip {

@@ -97,6 +97,29 @@ fn resolved_case_round_trips_through_its_toml_text() {
 }
 
 #[test]
+fn fields_are_off_by_default_and_round_trip_when_given() {
+    // Without `[output.fields]` the resolved text is the one written before the section
+    // existed (no line of it), so every config hash stays; with it, every key reads back.
+    let base = Case::paper_base();
+    assert!(base.fields.is_none());
+    assert!(!base.to_toml_string().contains("fields"));
+    let text = "version = 1\n[output.fields]\nkernel = \"gaussian\"\nwidth = 0.003\n\
+                widths = [0.0015, 0.006]\nwindow = 0.25\n";
+    let case = parse_case(text, "fields.toml", &[]).expect("valid fields");
+    let fields = case.fields.clone().expect("fields on");
+    assert_eq!(fields.kernel, case::FieldKernel::Gaussian);
+    // The cells default to half the smallest width.
+    assert_eq!(fields.cell_size, 0.00075);
+    assert_eq!(fields.widths, vec![0.0015, 0.006]);
+    let back = parse_case(&case.to_toml_string(), "resolved.toml", &[]).unwrap();
+    assert_eq!(back, case);
+    // A geometry without an (x, z) or (r, z) grid is refused, naming the section.
+    let heap = "version = 1\n[geometry]\nkind = \"heap\"\n[output.fields]\nwidth = 0.003\n";
+    let report = parse_case(heap, "heap.toml", &[]).unwrap_err().to_string();
+    assert!(report.contains("output.fields"), "{report}");
+}
+
+#[test]
 fn gravity_is_written_back_only_when_it_is_not_the_default() {
     // The default g leaves the resolved text as it was before the key existed, so that the
     // configuration hashes of existing runs and beds stay valid.

@@ -2,6 +2,7 @@
 //! thread while the next steps go on.
 
 use super::*;
+use crate::contacts::ContactSource;
 
 impl Simulation {
     /// Takes `n` steps, each one's second half kick fused with the next one's first.
@@ -104,6 +105,16 @@ impl Simulation {
                 &self.state.wall_impulses,
             ),
             pending.then_some((half, self.uniform_free)),
+            (self.prepared && !self.state.needs_rebuild).then_some(ContactSource {
+                laws: self.state.config.laws,
+                pair_coeffs: &self.pair_coeffs,
+                wall_coeffs: &self.wall_coeffs,
+                materials: self.state.materials.len(),
+                pairs: &self.state.pairs,
+                wall_pairs: &self.state.wall_pairs,
+                reach: self.state.list_reach,
+                kicked: (!pending).then_some(half),
+            }),
         )
     }
 }

@@ -317,3 +317,73 @@ fn pvd_collection_refuses_a_non_finite_time() {
     assert!(collection.entries().is_empty());
     assert!(!path.exists());
 }
+
+#[test]
+fn a_grid_is_written_as_image_data_with_every_value_and_refused_when_inconsistent() {
+    // A 3 × 1 × 2 grid with a scalar and a 3-vector: the file must be well-formed XML (the
+    // comment aside), state its extent, origin and spacing, hold every value to the bit
+    // (shortest round-trip text) and the notes as field data; wrong lengths and NaN refused.
+    use files::{write_grid_vti, GridArray, GridFields};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("fields.vti");
+    let density = [1.0, 2.5, 1.0 / 3.0, 4.0, 5.0, 6.0];
+    let velocity: Vec<f64> = (0..18).map(|k| k as f64 * 0.1).collect();
+    let arrays = [
+        GridArray {
+            name: "density_kg_m3",
+            components: 1,
+            values: &density,
+        },
+        GridArray {
+            name: "velocity_m_s",
+            components: 3,
+            values: &velocity,
+        },
+    ];
+    let grid = GridFields {
+        origin: [0.5e-3, 0.0, -1.0e-3],
+        spacing: [1.0e-3, 1.0e-3, 1.0e-3],
+        dimensions: [3, 1, 2],
+        arrays: &arrays,
+        notes: &[("width_m", 1.5e-3)],
+        comment: "compression positive",
+    };
+    write_grid_vti(&path, &grid).expect("written");
+    let xml = std::fs::read_to_string(&path).unwrap();
+    let start = xml.find("<!--").unwrap();
+    let end = xml.find("-->").unwrap() + 3;
+    assert_well_formed(&format!("{}{}", &xml[..start], &xml[end..]));
+    assert!(xml.contains("WholeExtent=\"0 2 0 0 0 1\""));
+    assert!(xml.contains("Origin=\"0.0005 0 -0.001\""));
+    assert!(xml.contains("Name=\"width_m\""));
+    assert!(
+        xml.contains(&format!(" {}", 1.0 / 3.0)),
+        "a third to the bit"
+    );
+    assert!(xml.contains("NumberOfComponents=\"3\""));
+    let short = [GridArray {
+        name: "density_kg_m3",
+        components: 1,
+        values: &density[..5],
+    }];
+    let bad = GridFields {
+        arrays: &short,
+        ..grid
+    };
+    assert!(matches!(
+        write_grid_vti(&path, &bad),
+        Err(OutputError::InvalidData { .. })
+    ));
+    let nan = [f64::NAN; 6];
+    let with_nan = [GridArray {
+        name: "pressure_Pa",
+        components: 1,
+        values: &nan,
+    }];
+    let bad = GridFields {
+        arrays: &with_nan,
+        ..grid
+    };
+    let error = write_grid_vti(&path, &bad).unwrap_err().to_string();
+    assert!(error.contains("pressure_Pa"), "{error}");
+}

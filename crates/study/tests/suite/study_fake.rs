@@ -253,6 +253,7 @@ fn common_summary(
         arch: None,
         repose: None,
         draw_down: None,
+        fields: None,
     }
 }
 
