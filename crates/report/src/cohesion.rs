@@ -205,6 +205,41 @@ pub enum CriticalWidth {
     Unknown,
 }
 
+/// The half-clogging width D_50 of one Bond number: where the fraction of runs that clog
+/// falls through one half as the outlet widens. Clogging has no sharp threshold (Thomas &
+/// Durian 2015: the clogging probability decays exponentially in the width, never to zero),
+/// so a width at which a run of the study's length clogs half the time is the threshold
+/// that more replicas sharpen rather than widen, unlike the bracket of [`CriticalWidth`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HalfClogging {
+    /// Fewer than half the runs clogged at every width: D_50 lies below the smallest [m].
+    Below(f64),
+    /// Linear in the fraction between the widest width at which at least half the runs
+    /// clogged and the next width run, at which fewer did [m].
+    At(f64),
+    /// At least half the runs clogged at the largest width run [m]: D_50 lies above it.
+    Above(f64),
+    /// No run ended (all failed).
+    Unknown,
+}
+
+/// D_50 from the cells of one Bond number ([`HalfClogging`]).
+fn half_clogging_width(cells: &[BondCell]) -> HalfClogging {
+    let ran: Vec<&BondCell> = cells.iter().filter(|c| c.runs > 0).collect();
+    let Some(first) = ran.first() else {
+        return HalfClogging::Unknown;
+    };
+    let Some(k) = ran.iter().rposition(|c| c.clogging_fraction() >= 0.5) else {
+        return HalfClogging::Below(first.outlet_width);
+    };
+    let Some(next) = ran.get(k + 1) else {
+        return HalfClogging::Above(ran[k].outlet_width);
+    };
+    let (fa, fb) = (ran[k].clogging_fraction(), next.clogging_fraction());
+    let (wa, wb) = (ran[k].outlet_width, next.outlet_width);
+    HalfClogging::At(wa + (fa - 0.5) / (fa - fb) * (wb - wa))
+}
+
 /// One Bond number of a table.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BondLevel {
@@ -216,6 +251,8 @@ pub struct BondLevel {
     pub cells: Vec<BondCell>,
     /// The bracket of D_c.
     pub critical: CriticalWidth,
+    /// The half-clogging width D_50.
+    pub half: HalfClogging,
 }
 
 /// The brackets of the critical width from the cells of one Bond number.
@@ -336,6 +373,7 @@ pub fn analyse_cohesion(study: &CohesionStudy) -> CohesionAnalysis {
                     cohesion,
                     bond,
                     critical: critical_width(&cells),
+                    half: half_clogging_width(&cells),
                     cells,
                 }
             })
@@ -471,7 +509,7 @@ pub fn cohesion_blocks(analysis: &CohesionAnalysis) -> Vec<super::Block> {
             })
             .collect();
         blocks.push(Block::Table { headers, rows });
-        blocks.push(Block::Paragraph("Critical outlet width D_c: the largest width at which a replica clogged and the smallest larger width at which every replica flowed bracket it; the clogging fraction is clogged runs over runs that ended (failed runs left out).".into()));
+        blocks.push(Block::Paragraph("Critical outlet width D_c: the largest width at which a replica clogged and the smallest larger width at which every replica flowed bracket it; the clogging fraction is clogged runs over runs that ended (failed runs left out). The half-clogging width D_50 is where that fraction falls through one half as the outlet widens, linear between the widest width at which at least half the runs clogged and the next: clogging has no sharp threshold, and more replicas sharpen D_50 where they can only widen the bracket.".into()));
         let rows = group
             .levels
             .iter()
@@ -505,16 +543,29 @@ pub fn cohesion_blocks(analysis: &CohesionAnalysis) -> Vec<super::Block> {
                     }
                     CriticalWidth::Unknown => "no run ended".into(),
                 };
+                let half = match level.half {
+                    HalfClogging::Below(w) => format!("D_50 < {}", width_label(w, d)),
+                    HalfClogging::At(w) => format!("D_50 = {}", width_label(w, d)),
+                    HalfClogging::Above(w) => format!("D_50 > {}", width_label(w, d)),
+                    HalfClogging::Unknown => "no run ended".into(),
+                };
                 vec![
                     level.cohesion.law().to_string(),
                     bond_label(level.bond),
                     fractions,
                     bracket,
+                    half,
                 ]
             })
             .collect();
         blocks.push(Block::Table {
-            headers: ["law", "Bo", "clogged/runs by D", "critical width"]
+            headers: [
+                "law",
+                "Bo",
+                "clogged/runs by D",
+                "critical width",
+                "half-clogging width",
+            ]
                 .map(String::from)
                 .to_vec(),
             rows,
@@ -616,5 +667,41 @@ mod tests {
             CriticalWidth::Above(6.0)
         );
         assert_eq!(critical_width(&[cell(6.0, 0, 0)]), CriticalWidth::Unknown);
+    }
+
+    #[test]
+    fn the_half_clogging_width_is_where_the_fraction_falls_through_one_half() {
+        // 4/5, 2/5, 2/5, 0/5 clog at 5, 6, 8, 10 d: the fraction falls through 1/2 between 5
+        // and 6 d, three quarters of the way from 0.8 to 0.4, at 5.75 d (exact in binary to
+        // the division's rounding).
+        let cells = [
+            cell(5.0, 5, 4),
+            cell(6.0, 5, 2),
+            cell(8.0, 5, 2),
+            cell(10.0, 5, 0),
+        ];
+        match half_clogging_width(&cells) {
+            HalfClogging::At(w) => assert!((w - 5.75).abs() < 1e-12, "{w}"),
+            other => panic!("{other:?}"),
+        }
+        // Exactly half at one width: D_50 is that width.
+        match half_clogging_width(&[cell(6.0, 4, 2), cell(8.0, 4, 0)]) {
+            HalfClogging::At(w) => assert_eq!(w, 6.0),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            half_clogging_width(&[cell(5.0, 5, 2), cell(6.0, 5, 0)]),
+            HalfClogging::Below(5.0)
+        );
+        assert_eq!(
+            half_clogging_width(&[cell(8.0, 5, 3), cell(10.0, 5, 3)]),
+            HalfClogging::Above(10.0)
+        );
+        // A width with no finished run is skipped; none at all gives nothing.
+        assert_eq!(
+            half_clogging_width(&[cell(6.0, 2, 2), cell(8.0, 0, 0)]),
+            HalfClogging::Above(6.0)
+        );
+        assert_eq!(half_clogging_width(&[cell(6.0, 0, 0)]), HalfClogging::Unknown);
     }
 }

@@ -37,7 +37,7 @@ pub use build::{build_report, ReportError, ReportFiles};
 pub use calibration::{build_calibration_report, is_calibration, CalibrationReportFiles};
 pub use cohesion::{
     analyse_cohesion, load_cohesion, BondCell, BondLevel, CohesionAnalysis, CohesionCase,
-    CohesionGroup, CohesionStudy, CriticalWidth,
+    CohesionGroup, CohesionStudy, CriticalWidth, HalfClogging,
 };
 pub use comparison::{
     compare_with_paper, ComparisonItem, ANGLE_SERIES, B_TREND_FROM_DEG, ECCENTRIC_SERIES,
