@@ -302,13 +302,16 @@ pub fn avalanche_summary(
     let size_tail = tail(exponential_size_tail(&sizes, median(&sizes)));
     let lapse_tail = tail(power_law_tail(lapses, 10.0 * median(lapses)));
     let pulses: usize = record.clogs.iter().map(|c| c.pulses as usize).sum();
-    // Each clog's pulses but the one that broke it failed (the last clog's last pulse, if
-    // the run stopped after it, is counted as failed only when no grain followed: it is not
-    // given at a stop on the avalanche count).
+    // A clog's pulses all failed but the last, where grains left after it; where none did
+    // (the run stopped after its pulses failed), all of them.
+    let total: usize = avalanches.iter().map(|a| a.size).sum();
     let failed: usize = record
         .clogs
         .iter()
-        .map(|c| c.pulses.saturating_sub(1) as usize)
+        .map(|c| {
+            let broken = total > c.crossings;
+            (c.pulses as usize).saturating_sub(usize::from(broken))
+        })
         .sum();
     AvalancheSummary {
         count: n,
@@ -434,7 +437,17 @@ mod tests {
         assert!((s.mean_size - 4.0).abs() < 1e-12);
         // The sample standard deviation of 2, 4, 6 is 2, over √3.
         assert!((s.mean_size_error - 2.0 / 3f64.sqrt()).abs() < 1e-12);
-        assert_eq!(s.pulses, 3);
+        // Three clogs, a pulse each: the first two restarted the flow, the third's did too
+        // (the 100 grains after it); none failed.
+        assert_eq!((s.pulses, s.failed_pulses), (3, 0));
         assert!(s.size_tail.is_none(), "three sizes are too few for a tail");
+        // A last clog pulsed three times in vain (no grain after it): three failures.
+        record.clogs.push(Clog {
+            crossings: events.len(),
+            pulses: 3,
+            ..record.clogs[0].clone()
+        });
+        let s = avalanche_summary(&avalanches(&events, &record), &[], &record);
+        assert_eq!((s.pulses, s.failed_pulses), (6, 3));
     }
 }
