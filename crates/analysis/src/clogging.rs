@@ -167,8 +167,14 @@ fn log_points(
     Ok((x, y, sigma))
 }
 
+/// Largest γ the divergence fit may take [-]: the published ones are below 10.
+const MAX_GAMMA: f64 = 100.0;
+/// Largest distance of R_c beyond the largest R the divergence fit may take [-].
+const MAX_GAP: f64 = 100.0;
+
 /// Fits ⟨s⟩ = A (R_c − R)^(−γ) (Zuriguel et al. 2005) by weighted least squares on
-/// ln⟨s⟩ = ln A − γ ln(R_c − R), with R_c kept above the largest R. Needs four points.
+/// ln⟨s⟩ = ln A − γ ln(R_c − R), with R_c kept above the largest R. Needs four points; a
+/// fit that ends on a bound of R_c or γ is refused as no divergence.
 pub fn fit_critical_divergence(points: &[MeanSizePoint]) -> AnalysisResult<MeanSizeFit> {
     const CONTEXT: &str = "critical divergence of the mean avalanche size";
     ensure_at_least(CONTEXT, 4, points.len())?;
@@ -177,8 +183,8 @@ pub fn fit_critical_divergence(points: &[MeanSizePoint]) -> AnalysisResult<MeanS
     let model = |r: f64, p: &[f64]| p[0] - p[2] * (p[1] - r).ln();
     let bounds = [
         ParameterBounds::free(),
-        ParameterBounds::between(largest * (1.0 + 1e-9) + 1e-9, largest + 100.0),
-        ParameterBounds::between(0.0, 100.0),
+        ParameterBounds::between(largest * (1.0 + 1e-9) + 1e-9, largest + MAX_GAP),
+        ParameterBounds::between(0.0, MAX_GAMMA),
     ];
     // Starts at several distances of R_c beyond the largest R; the best χ² wins.
     let mut best: Option<crate::fit::NonlinearFit> = None;
@@ -208,6 +214,17 @@ pub fn fit_critical_divergence(points: &[MeanSizePoint]) -> AnalysisResult<MeanS
             reason: "no start converged".into(),
         })
     })?;
+    // A fit that ends on a bound has found no divergence within the data: R_c far beyond
+    // them with an ever steeper γ is an exponential in disguise, γ = 0 no growth at all.
+    let (rc, gamma) = (fit.parameters[1].value, fit.parameters[2].value);
+    if gamma >= MAX_GAMMA * (1.0 - 1e-6) || gamma <= 1e-6 || rc >= largest + 0.999 * MAX_GAP {
+        return Err(AnalysisError::Degenerate {
+            context: CONTEXT,
+            reason: format!(
+                "the data pin no divergence: the fit ends on a bound (R_c = {rc:.3}, γ = {gamma:.3})"
+            ),
+        });
+    }
     let ln_a = fit.parameters[0];
     // A = exp(ln A), its error to first order.
     let a = Estimate::new(ln_a.value.exp(), ln_a.value.exp() * ln_a.standard_error);
@@ -420,6 +437,15 @@ mod tests {
         assert!(fit_exponential_growth(&with_zero, 2.0).is_err());
         let c = compare_mean_size_fits(&three, 2.0);
         assert!(c.divergence.is_none() && c.divergence_error.is_some());
+        // Sizes that fall as the outlet widens pin no divergence: γ ends on its bound 0.
+        let falling = [
+            point(2.0, 100.0),
+            point(3.0, 60.0),
+            point(4.0, 30.0),
+            point(5.0, 20.0),
+        ];
+        let refused = fit_critical_divergence(&falling).unwrap_err().to_string();
+        assert!(refused.contains("bound"), "{refused}");
         assert!(c.exponential.is_some() && c.aic_difference.is_nan());
     }
 }

@@ -158,6 +158,7 @@ pub fn analyse_clogging(cases: &[ClogCase]) -> Vec<ClogGroup> {
             let points: Vec<MeanSizePoint> = rows
                 .iter()
                 .filter(|r| r.mean_size.value > 0.0 && r.mean_size.standard_error > 0.0)
+                .filter(|r| r.avalanches >= MIN_AVALANCHES)
                 .map(|r| MeanSizePoint {
                     outlet: r.outlet,
                     mean_size: r.mean_size,
@@ -174,9 +175,16 @@ pub fn analyse_clogging(cases: &[ClogCase]) -> Vec<ClogGroup> {
         .collect()
 }
 
-/// "v ± e" with `digits` decimals, or "–".
+/// Fewest clog-ended avalanches at one D/d for its ⟨s⟩ to enter the fits: below it the
+/// standard error of the mean is itself too uncertain to weight the point by.
+const MIN_AVALANCHES: usize = 5;
+
+/// "v ± e" with `digits` decimals (in powers of ten beyond 10⁶), or "–".
 fn shown(e: Option<Estimate>, digits: usize) -> String {
     match e {
+        Some(e) if e.value.is_finite() && e.value.abs() >= 1e6 => {
+            format!("{:.3e} ± {:.1e}", e.value, e.standard_error)
+        }
         Some(e) if e.value.is_finite() => {
             if e.standard_error.is_finite() {
                 format!("{:.digits$} ± {:.digits$}", e.value, e.standard_error)
@@ -198,7 +206,7 @@ pub fn clogging_blocks(groups: &[ClogGroup]) -> Vec<Block> {
         return blocks;
     }
     blocks.push(Block::Heading(2, "Clogging: avalanche sizes against D/d".into()));
-    blocks.push(Block::Paragraph("Runs that break their arches ([protocol.unclog], docs/physics.md §5.11) cut their outlet crossings into avalanches at the clogs (avalanches.csv); only avalanches ended by a clog count. ⟨s⟩: the mean size in grains over every avalanche of the replicas, with its standard error. s_c: the decay size of the exponential tail P(s) ∝ exp(−s/s_c) above each run's median size (geometric maximum likelihood); α: the exponent of the time lapses between consecutive grains, P(t) ∝ t^(−α) above ten times each run's median lapse (continuous maximum likelihood); both averaged over the replicas with inverse-variance weights. Fits on ln⟨s⟩ weighted by σ_s/⟨s⟩: the critical divergence ⟨s⟩ = A (R_c − R)^(−γ) and the exponential ⟨s⟩ = B exp(C R^k), R = D/d; errors scaled by √(χ²/ν). ΔAIC = AIC(divergence) − AIC(exponential), AIC = χ² + 2p: below −2 favours the divergence, above 2 the exponential.".into()));
+    blocks.push(Block::Paragraph("Runs that break their arches ([protocol.unclog], docs/physics.md §5.11) cut their outlet crossings into avalanches at the clogs (avalanches.csv); only avalanches ended by a clog count. ⟨s⟩: the mean size in grains over every avalanche of the replicas, with its standard error. s_c: the decay size of the exponential tail P(s) ∝ exp(−s/s_c) above each run's median size (geometric maximum likelihood); α: the exponent of the time lapses between consecutive grains, P(t) ∝ t^(−α) above ten times each run's median lapse (continuous maximum likelihood); both averaged over the replicas with inverse-variance weights. Fits on ln⟨s⟩ weighted by σ_s/⟨s⟩: the critical divergence ⟨s⟩ = A (R_c − R)^(−γ) and the exponential ⟨s⟩ = B exp(C R^k), R = D/d; errors scaled by √(χ²/ν). ΔAIC = AIC(divergence) − AIC(exponential), AIC = χ² + 2p: below −2 favours the divergence, above 2 the exponential. Outlets with fewer than 5 avalanches are listed but left out of the fits; a divergence fit that ends on a bound of R_c or γ is reported as none found.".into()));
     for g in groups {
         let dim = if g.three_d { "3D" } else { "quasi-2D slab" };
         blocks.push(Block::Heading(3, format!("Series {} ({dim})", g.series)));
