@@ -14,6 +14,7 @@
 pub mod beverloo;
 pub mod beverloo3d;
 pub mod calibration;
+pub mod clogging;
 pub mod eccentric;
 mod error;
 mod estimate;

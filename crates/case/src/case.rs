@@ -151,7 +151,50 @@ pub struct Protocol {
     /// upward, Janssen's filling state. 0 (the default) leaves the fill's bed as it is.
     #[serde(default)]
     pub wall_slip: f64,
+    /// Breaking each arch and going on (`[protocol.unclog]`, docs/physics.md §5.11); `None`,
+    /// the default, stops the run at its first clog.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unclog: Option<UnclogSpec>,
 }
+
+/// How a clogged run breaks its arch and goes on (`[protocol.unclog]`, docs/physics.md
+/// §5.11): at each clog an upward force pulse on the grains above the orifice, the model of
+/// the air jet blown up through the outlet in experiments, then the next avalanche; until
+/// `avalanches` avalanches have ended in a clog, `protocol.time_limit`, or the container
+/// empties (it is not refilled).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnclogSpec {
+    /// The mechanism.
+    pub method: UnclogMethod,
+    /// The pulse's upward force on a grain of the mean diameter over that grain's weight
+    /// [-]; a grain of diameter d gets it times (d/d̄)², its cross-section's share.
+    pub force_ratio: f64,
+    /// How long each pulse lasts [s].
+    pub duration: f64,
+    /// Height above the outlet line of the region the pulse acts in [m] (its footprint is
+    /// the orifice's).
+    pub height: f64,
+    /// Avalanches ended by a clog after which the run stops [-].
+    pub avalanches: u32,
+    /// Pulses in a row that may fail to restart the flow before the run stops as clogged
+    /// [-].
+    pub max_pulses: u32,
+}
+
+/// The arch-breaking mechanism of `[protocol.unclog]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UnclogMethod {
+    /// An upward force on the grains in a region over the orifice, proportional to each
+    /// grain's cross-section, for a set duration: an air jet through the outlet.
+    AirJet,
+}
+
+/// Largest `protocol.unclog.force_ratio`: a jet far stronger than the grains' weight would
+/// blow the region's grains up into the bed rather than loosen the arch.
+pub const MAX_UNCLOG_FORCE_RATIO: f64 = 50.0;
+/// Largest `protocol.unclog.avalanches`.
+pub const MAX_AVALANCHES: i64 = 100_000;
 
 /// Measurement settings (physics spec §7).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -284,6 +327,7 @@ impl Case {
                 time_limit: 20.0,
                 stop_fraction: 1.0,
                 wall_slip: 0.0,
+                unclog: None,
             },
             geometry: Geometry::Slab(slab),
             materials: None,

@@ -56,7 +56,8 @@ pub use calibration_file::{
 };
 pub use case::{
     Case, ContactSpec, FieldKernel, FieldsSpec, InteractionSpec, MeasureSpec, OutputSpec, Protocol,
-    RollingLawSpec, TangentialLawSpec, WallMaterialSpec, WallSpec, BULK_VOLUME_FRACTION,
+    RollingLawSpec, TangentialLawSpec, UnclogMethod, UnclogSpec, WallMaterialSpec, WallSpec,
+    BULK_VOLUME_FRACTION, MAX_AVALANCHES, MAX_UNCLOG_FORCE_RATIO,
     CASE_FORMAT_VERSION, MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION,
     THICK_SLAB_DIAMETERS,
 };

@@ -177,6 +177,8 @@ pub(crate) fn resolve_case(
                 )
             }),
         ),
+        // The heap has no outlet to unclog: NaN refuses the section below.
+        geometry.as_ref().map(Geometry::outlet_size),
         &mut errors,
     );
     let measure = read_measure(

@@ -1,8 +1,9 @@
 //! Validation of the run settings of a case: time step, protocol, measurement, output.
 
 use super::case::{
-    Case, FieldKernel, FieldsSpec, MeasureSpec, OutputSpec, Protocol, MAX_FIELD_WIDTHS,
-    MAX_FIELD_WIDTH_DIAMETERS, MAX_RAYLEIGH_FRACTION, MIN_FIELD_WIDTH_DIAMETERS,
+    Case, FieldKernel, FieldsSpec, MeasureSpec, OutputSpec, Protocol, UnclogMethod, UnclogSpec,
+    MAX_AVALANCHES, MAX_FIELD_WIDTHS, MAX_FIELD_WIDTH_DIAMETERS, MAX_RAYLEIGH_FRACTION,
+    MAX_UNCLOG_FORCE_RATIO, MIN_FIELD_WIDTH_DIAMETERS,
 };
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::particles::ParticleSpec;
@@ -104,6 +105,7 @@ pub(crate) fn read_protocol(
     d_max_source: Option<&str>,
     height: Option<f64>,
     (d_min, side_walls): (f64, Option<bool>),
+    outlet: Option<f64>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<Protocol> {
     let base = Case::paper_base().protocol;
@@ -122,8 +124,13 @@ pub(crate) fn read_protocol(
     let limit = section.float_or("time_limit", "s", base.time_limit, errors);
     let stop = section.float_or("stop_fraction", "-", base.stop_fraction, errors);
     let slip = section.float_or("wall_slip", "m", base.wall_slip, errors);
+    let unclog = section.has("unclog").then(|| {
+        let mut unclog = section.section("unclog", errors);
+        read_unclog(&mut unclog, d_max, outlet, errors)
+    });
     section.finish(
         &[
+            "unclog",
             "settle_kinetic_energy",
             "max_settle_time",
             "fill_bottom",
@@ -222,6 +229,113 @@ pub(crate) fn read_protocol(
         time_limit: limit.value,
         stop_fraction: stop.value,
         wall_slip: slip.value,
+        unclog: unclog.flatten(),
+    })
+    .filter(|_| !matches!(unclog, Some(None)))
+}
+
+/// Default height of the unclogging pulse's region, in outlet sizes D, plus
+/// [`UNCLOG_HEIGHT_DIAMETERS`] largest diameters: an arch stands within D + d of the
+/// outlet line (`measure::find_arch`), and the pulse reaches a few grains above it.
+const UNCLOG_HEIGHT_OUTLETS: f64 = 1.0;
+/// See [`UNCLOG_HEIGHT_OUTLETS`].
+const UNCLOG_HEIGHT_DIAMETERS: f64 = 2.0;
+
+/// Reads `[protocol.unclog]` (docs/physics.md §5.11); `d_max` [m] and the outlet size D [m]
+/// (when the geometry is valid) set the region's default height and its limits.
+fn read_unclog(
+    section: &mut Section<'_>,
+    d_max: f64,
+    outlet: Option<f64>,
+    errors: &mut Vec<ConfigError>,
+) -> Option<UnclogSpec> {
+    let method = section.choice(
+        "method",
+        &[("air_jet", UnclogMethod::AirJet)],
+        UnclogMethod::AirJet,
+        errors,
+    );
+    let ratio = section.float_or("force_ratio", "-", 25.0, errors);
+    let duration = section.float_or("duration", "s", 0.01, errors);
+    let default_height = outlet.map_or(f64::NAN, |d| {
+        UNCLOG_HEIGHT_OUTLETS * d + UNCLOG_HEIGHT_DIAMETERS * d_max
+    });
+    let height = section.float_or("height", "m", default_height, errors);
+    let avalanches = section.integer_or("avalanches", 100, errors);
+    let pulses = section.integer_or("max_pulses", 10, errors);
+    section.finish(
+        &[
+            "method",
+            "force_ratio",
+            "duration",
+            "height",
+            "avalanches",
+            "max_pulses",
+        ],
+        errors,
+    );
+    let mut ok = true;
+    // Below 1 the pulse would not even lift a free grain against its weight.
+    if !(ratio.value > 1.0 && ratio.value <= MAX_UNCLOG_FORCE_RATIO) {
+        errors.push(ratio.error(
+            ErrorKind::Invalid,
+            format!(
+                "must lie in (1, {MAX_UNCLOG_FORCE_RATIO}] (the pulse's force on a grain over its \
+                 weight: above 1 to lift it)"
+            ),
+        ));
+        ok = false;
+    }
+    let positive = duration.require_positive(errors);
+    if positive && duration.value > 1.0 {
+        errors.push(duration.error(
+            ErrorKind::Invalid,
+            "must be in (0, 1] s: a pulse is short beside the flow it restarts",
+        ));
+        ok = false;
+    }
+    ok &= positive;
+    if outlet.is_some_and(f64::is_nan) {
+        errors.push(ConfigError::new(
+            ErrorKind::Invalid,
+            section.location().clone(),
+            section.key("").trim_end_matches('.').to_string(),
+            None,
+            "needs a container with an outlet (the heap test has none)".to_string(),
+        ));
+        ok = false;
+    } else if outlet.is_some() && !(height.value >= d_max && height.value.is_finite()) {
+        errors.push(height.error(
+            ErrorKind::Invalid,
+            format!(
+                "must be finite and ≥ the largest particle diameter ({} m), so that the \
+                 region holds the arch's grains",
+                rounded(d_max)
+            ),
+        ));
+        ok = false;
+    }
+    if !(1..=MAX_AVALANCHES).contains(&avalanches.value) {
+        errors.push(avalanches.error(
+            ErrorKind::Invalid,
+            format!("must be an integer in [1, {MAX_AVALANCHES}]"),
+        ));
+        ok = false;
+    }
+    if !(1..=1000).contains(&pulses.value) {
+        errors.push(pulses.error(
+            ErrorKind::Invalid,
+            "must be an integer in [1, 1000]",
+        ));
+        ok = false;
+    }
+    (ok && outlet.is_some()).then_some(UnclogSpec {
+        method,
+        force_ratio: ratio.value,
+        duration: duration.value,
+        height: height.value,
+        avalanches: avalanches.value as u32,
+        max_pulses: pulses.value as u32,
     })
 }
 

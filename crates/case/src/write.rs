@@ -5,6 +5,7 @@ use std::fmt::{Display, Write};
 use dem::MaterialTable;
 
 use super::case::{
+    UnclogMethod,
     Case, FieldKernel, RollingLawSpec, TangentialLawSpec, WallMaterialSpec, CASE_FORMAT_VERSION,
 };
 use super::error::rounded;
@@ -421,6 +422,19 @@ impl Case {
         // without a slip stays as it was.
         if pr.wall_slip > 0.0 {
             out.float("wall_slip", pr.wall_slip, "[m]");
+        }
+        // Written only when set, as the slip is.
+        if let Some(u) = &pr.unclog {
+            out.table("[protocol.unclog]");
+            let method = match u.method {
+                UnclogMethod::AirJet => "air_jet",
+            };
+            out.word("method", method, "");
+            out.float("force_ratio", u.force_ratio, "[-], over a mean grain's weight");
+            out.float("duration", u.duration, "[s]");
+            out.float("height", u.height, "[m] above the outlet line");
+            out.key("avalanches", u.avalanches, "");
+            out.key("max_pulses", u.max_pulses, "");
         }
 
         let m = &self.measure;

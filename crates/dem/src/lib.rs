@@ -22,6 +22,7 @@ pub(crate) mod neighbour;
 pub mod particles;
 mod ranges;
 mod reach;
+mod region_force;
 mod simulation;
 pub mod timescale;
 mod timing;
@@ -47,6 +48,7 @@ pub use simulation::{
 };
 pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallMotion, WallShape};
+pub use region_force::{ForceRegion, RegionForce};
 pub use watch::Watched;
 
 /// The machinery behind the API, reachable only for the crate's own benchmarks

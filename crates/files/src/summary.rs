@@ -35,6 +35,9 @@ pub enum StopReason {
     /// A heap test's cylinder was lifted away and the heap came to rest (the mean kinetic
     /// energy per particle fell below `protocol.settle_kinetic_energy`).
     AtRest,
+    /// A run that breaks its arches (`[protocol.unclog]`) collected the avalanches it was
+    /// asked for, each ended by a clog.
+    Avalanches,
 }
 
 /// Where the arch over a clogged orifice stands (`arch.csv` lists its grains): heights of
@@ -181,6 +184,61 @@ pub struct CaseSummary {
     /// kernel, the mass check and the check of the width; absent without the section.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fields: Option<FieldsSummary>,
+    /// The avalanches between clogs of a run that breaks its arches (`[protocol.unclog]`,
+    /// `avalanches.csv`, docs/physics.md §7.14); absent without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub avalanches: Option<AvalancheSummary>,
+}
+
+/// The statistics of the avalanches between clogs (docs/physics.md §7.14), over the
+/// avalanches that a clog ended (the last one, cut by the run's stop, is left out).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AvalancheSummary {
+    /// Avalanches ended by a clog [-].
+    pub count: usize,
+    /// Their mean size ⟨s⟩ [grains].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub mean_size: f64,
+    /// The standard error of ⟨s⟩, σ_s/√n [grains] (NaN below two avalanches).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub mean_size_error: f64,
+    /// Their mean mass [kg].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub mean_mass: f64,
+    /// Their mean duration, first grain to last [s].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub mean_duration: f64,
+    /// The mean arrest before an avalanche, last grain of the one before to its first [s]
+    /// (set by `protocol.clog_timeout` and the pulse, as an experiment's wait is).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub mean_arrest: f64,
+    /// Pulses given in all [-].
+    pub pulses: usize,
+    /// Pulses after which no grain left before the next clog was declared [-].
+    pub failed_pulses: usize,
+    /// The exponential tail of the size distribution, where one was fitted.
+    #[serde(default)]
+    pub size_tail: Option<TailFitSummary>,
+    /// The power-law tail of the time lapses between consecutive grains within the
+    /// avalanches, where one was fitted.
+    #[serde(default)]
+    pub lapse_tail: Option<TailFitSummary>,
+}
+
+/// A maximum-likelihood fit of a distribution's tail above a threshold
+/// (docs/physics.md §7.14).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TailFitSummary {
+    /// The threshold the tail starts at, in the variable's unit (grains for sizes, s for
+    /// lapses).
+    pub threshold: f64,
+    /// Samples at or above the threshold [-].
+    pub samples: usize,
+    /// The fitted parameter: the decay size s_c [grains] of an exponential tail
+    /// exp(−s/s_c), the exponent α [-] of a power-law tail t^(−α).
+    pub value: f64,
+    /// Its standard error, in its unit.
+    pub error: f64,
 }
 
 /// The angle of repose of a heap left by a lifted cylinder: the line h(r) = h₀ − r tan θ

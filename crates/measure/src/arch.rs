@@ -51,6 +51,19 @@ impl Arch {
         self.heights().sum::<f64>() / self.members.len() as f64
     }
 
+    /// The largest horizontal distance between two members' centres [m]: how far the arch
+    /// reaches across the opening (0 for an arch of one grain).
+    pub fn span(&self) -> f64 {
+        let mut span: f64 = 0.0;
+        for (k, a) in self.members.iter().enumerate() {
+            for b in &self.members[k + 1..] {
+                let (dx, dy) = (a.position[0] - b.position[0], a.position[1] - b.position[1]);
+                span = span.max(dx.hypot(dy));
+            }
+        }
+        span
+    }
+
     fn heights(&self) -> impl Iterator<Item = f64> + '_ {
         self.members
             .iter()
@@ -186,6 +199,8 @@ mod tests {
         assert_eq!(found.apex_height(), 0.006);
         assert_eq!(found.lowest_height(), 0.002);
         assert!((found.mean_height() - 0.0038).abs() < 1e-15);
+        // Its feet lie 8.8 mm apart: the span, to rounding.
+        assert!((found.span() - 0.0088).abs() < 1e-15);
     }
 
     #[test]

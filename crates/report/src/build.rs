@@ -176,6 +176,13 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     for block in cohesion_blocks(&cohesion) {
         doc.push(block);
     }
+    // Clogging: written only when some case broke its arches ([protocol.unclog]).
+    let clogging = super::clogging::analyse_clogging(&super::clogging::load_clogging(
+        root, &data.rows,
+    ));
+    for block in super::clogging::clogging_blocks(&clogging) {
+        doc.push(block);
+    }
     // The lab tests' angles: written only when the study holds heap or draw-down cases.
     for block in super::lab_tests::lab_test_blocks(&data.rows) {
         doc.push(block);

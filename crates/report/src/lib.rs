@@ -9,6 +9,8 @@
 //! - [`compare_with_paper`] turns the fits into the paper's acceptance items;
 //! - [`load_cohesion`] and [`analyse_cohesion`] read each case's Bond number ([`bond`])
 //!   and tabulate W against Bo, the critical outlet width against Bo and the arches;
+//! - [`load_clogging`] and [`analyse_clogging`] read the avalanches of runs that break
+//!   their arches and fit the mean avalanche size against D/d;
 //! - [`build_report`] writes `report/report.md`, `report/report.html` (self-contained),
 //!   `report/comparison.json` and the figures;
 //! - [`build_calibration_report`] writes the report of a calibration folder
@@ -21,6 +23,7 @@ pub mod bond;
 mod build;
 mod calibration;
 pub mod centred;
+mod clogging;
 mod cohesion;
 mod comparison;
 mod data;
@@ -35,6 +38,9 @@ use analysis::Estimate;
 
 pub use build::{build_report, ReportError, ReportFiles};
 pub use calibration::{build_calibration_report, is_calibration, CalibrationReportFiles};
+pub use clogging::{
+    analyse_clogging, clogging_blocks, load_clogging, ClogCase, ClogGroup, ClogRow,
+};
 pub use cohesion::{
     analyse_cohesion, load_cohesion, BondCell, BondLevel, CohesionAnalysis, CohesionCase,
     CohesionGroup, CohesionStudy, CriticalWidth, HalfClogging,

@@ -11,11 +11,13 @@
 //! |---|---|
 //! | 8 | [`MAGIC`] |
 //! | 8 | body length n, little-endian u64 |
-//! | n | body: postcard of [`CheckpointHeader`], then of [`RunState`] and [`PictureSchedule`], then of [`TimeSpent`] |
+//! | n | body: postcard of [`CheckpointHeader`], then of [`RunState`] and [`PictureSchedule`], then of [`TimeSpent`], then, for a run that breaks its arches, of its [`UnclogRecord`] |
 //! | 32 | SHA-256 of the body |
 //!
 //! [`TimeSpent`] came last so that checkpoints written before it existed still resume (their
-//! time spent is then unknown) and builds that predate it read the ones written after.
+//! time spent is then unknown) and builds that predate it read the ones written after. The
+//! unclogging record follows it only where the run has one, so that every other run writes
+//! the bytes it always wrote.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -26,6 +28,7 @@ use sha2::{Digest, Sha256};
 use super::outputs::PictureSchedule;
 use super::protocol::RunState;
 use super::time_spent::TimeSpent;
+use super::unclog::UnclogRecord;
 use files::StartRecord;
 use files::{write_atomic, OutputError};
 
@@ -110,12 +113,17 @@ pub(crate) fn write_checkpoint(
 ) -> Result<(), OutputError> {
     let mut body = postcard::to_allocvec(header)
         .map_err(|e| OutputError::invalid(path, format!("checkpoint header: {e}")))?;
-    let state = postcard::to_allocvec(&(state, pictures))
+    let saved = postcard::to_allocvec(&(state, pictures))
         .map_err(|e| OutputError::invalid(path, format!("checkpoint state: {e}")))?;
-    body.extend_from_slice(&state);
+    body.extend_from_slice(&saved);
     let spent = postcard::to_allocvec(spent)
         .map_err(|e| OutputError::invalid(path, format!("checkpoint time spent: {e}")))?;
     body.extend_from_slice(&spent);
+    if let Some(record) = &state.unclog {
+        let record = postcard::to_allocvec(record)
+            .map_err(|e| OutputError::invalid(path, format!("checkpoint clogs: {e}")))?;
+        body.extend_from_slice(&record);
+    }
     write_atomic(path, &framed(&MAGIC, &body))
 }
 
@@ -214,15 +222,20 @@ pub(crate) fn read_checkpoint(path: &Path) -> Result<Checkpoint, CheckpointError
             expected: env!("CARGO_PKG_VERSION").to_string(),
         });
     }
-    let ((state, pictures), rest): ((RunState, PictureSchedule), _) =
+    let ((mut state, pictures), rest): ((RunState, PictureSchedule), _) =
         postcard::take_from_bytes(rest).map_err(|e| CheckpointError::Undecodable(e.to_string()))?;
     let spent = if rest.is_empty() {
         None
     } else {
-        Some(
-            postcard::from_bytes::<TimeSpent>(rest)
-                .map_err(|e| CheckpointError::Undecodable(format!("time spent: {e}")))?,
-        )
+        let (spent, rest) = postcard::take_from_bytes::<TimeSpent>(rest)
+            .map_err(|e| CheckpointError::Undecodable(format!("time spent: {e}")))?;
+        if !rest.is_empty() {
+            state.unclog = Some(
+                postcard::from_bytes::<UnclogRecord>(rest)
+                    .map_err(|e| CheckpointError::Undecodable(format!("clogs: {e}")))?,
+            );
+        }
+        Some(spent)
     };
     Ok(Checkpoint {
         header,

@@ -18,6 +18,7 @@ mod remaining;
 mod simulation;
 mod start;
 mod time_spent;
+mod unclog;
 mod wall_forces;
 mod wall_pressure;
 
@@ -63,6 +64,7 @@ pub use simulation::{
 };
 pub use start::{Start, StartError};
 pub use time_spent::{ProtocolTime, TimeSpent};
+pub use unclog::{avalanches, lapses, Avalanche, Clog, UnclogRecord, AVALANCHE_COLUMNS};
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -249,6 +251,7 @@ fn phase_name(p: Phase) -> &'static str {
         Phase::Settle { .. } | Phase::Resettle { .. } => "settle",
         Phase::Slip { .. } => "slip",
         Phase::Discharge { .. } => "discharge",
+        Phase::Pulse { .. } => "pulse",
         Phase::Lift { .. } => "lift",
         Phase::Rest { .. } => "rest",
         Phase::Done { .. } => "done",
@@ -672,6 +675,7 @@ pub fn run_case_from(
                 Phase::Fill { inserted, .. } => inserted as f64 / total,
                 Phase::Settle { .. } | Phase::Slip { .. } | Phase::Resettle { .. } => 1.0,
                 Phase::Discharge { .. }
+                | Phase::Pulse { .. }
                 | Phase::Lift { .. }
                 | Phase::Rest { .. }
                 | Phase::Done { .. } => {

@@ -40,6 +40,7 @@ pub(crate) const RESULT_FILES: &[&str] = &[
     "wall_forces.csv",
     "remaining.csv",
     "arch.csv",
+    "avalanches.csv",
     "wall_pressure.csv",
     "crossings.csv",
     "composition.csv",
@@ -455,8 +456,24 @@ pub fn finish(
         )?;
     }
 
-    // arch.csv: where the arch over a clogged orifice stands.
-    let arch = if reason == StopReason::Clogged {
+    // avalanches.csv: a run that breaks its arches, cut into avalanches at its clogs.
+    let avalanches = match &state.unclog {
+        Some(clogs) if case.protocol.unclog.is_some() => {
+            let list = super::unclog::avalanches(&record.events, clogs);
+            write_csv_table(
+                out_dir.join("avalanches.csv"),
+                &super::unclog::AVALANCHE_COLUMNS,
+                &super::unclog::avalanche_rows(&list, reason),
+            )?;
+            let lapses = super::unclog::lapses(&record.events, clogs);
+            Some(super::unclog::avalanche_summary(&list, &lapses, clogs))
+        }
+        _ => None,
+    };
+
+    // arch.csv: where the arch over a clogged orifice stands (the last one, for a run that
+    // stopped on its count of avalanches).
+    let arch = if reason == StopReason::Clogged || reason == StopReason::Avalanches {
         write_arch(&out_dir.join("arch.csv"), run)?
     } else {
         None
@@ -699,6 +716,7 @@ pub fn finish(
         repose,
         draw_down,
         fields,
+        avalanches,
     })
 }
 

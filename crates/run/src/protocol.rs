@@ -24,6 +24,7 @@ use measure::{
 
 use super::fields::FieldsRecorder;
 use super::remaining::RemainingRecorder;
+use super::unclog::{pulse_force, AtClog, UnclogRecord};
 use super::wall_forces::WallForceRecorder;
 use super::wall_pressure::WallPressureRecorder;
 use super::RunError;
@@ -107,6 +108,15 @@ pub enum Phase {
         /// When the cylinder was removed [s].
         since: f64,
     },
+    /// A run that breaks its arches (`[protocol.unclog]`, docs/physics.md §5.11) pushes the
+    /// grains over its clogged orifice up until the step `until_step`, then discharges
+    /// again; its probes go on observing.
+    Pulse {
+        /// When the gate opened [s].
+        opened: f64,
+        /// The step at which the pulse ends.
+        until_step: u64,
+    },
 }
 
 impl Phase {
@@ -114,9 +124,10 @@ impl Phase {
     /// the phases after it; `None` before it, and once done.
     pub fn opened(&self) -> Option<f64> {
         match *self {
-            Self::Discharge { opened, .. } | Self::Lift { opened } | Self::Rest { opened, .. } => {
-                Some(opened)
-            }
+            Self::Discharge { opened, .. }
+            | Self::Pulse { opened, .. }
+            | Self::Lift { opened }
+            | Self::Rest { opened, .. } => Some(opened),
             Self::Fill { .. }
             | Self::Settle { .. }
             | Self::Slip { .. }
@@ -167,6 +178,11 @@ pub struct RunState {
     /// starts its fields afresh at the resume.
     #[serde(skip)]
     pub(crate) fields: Option<FieldsRecorder>,
+    /// The clogs of a run that breaks its arches (`[protocol.unclog]`; `None` without).
+    /// Checkpoints carry it after the time spent (`run::checkpoint`), not in this
+    /// serialisation, so that a run without it writes the checkpoint bytes it always wrote.
+    #[serde(skip)]
+    pub(crate) unclog: Option<UnclogRecord>,
 }
 
 impl RunState {
@@ -414,6 +430,7 @@ impl CaseRun {
             remaining: RemainingRecorder::new(case.measure.rate_bin_width),
             pressure,
             fields: FieldsRecorder::new(case)?,
+            unclog: case.protocol.unclog.map(|_| UnclogRecord::default()),
         };
         Ok(Self {
             case: case.clone(),
@@ -431,14 +448,23 @@ impl CaseRun {
         if state.fields.is_none() {
             state.fields = FieldsRecorder::new(case)?;
         }
-        Ok(Self {
+        if state.unclog.is_none() {
+            state.unclog = case.protocol.unclog.map(|_| UnclogRecord::default());
+        }
+        let mut run = Self {
             case: case.clone(),
             sim,
             state,
             keep_bed: false,
             bed: None,
             rebuilt: Vec::new(),
-        })
+        };
+        // The pulse's force is no part of the engine's state: a run stopped during a pulse
+        // sets it again.
+        if let Phase::Pulse { .. } = run.state.phase {
+            run.set_pulse(true)?;
+        }
+        Ok(run)
     }
 
     /// A run of `case` from a bed: the state `bed` that a run kept at the end of its
@@ -592,6 +618,7 @@ impl CaseRun {
                 opened,
                 last_crossing,
             } => self.discharge(opened, last_crossing, chunk),
+            Phase::Pulse { opened, until_step } => self.pulse(opened, until_step, chunk),
             Phase::Lift { opened } => self.lift(opened, chunk),
             Phase::Rest { opened, since } => self.rest(opened, since, chunk),
             Phase::Done { .. } => Ok(()),
@@ -939,6 +966,113 @@ impl CaseRun {
     }
 
     fn discharge(&mut self, opened: f64, last_crossing: f64, chunk: u64) -> Result<(), RunError> {
+        let last_crossing = self.discharge_chunk(last_crossing, chunk)?;
+        let t = self.sim.time();
+        let target = self.case.protocol.stop_fraction * self.state.fill_mass;
+        let unclogging = self.case.protocol.unclog.is_some();
+        let reason = if self.sim.particles().is_empty() {
+            Some(StopReason::Empty)
+        } else if self.case.protocol.stop_fraction < 1.0
+            && !unclogging
+            && self.state.discharged_mass >= target
+            && self.steady_window_complete(opened)
+        {
+            Some(StopReason::Fraction)
+        } else if t - last_crossing > self.case.protocol.clog_timeout {
+            match self.orifice_blocked() {
+                true if unclogging => self.at_clog(opened)?,
+                true => Some(StopReason::Clogged),
+                false => Some(StopReason::Drained),
+            }
+        } else if t - opened > self.case.protocol.time_limit {
+            Some(StopReason::TimeLimit)
+        } else {
+            None
+        };
+        match reason {
+            Some(reason) => self.state.phase = Phase::Done { reason, opened },
+            // A pulse started at the clog sets its own phase.
+            None if matches!(self.state.phase, Phase::Pulse { .. }) => {}
+            None => {
+                self.state.phase = Phase::Discharge {
+                    opened,
+                    last_crossing,
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// At a clog of a run that breaks its arches: records it with its arch, and starts a
+    /// pulse (returning `None`) or says why the run stops.
+    fn at_clog(&mut self, opened: f64) -> Result<Option<StopReason>, RunError> {
+        let Some(spec) = self.case.protocol.unclog else {
+            return Ok(Some(StopReason::Clogged));
+        };
+        let outlet = outlet_geometry(&self.case);
+        let frame = OwnedSnapshot::of(&self.sim.watched(), |_| true);
+        let arch = measure::find_arch(
+            &frame.view(self.sim.time(), self.case.particles.density()),
+            &outlet,
+        );
+        let crossings = self.state.crossing.record().events.len();
+        let t = self.sim.time();
+        let record = self.state.unclog.get_or_insert_with(UnclogRecord::default);
+        match record.declare(&spec, t, crossings, arch.as_ref()) {
+            AtClog::Stop(reason) => Ok(Some(reason)),
+            AtClog::Pulse => {
+                let steps = (spec.duration / self.case.time_step).round().max(1.0) as u64;
+                self.set_pulse(true)?;
+                self.state.phase = Phase::Pulse {
+                    opened,
+                    until_step: self.sim.steps() + steps,
+                };
+                Ok(None)
+            }
+        }
+    }
+
+    /// Sets the pulse's force on the grains over the orifice (`on`) or removes it.
+    fn set_pulse(&mut self, on: bool) -> Result<(), RunError> {
+        let force = match (on, &self.case.protocol.unclog) {
+            (true, Some(spec)) => Some(pulse_force(
+                &self.case,
+                spec,
+                &outlet_geometry(&self.case),
+            )),
+            _ => None,
+        };
+        self.sim.set_region_force(force)?;
+        Ok(())
+    }
+
+    /// A chunk of the pulse (at most up to its last step), observed as the discharge is;
+    /// at its end the force is removed and the discharge goes on, the clog timeout counted
+    /// from there.
+    fn pulse(&mut self, opened: f64, until_step: u64, chunk: u64) -> Result<(), RunError> {
+        let left = until_step.saturating_sub(self.sim.steps()).max(1);
+        self.discharge_chunk(f64::NEG_INFINITY, chunk.min(left))?;
+        let t = self.sim.time();
+        if self.sim.particles().is_empty() {
+            self.set_pulse(false)?;
+            self.state.phase = Phase::Done {
+                reason: StopReason::Empty,
+                opened,
+            };
+        } else if self.sim.steps() >= until_step {
+            self.set_pulse(false)?;
+            self.state.phase = Phase::Discharge {
+                opened,
+                last_crossing: t,
+            };
+        }
+        Ok(())
+    }
+
+    /// Takes `chunk` steps of the discharge, observing the outlet and the probes, and
+    /// deletes the particles well below the outlet; returns the time of the last crossing
+    /// (`last_crossing` if none came).
+    fn discharge_chunk(&mut self, last_crossing: f64, chunk: u64) -> Result<f64, RunError> {
         let every = self.case.measure.crossing_check_interval.max(1) as u64;
         let d = outlet_geometry(&self.case).particle_diameter;
         let density = self.case.particles.density();
@@ -992,34 +1126,7 @@ impl CaseRun {
             .sim
             .remove_particles(|k, p| p.positions()[k].z < -depth);
         self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
-        let t = self.sim.time();
-        let target = self.case.protocol.stop_fraction * self.state.fill_mass;
-        let reason = if self.sim.particles().is_empty() {
-            Some(StopReason::Empty)
-        } else if self.case.protocol.stop_fraction < 1.0
-            && self.state.discharged_mass >= target
-            && self.steady_window_complete(opened)
-        {
-            Some(StopReason::Fraction)
-        } else if t - last_crossing > self.case.protocol.clog_timeout {
-            Some(if self.orifice_blocked() {
-                StopReason::Clogged
-            } else {
-                StopReason::Drained
-            })
-        } else if t - opened > self.case.protocol.time_limit {
-            Some(StopReason::TimeLimit)
-        } else {
-            None
-        };
-        self.state.phase = match reason {
-            Some(reason) => Phase::Done { reason, opened },
-            None => Phase::Discharge {
-                opened,
-                last_crossing,
-            },
-        };
-        Ok(())
+        Ok(last_crossing)
     }
 }
 

@@ -61,6 +61,7 @@ impl ProtocolTime {
                 self.settle += secs
             }
             Phase::Discharge { .. }
+            | Phase::Pulse { .. }
             | Phase::Lift { .. }
             | Phase::Rest { .. }
             | Phase::Done { .. } => self.discharge += secs,

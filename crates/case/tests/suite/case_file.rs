@@ -120,6 +120,28 @@ fn fields_are_off_by_default_and_round_trip_when_given() {
 }
 
 #[test]
+fn unclogging_is_off_by_default_and_round_trips_when_given() {
+    // Without `[protocol.unclog]` the resolved text has no line of it, so every config hash
+    // stays; with it, every key reads back, the region's height defaulting to D + 2d.
+    let base = Case::paper_base();
+    assert!(base.protocol.unclog.is_none());
+    assert!(!base.to_toml_string().contains("unclog"));
+    let text = "version = 1\n[protocol.unclog]\navalanches = 40\n";
+    let case = parse_case(text, "unclog.toml", &[]).expect("valid unclogging");
+    let spec = case.protocol.unclog.expect("unclogging on");
+    assert_eq!(spec.method, case::UnclogMethod::AirJet);
+    assert_eq!(spec.avalanches, 40);
+    // The paper's D = 30 mm and d = 3 mm: 36 mm, to rounding.
+    assert!((spec.height - 0.036).abs() < 1e-15, "{spec:?}");
+    let back = parse_case(&case.to_toml_string(), "resolved.toml", &[]).unwrap();
+    assert_eq!(back, case);
+    // The heap test has no outlet to unclog: refused, naming the section.
+    let heap = "version = 1\n[geometry]\nkind = \"heap\"\n[protocol.unclog]\n";
+    let report = parse_case(heap, "heap.toml", &[]).unwrap_err().to_string();
+    assert!(report.contains("protocol.unclog"), "{report}");
+}
+
+#[test]
 fn gravity_is_written_back_only_when_it_is_not_the_default() {
     // The default g leaves the resolved text as it was before the key existed, so that the
     // configuration hashes of existing runs and beds stay valid.

@@ -20,6 +20,7 @@ use crate::neighbour::{
 };
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::reach::ReachBound;
+use crate::region_force::RegionForce;
 use crate::timescale::rayleigh_time;
 use crate::timing::{Mark, PhaseTimes, StepClock};
 use crate::wall::{Wall, WallId};
@@ -186,6 +187,10 @@ pub struct Simulation {
     /// refused with [`DemError::AfterFailure`], since the state is no longer one instant's.
     /// Not part of the state: a simulation restored from a checkpoint starts without it.
     failure: Option<Box<DemError>>,
+    /// The external force on the particles of a region, added at every step while set
+    /// ([`Simulation::set_region_force`]). Not part of the state: a caller that checkpoints
+    /// sets it again on the restored simulation.
+    region_force: Option<RegionForce>,
 }
 
 fn make_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>, DemError> {
@@ -288,6 +293,7 @@ impl Simulation {
             new_quanta,
             wall_loads: Vec::new(),
             failure: None,
+            region_force: None,
         })
     }
 
@@ -301,6 +307,24 @@ impl Simulation {
     /// switched timing on; `None` while it is off.
     pub fn phase_times(&self) -> Option<PhaseTimes> {
         self.phase_times
+    }
+
+    /// Sets (or, with `None`, removes) the external force on the particles whose centres lie
+    /// in a region (docs/physics.md §6.4): from the next force evaluation on, each step adds
+    /// π r² τ to every free particle inside, at the positions the step evaluates its forces
+    /// at (the next step's first half kick still uses the forces evaluated before). A force
+    /// that is not finite, or a region that is empty, is refused and nothing changes.
+    pub fn set_region_force(&mut self, force: Option<RegionForce>) -> Result<(), DemError> {
+        if let Some(fault) = force.as_ref().and_then(RegionForce::fault) {
+            return Err(DemError::InvalidInput(format!("region force: {fault}")));
+        }
+        self.region_force = force;
+        Ok(())
+    }
+
+    /// The external force on a region's particles, where one is set.
+    pub fn region_force(&self) -> Option<&RegionForce> {
+        self.region_force.as_ref()
     }
 
     /// The complete state, for checkpoints.

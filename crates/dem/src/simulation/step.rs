@@ -181,6 +181,11 @@ impl Simulation {
             self.rebuild(None);
         }
         StepClock::mark(&mut clock, Mark::Listed);
+        // The external force of a region, onto the weights the drift left (docs/physics.md
+        // §6.4); without one the step is the same arithmetic as ever.
+        if let Some(force) = &self.region_force {
+            force.apply(&mut self.state.particles);
+        }
 
         // Forces at the drifted positions with half-step velocities, summed onto the weights
         // and zero torques that the pass above left in the particles' arrays (a list build

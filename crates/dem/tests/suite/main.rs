@@ -13,6 +13,7 @@ mod golden_silo;
 mod material_table;
 mod moving_walls;
 mod rebuilds;
+mod region_force;
 mod removal;
 mod replace_wall;
 mod watch;

@@ -97,6 +97,11 @@ class Run:
         """composition.csv: a mixture's outflow by component, per bin of W(t)."""
         return self.table(RUN_TABLES["composition"])
 
+    @property
+    def avalanches(self) -> Table:
+        """avalanches.csv: a run that breaks its arches, by avalanche: size in grains and mass, start, end, duration, the arrest before it, and the arch that ended it."""
+        return self.table(RUN_TABLES["avalanches"])
+
     def figure(self, name: str = "flow_rate.png") -> Path:
         """The path of a figure of the run (flow_rate.png, velocity_profile.png, ...)."""
         path = self.path / name

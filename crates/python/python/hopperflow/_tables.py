@@ -22,8 +22,9 @@ Table = Any
 #: flow.csv, profiles.csv, field.csv (a slab's, when its steady window was found),
 #: crossings.csv, remaining.csv (the particles left in the container against time),
 #: wall_forces.csv (the mean loads on the walls, by window of the run), wall_pressure.csv
-#: (a cylindrical silo's wall pressure by zone of height) and, for a mixture,
-#: composition.csv (the outflow by component).
+#: (a cylindrical silo's wall pressure by zone of height), for a mixture,
+#: composition.csv (the outflow by component), and for a run that breaks its arches
+#: (``[protocol.unclog]``) avalanches.csv (each avalanche between clogs, with its arch).
 RUN_TABLES: Dict[str, str] = {
     "flow": "flow.csv",
     "profiles": "profiles.csv",
@@ -33,6 +34,7 @@ RUN_TABLES: Dict[str, str] = {
     "wall_forces": "wall_forces.csv",
     "wall_pressure": "wall_pressure.csv",
     "composition": "composition.csv",
+    "avalanches": "avalanches.csv",
 }
 
 # Set by hopperflow._testing.numpy_tables(), so that the tests can read the dict form of

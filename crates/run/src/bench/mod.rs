@@ -376,7 +376,10 @@ pub fn discharge_benchmark(
     // The window after the opening, and in simulated time.
     let after = (window_start, window_start + window_length);
     let opened = match run.phase() {
-        Phase::Discharge { opened, .. } | Phase::Lift { opened } | Phase::Rest { opened, .. } => {
+        Phase::Discharge { opened, .. }
+        | Phase::Pulse { opened, .. }
+        | Phase::Lift { opened }
+        | Phase::Rest { opened, .. } => {
             opened
         }
         Phase::Done { reason, opened } => {

@@ -119,7 +119,10 @@ pub fn time_left(case: &Case, phase: Phase, t: f64, step: u64, first_batch: usiz
             settle: (since + settle_once - t).max(0.0),
             discharge,
         },
-        Phase::Discharge { opened, .. } | Phase::Lift { opened } | Phase::Rest { opened, .. } => {
+        Phase::Discharge { opened, .. }
+        | Phase::Pulse { opened, .. }
+        | Phase::Lift { opened }
+        | Phase::Rest { opened, .. } => {
             PhaseTimes {
                 fill: 0.0,
                 settle: 0.0,

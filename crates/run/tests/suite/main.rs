@@ -18,5 +18,6 @@ mod resume;
 mod silo;
 mod stop;
 mod timing;
+mod unclog;
 mod wall_forces;
 mod wall_slip;

@@ -254,6 +254,7 @@ fn common_summary(
         repose: None,
         draw_down: None,
         fields: None,
+        avalanches: None,
     }
 }
 
