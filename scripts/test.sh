@@ -22,6 +22,11 @@ if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" != 1 ]; then
     trap 'kill "$prepare" 2>/dev/null || true' EXIT
 fi
 
+# A build from nothing, as on a clean clone, is about a tenth faster without incremental
+# compilation's bookkeeping (2 min 57 s against 3 min 16 s for the test build, on two idle
+# cores): the test command builds every crate once, so it keeps none.
+export CARGO_INCREMENTAL=0
+
 # Every later step reuses this build: the CLI binary it made (the test profile is optimised)
 # and, for the Slurm tests, the same workspace-wide feature set. A step that builds one
 # package alone (`-p`) unifies features differently and compiles the CLI again.
