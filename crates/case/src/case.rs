@@ -169,6 +169,10 @@ pub struct UnclogSpec {
     /// The pulse's upward force on a grain of the mean diameter over that grain's weight
     /// [-]; a grain of diameter d gets it times (d/d̄)², its cross-section's share.
     pub force_ratio: f64,
+    /// Each further pulse of one clog is this many times stronger than the last, up to
+    /// [`MAX_UNCLOG_FORCE_RATIO`] weights [-]: an arch that held against one pulse gets a
+    /// stronger one, as an experimenter opens the air valve further.
+    pub growth: f64,
     /// How long each pulse lasts [s].
     pub duration: f64,
     /// Height above the outlet line of the region the pulse acts in [m] (its footprint is
@@ -193,6 +197,15 @@ pub enum UnclogMethod {
 /// Largest `protocol.unclog.force_ratio`: a jet far stronger than the grains' weight would
 /// blow the region's grains up into the bed rather than loosen the arch.
 pub const MAX_UNCLOG_FORCE_RATIO: f64 = 50.0;
+
+impl UnclogSpec {
+    /// The force ratio of pulse `k` (1 for the first) of one clog [-]: `force_ratio` times
+    /// `growth`^(k − 1), at most [`MAX_UNCLOG_FORCE_RATIO`].
+    pub fn force_ratio_of_pulse(&self, k: u32) -> f64 {
+        let grown = self.force_ratio * self.growth.powi(k.saturating_sub(1).min(1000) as i32);
+        grown.min(MAX_UNCLOG_FORCE_RATIO.max(self.force_ratio))
+    }
+}
 /// Largest `protocol.unclog.avalanches`.
 pub const MAX_AVALANCHES: i64 = 100_000;
 

@@ -256,6 +256,7 @@ fn read_unclog(
         errors,
     );
     let ratio = section.float_or("force_ratio", "-", 25.0, errors);
+    let growth = section.float_or("growth", "-", 1.5, errors);
     let duration = section.float_or("duration", "s", 0.01, errors);
     let default_height = outlet.map_or(f64::NAN, |d| {
         UNCLOG_HEIGHT_OUTLETS * d + UNCLOG_HEIGHT_DIAMETERS * d_max
@@ -267,6 +268,7 @@ fn read_unclog(
         &[
             "method",
             "force_ratio",
+            "growth",
             "duration",
             "height",
             "avalanches",
@@ -283,6 +285,14 @@ fn read_unclog(
                 "must lie in (1, {MAX_UNCLOG_FORCE_RATIO}] (the pulse's force on a grain over its \
                  weight: above 1 to lift it)"
             ),
+        ));
+        ok = false;
+    }
+    // 1 keeps every pulse alike; 4 reaches the strongest pulse from the weakest in three.
+    if !(1.0..=4.0).contains(&growth.value) {
+        errors.push(growth.error(
+            ErrorKind::Invalid,
+            "must lie in [1, 4] (each further pulse of a clog over the last)",
         ));
         ok = false;
     }
@@ -332,6 +342,7 @@ fn read_unclog(
     (ok && outlet.is_some()).then_some(UnclogSpec {
         method,
         force_ratio: ratio.value,
+        growth: growth.value,
         duration: duration.value,
         height: height.value,
         avalanches: avalanches.value as u32,

@@ -431,6 +431,7 @@ impl Case {
             };
             out.word("method", method, "");
             out.float("force_ratio", u.force_ratio, "[-], over a mean grain's weight");
+            out.float("growth", u.growth, "[-], each further pulse of a clog over the last");
             out.float("duration", u.duration, "[s]");
             out.float("height", u.height, "[m] above the outlet line");
             out.key("avalanches", u.avalanches, "");

@@ -979,9 +979,12 @@ impl CaseRun {
         {
             Some(StopReason::Fraction)
         } else if t - last_crossing > self.case.protocol.clog_timeout {
+            let landing = self.state.unclog.as_ref().map_or(f64::NEG_INFINITY, |r| r.landing);
             match self.orifice_blocked() {
                 true if unclogging => self.at_clog(opened)?,
                 true => Some(StopReason::Clogged),
+                // Grains a pulse lifted are still in the air: wait for them.
+                false if t < landing => None,
                 false => Some(StopReason::Drained),
             }
         } else if t - opened > self.case.protocol.time_limit {
@@ -1032,12 +1035,23 @@ impl CaseRun {
         }
     }
 
+    /// The force ratio of the pulse now given ([`UnclogRecord::current_ratio`]) [-].
+    fn pulse_ratio(&self) -> f64 {
+        match (&self.case.protocol.unclog, &self.state.unclog) {
+            (Some(spec), Some(record)) => record.current_ratio(spec),
+            (Some(spec), None) => spec.force_ratio,
+            (None, _) => 0.0,
+        }
+    }
+
     /// Sets the pulse's force on the grains over the orifice (`on`) or removes it.
     fn set_pulse(&mut self, on: bool) -> Result<(), RunError> {
+        let ratio = self.pulse_ratio();
         let force = match (on, &self.case.protocol.unclog) {
             (true, Some(spec)) => Some(pulse_force(
                 &self.case,
                 spec,
+                ratio,
                 &outlet_geometry(&self.case),
             )),
             _ => None,
@@ -1048,7 +1062,8 @@ impl CaseRun {
 
     /// A chunk of the pulse (at most up to its last step), observed as the discharge is;
     /// at its end the force is removed and the discharge goes on, the clog timeout counted
-    /// from there.
+    /// from there. A clear opening means drained only once the grains the pulse lifted are
+    /// back ([`UnclogRecord::landing`]).
     fn pulse(&mut self, opened: f64, until_step: u64, chunk: u64) -> Result<(), RunError> {
         let left = until_step.saturating_sub(self.sim.steps()).max(1);
         self.discharge_chunk(f64::NEG_INFINITY, chunk.min(left))?;
@@ -1060,6 +1075,13 @@ impl CaseRun {
                 opened,
             };
         } else if self.sim.steps() >= until_step {
+            let flight = match &self.case.protocol.unclog {
+                Some(spec) => 2.0 * (self.pulse_ratio() - 1.0) * spec.duration,
+                None => 0.0,
+            };
+            if let Some(record) = self.state.unclog.as_mut() {
+                record.landing = t + flight;
+            }
             self.set_pulse(false)?;
             self.state.phase = Phase::Discharge {
                 opened,

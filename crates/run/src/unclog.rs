@@ -37,6 +37,11 @@ pub struct Clog {
 pub struct UnclogRecord {
     /// Each clog.
     pub clogs: Vec<Clog>,
+    /// When the grains the last pulse lifted are back [s]: a free grain pushed up at
+    /// (r − 1) g for the pulse's duration τ (r its force ratio) flies for 2 (r − 1) τ after
+    /// it. Before then an opening with no arch over it is no sign that the container has
+    /// drained: its grains are in the air.
+    pub landing: f64,
 }
 
 /// What the run does at a declared clog.
@@ -84,6 +89,12 @@ impl UnclogRecord {
         AtClog::Pulse
     }
 
+    /// The force ratio of the pulse now given [-]: that of the last clog's latest pulse
+    /// ([`UnclogSpec::force_ratio_of_pulse`]).
+    pub(crate) fn current_ratio(&self, spec: &UnclogSpec) -> f64 {
+        spec.force_ratio_of_pulse(self.clogs.last().map_or(1, |c| c.pulses))
+    }
+
     /// Avalanches ended by a clog so far [-]. A first clog before any grain left is no
     /// avalanche.
     pub fn avalanches(&self) -> usize {
@@ -93,14 +104,19 @@ impl UnclogRecord {
 
 /// The pulse's force for `case`'s orifice (docs/physics.md §5.11): upward, on the grains
 /// whose centres lie over the orifice's footprint from a diameter below the outlet line to
-/// `height` above it; `force_ratio` times the weight of a grain of the mean diameter, each
-/// grain's share scaled by its cross-section.
-pub(crate) fn pulse_force(case: &Case, spec: &UnclogSpec, outlet: &OutletGeometry) -> RegionForce {
+/// `height` above it; `ratio` times the weight of a grain of the mean diameter, each grain's
+/// share scaled by its cross-section.
+pub(crate) fn pulse_force(
+    case: &Case,
+    spec: &UnclogSpec,
+    ratio: f64,
+    outlet: &OutletGeometry,
+) -> RegionForce {
     let d = case.particles.mean_diameter();
     let r = 0.5 * d;
     let weight = case.particles.density() * (4.0 / 3.0) * std::f64::consts::PI * r.powi(3)
         * case.gravity;
-    let traction = spec.force_ratio * weight / (std::f64::consts::PI * r * r);
+    let traction = ratio * weight / (std::f64::consts::PI * r * r);
     let (bottom, top) = (outlet.outlet_height - d, outlet.outlet_height + spec.height);
     let o = outlet;
     let region = match o.shape {
@@ -364,6 +380,7 @@ mod tests {
         UnclogSpec {
             method: case::UnclogMethod::AirJet,
             force_ratio: 3.0,
+            growth: 1.5,
             duration: 0.02,
             height: 0.03,
             avalanches,
@@ -409,6 +426,24 @@ mod tests {
             stuck.declare(&spec, 3.0, 4, None),
             AtClog::Stop(StopReason::Clogged)
         );
+    }
+
+    #[test]
+    fn each_further_pulse_of_a_clog_grows_up_to_fifty_weights() {
+        // κ = 3, growth 1.5: 3, 4.5, 6.75, … while one clog holds; 1.5^10 · 3 ≈ 173 is cut
+        // to the largest ratio a case accepts, 50; a new clog starts again from κ.
+        let spec = spec(5, 100);
+        let mut record = UnclogRecord::default();
+        let ratios: Vec<f64> = (0..12)
+            .map(|_| {
+                assert_eq!(record.declare(&spec, 1.0, 7, None), AtClog::Pulse);
+                record.current_ratio(&spec)
+            })
+            .collect();
+        assert_eq!(&ratios[..3], &[3.0, 4.5, 6.75]);
+        assert_eq!(ratios[11], 50.0);
+        assert_eq!(record.declare(&spec, 2.0, 9, None), AtClog::Pulse);
+        assert_eq!(record.current_ratio(&spec), 3.0);
     }
 
     #[test]
