@@ -202,7 +202,11 @@ pub fn fit_critical_divergence(points: &[MeanSizePoint]) -> AnalysisResult<MeanS
             sigma: Some(&sigma),
         };
         match fit_curve(model, data, &[ln_a, rc, gamma], Some(&bounds)) {
-            Ok(fit) if best.as_ref().is_none_or(|b| fit.chi_squared < b.chi_squared) => {
+            Ok(fit)
+                if best
+                    .as_ref()
+                    .is_none_or(|b| fit.chi_squared < b.chi_squared) =>
+            {
                 best = Some(fit)
             }
             Ok(_) => {}
@@ -394,7 +398,10 @@ mod tests {
         // a fixed seed's pass or fail, not a flake).
         for (k, truth) in [(1, rc), (2, gamma)] {
             let e = fit.parameters[k];
-            assert!((e.value - truth).abs() < 3.0 * e.standard_error, "{k}: {e:?}");
+            assert!(
+                (e.value - truth).abs() < 3.0 * e.standard_error,
+                "{k}: {e:?}"
+            );
         }
         // The data come from the divergence: the exponential misses them by far more than
         // their errors, and the criterion says so (a difference beyond 10 is decisive).
@@ -432,7 +439,10 @@ mod tests {
             mean_size: Estimate::new(s, 0.1 * s),
         };
         let three = [point(2.0, 10.0), point(3.0, 30.0), point(4.0, 100.0)];
-        assert!(fit_critical_divergence(&three).is_err(), "four points needed");
+        assert!(
+            fit_critical_divergence(&three).is_err(),
+            "four points needed"
+        );
         let with_zero = [point(2.0, 10.0), point(3.0, 0.0), point(4.0, 100.0)];
         assert!(fit_exponential_growth(&with_zero, 2.0).is_err());
         let c = compare_mean_size_fits(&three, 2.0);

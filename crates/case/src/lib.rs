@@ -57,9 +57,8 @@ pub use calibration_file::{
 pub use case::{
     Case, ContactSpec, FieldKernel, FieldsSpec, InteractionSpec, MeasureSpec, OutputSpec, Protocol,
     RollingLawSpec, TangentialLawSpec, UnclogMethod, UnclogSpec, WallMaterialSpec, WallSpec,
-    BULK_VOLUME_FRACTION, MAX_AVALANCHES, MAX_UNCLOG_FORCE_RATIO,
-    CASE_FORMAT_VERSION, MAX_GRAVITY, MAX_RAYLEIGH_FRACTION, MONOLAYER_AREA_FRACTION,
-    THICK_SLAB_DIAMETERS,
+    BULK_VOLUME_FRACTION, CASE_FORMAT_VERSION, MAX_AVALANCHES, MAX_GRAVITY, MAX_RAYLEIGH_FRACTION,
+    MAX_UNCLOG_FORCE_RATIO, MONOLAYER_AREA_FRACTION, THICK_SLAB_DIAMETERS,
 };
 pub use cuboid::{CuboidFace, CuboidGeometry, CuboidOutlet, HalfSpace};
 pub use cylinder::CylinderGeometry;

@@ -333,10 +333,7 @@ fn read_unclog(
         ok = false;
     }
     if !(1..=1000).contains(&pulses.value) {
-        errors.push(pulses.error(
-            ErrorKind::Invalid,
-            "must be an integer in [1, 1000]",
-        ));
+        errors.push(pulses.error(ErrorKind::Invalid, "must be an integer in [1, 1000]"));
         ok = false;
     }
     (ok && outlet.is_some()).then_some(UnclogSpec {

@@ -5,8 +5,8 @@ use std::fmt::{Display, Write};
 use dem::MaterialTable;
 
 use super::case::{
-    UnclogMethod,
-    Case, FieldKernel, RollingLawSpec, TangentialLawSpec, WallMaterialSpec, CASE_FORMAT_VERSION,
+    Case, FieldKernel, RollingLawSpec, TangentialLawSpec, UnclogMethod, WallMaterialSpec,
+    CASE_FORMAT_VERSION,
 };
 use super::error::rounded;
 use super::geometry::Geometry;
@@ -430,8 +430,16 @@ impl Case {
                 UnclogMethod::AirJet => "air_jet",
             };
             out.word("method", method, "");
-            out.float("force_ratio", u.force_ratio, "[-], over a mean grain's weight");
-            out.float("growth", u.growth, "[-], each further pulse of a clog over the last");
+            out.float(
+                "force_ratio",
+                u.force_ratio,
+                "[-], over a mean grain's weight",
+            );
+            out.float(
+                "growth",
+                u.growth,
+                "[-], each further pulse of a clog over the last",
+            );
             out.float("duration", u.duration, "[s]");
             out.float("height", u.height, "[m] above the outlet line");
             out.key("avalanches", u.avalanches, "");

@@ -43,12 +43,12 @@ pub use material::{
 pub use particles::{
     MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
 };
+pub use region_force::{ForceRegion, RegionForce};
 pub use simulation::{
     Energy, MaterialIds, RemovedParticle, Simulation, SimulationConfig, SimulationState,
 };
 pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallMotion, WallShape};
-pub use region_force::{ForceRegion, RegionForce};
 pub use watch::Watched;
 
 /// The machinery behind the API, reachable only for the crate's own benchmarks

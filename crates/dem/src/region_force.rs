@@ -61,7 +61,9 @@ impl ForceRegion {
                 if !(min.is_finite() && max.is_finite()) {
                     Some(format!("box corners must be finite, got {min} and {max}"))
                 } else if !max.cmpgt(min).all() {
-                    Some(format!("box must have max > min on every axis, got {min} and {max}"))
+                    Some(format!(
+                        "box must have max > min on every axis, got {min} and {max}"
+                    ))
                 } else {
                     None
                 }
@@ -75,7 +77,9 @@ impl ForceRegion {
                 if !(axis[0].is_finite() && axis[1].is_finite() && bottom.is_finite()) {
                     Some("cylinder axis and bottom must be finite".to_string())
                 } else if !(radius > 0.0 && radius.is_finite()) {
-                    Some(format!("cylinder radius must be > 0 and finite, got {radius}"))
+                    Some(format!(
+                        "cylinder radius must be > 0 and finite, got {radius}"
+                    ))
                 } else if !(top > bottom && top.is_finite()) {
                     Some(format!(
                         "cylinder top must be finite and above its bottom {bottom}, got {top}"

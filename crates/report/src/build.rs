@@ -177,9 +177,8 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         doc.push(block);
     }
     // Clogging: written only when some case broke its arches ([protocol.unclog]).
-    let clogging = super::clogging::analyse_clogging(&super::clogging::load_clogging(
-        root, &data.rows,
-    ));
+    let clogging =
+        super::clogging::analyse_clogging(&super::clogging::load_clogging(root, &data.rows));
     for block in super::clogging::clogging_blocks(&clogging) {
         doc.push(block);
     }

@@ -75,7 +75,9 @@ pub fn load_clogging(root: &Path, rows: &[ResultRow]) -> Vec<ClogCase> {
             let avalanches: AvalancheSummary =
                 serde_json::from_value(value.get("avalanches")?.clone()).ok()?;
             // A slab has a thickness; a silo's is null.
-            let three_d = value.get("thickness").is_none_or(serde_json::Value::is_null);
+            let three_d = value
+                .get("thickness")
+                .is_none_or(serde_json::Value::is_null);
             Some(ClogCase {
                 series: row.series.clone(),
                 outlet: row.outlet_width / row.particle_diameter,
@@ -131,7 +133,11 @@ pub fn analyse_clogging(cases: &[ClogCase]) -> Vec<ClogGroup> {
                 let n: usize = runs.iter().map(|a| a.count).sum();
                 let mean_size = if n > 0 {
                     let total = n as f64;
-                    let mean = runs.iter().map(|a| a.count as f64 * a.mean_size).sum::<f64>() / total;
+                    let mean = runs
+                        .iter()
+                        .map(|a| a.count as f64 * a.mean_size)
+                        .sum::<f64>()
+                        / total;
                     let var = runs
                         .iter()
                         .map(|a| (a.count as f64 * a.mean_size_error).powi(2))
@@ -205,7 +211,10 @@ pub fn clogging_blocks(groups: &[ClogGroup]) -> Vec<Block> {
     if groups.is_empty() {
         return blocks;
     }
-    blocks.push(Block::Heading(2, "Clogging: avalanche sizes against D/d".into()));
+    blocks.push(Block::Heading(
+        2,
+        "Clogging: avalanche sizes against D/d".into(),
+    ));
     blocks.push(Block::Paragraph("Runs that break their arches ([protocol.unclog], docs/physics.md §5.11) cut their outlet crossings into avalanches at the clogs (avalanches.csv); only avalanches ended by a clog count. ⟨s⟩: the mean size in grains over every avalanche of the replicas, with its standard error. s_c: the decay size of the exponential tail P(s) ∝ exp(−s/s_c) above each run's median size (geometric maximum likelihood); α: the exponent of the time lapses between consecutive grains, P(t) ∝ t^(−α) above ten times each run's median lapse (continuous maximum likelihood); both averaged over the replicas with inverse-variance weights. Fits on ln⟨s⟩ weighted by σ_s/⟨s⟩: the critical divergence ⟨s⟩ = A (R_c − R)^(−γ) and the exponential ⟨s⟩ = B exp(C R^k), R = D/d; errors scaled by √(χ²/ν). ΔAIC = AIC(divergence) − AIC(exponential), AIC = χ² + 2p: below −2 favours the divergence, above 2 the exponential. Outlets with fewer than 5 avalanches are listed but left out of the fits; a divergence fit that ends on a bound of R_c or γ is reported as none found.".into()));
     for g in groups {
         let dim = if g.three_d { "3D" } else { "quasi-2D slab" };
@@ -373,7 +382,10 @@ mod tests {
         assert!((fit.parameters[1].value - 1.0).abs() < 0.2, "{fit:?}");
         let blocks = clogging_blocks(&groups);
         let text = format!("{blocks:?}");
-        assert!(text.contains("B exp(C R^1)") && text.contains("4.94"), "{text}");
+        assert!(
+            text.contains("B exp(C R^1)") && text.contains("4.94"),
+            "{text}"
+        );
         assert!(clogging_blocks(&[]).is_empty());
     }
 }

@@ -566,8 +566,8 @@ pub fn cohesion_blocks(analysis: &CohesionAnalysis) -> Vec<super::Block> {
                 "critical width",
                 "half-clogging width",
             ]
-                .map(String::from)
-                .to_vec(),
+            .map(String::from)
+            .to_vec(),
             rows,
         });
         if !group.arches.is_empty() {
@@ -702,6 +702,9 @@ mod tests {
             half_clogging_width(&[cell(6.0, 2, 2), cell(8.0, 0, 0)]),
             HalfClogging::Above(6.0)
         );
-        assert_eq!(half_clogging_width(&[cell(6.0, 0, 0)]), HalfClogging::Unknown);
+        assert_eq!(
+            half_clogging_width(&[cell(6.0, 0, 0)]),
+            HalfClogging::Unknown
+        );
     }
 }

@@ -979,7 +979,11 @@ impl CaseRun {
         {
             Some(StopReason::Fraction)
         } else if t - last_crossing > self.case.protocol.clog_timeout {
-            let landing = self.state.unclog.as_ref().map_or(f64::NEG_INFINITY, |r| r.landing);
+            let landing = self
+                .state
+                .unclog
+                .as_ref()
+                .map_or(f64::NEG_INFINITY, |r| r.landing);
             match self.orifice_blocked() {
                 true if unclogging => self.at_clog(opened)?,
                 true => Some(StopReason::Clogged),

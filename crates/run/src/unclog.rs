@@ -114,8 +114,8 @@ pub(crate) fn pulse_force(
 ) -> RegionForce {
     let d = case.particles.mean_diameter();
     let r = 0.5 * d;
-    let weight = case.particles.density() * (4.0 / 3.0) * std::f64::consts::PI * r.powi(3)
-        * case.gravity;
+    let weight =
+        case.particles.density() * (4.0 / 3.0) * std::f64::consts::PI * r.powi(3) * case.gravity;
     let traction = ratio * weight / (std::f64::consts::PI * r * r);
     let (bottom, top) = (outlet.outlet_height - d, outlet.outlet_height + spec.height);
     let o = outlet;
@@ -190,7 +190,10 @@ pub fn avalanches(events: &[CrossingEvent], record: &UnclogRecord) -> Vec<Avalan
                 size: grains.len(),
                 mass: grains.iter().map(|e| e.mass).sum(),
                 start,
-                end: grains.iter().map(|e| e.time).fold(f64::NEG_INFINITY, f64::max),
+                end: grains
+                    .iter()
+                    .map(|e| e.time)
+                    .fold(f64::NEG_INFINITY, f64::max),
                 arrest_before: start - previous_end,
                 pulses_before,
                 ended_by: clog.cloned(),
@@ -290,7 +293,11 @@ pub fn avalanche_summary(
     let ended: Vec<&Avalanche> = avalanches.iter().filter(|a| a.ended_by.is_some()).collect();
     let n = ended.len();
     let mean = |f: &dyn Fn(&Avalanche) -> f64| {
-        let values: Vec<f64> = ended.iter().map(|a| f(a)).filter(|v| v.is_finite()).collect();
+        let values: Vec<f64> = ended
+            .iter()
+            .map(|a| f(a))
+            .filter(|v| v.is_finite())
+            .collect();
         if values.is_empty() {
             f64::NAN
         } else {

@@ -19,7 +19,11 @@ fn two_spheres() -> (Simulation, u64, u64) {
         .add_particle(ParticleInit::at_rest(DVec3::ZERO, RADIUS, id))
         .expect("valid particle");
     let outside = sim
-        .add_particle(ParticleInit::at_rest(DVec3::new(0.05, 0.0, 0.0), RADIUS, id))
+        .add_particle(ParticleInit::at_rest(
+            DVec3::new(0.05, 0.0, 0.0),
+            RADIUS,
+            id,
+        ))
         .expect("valid particle");
     (sim, inside, outside)
 }
@@ -75,8 +79,14 @@ fn a_cylinder_region_holds_its_axis_and_not_beyond_its_radius() {
     };
     assert!(region.contains(DVec3::new(0.0, 0.0, 0.0)));
     assert!(region.contains(DVec3::new(0.007, 0.007, 0.019)));
-    assert!(!region.contains(DVec3::new(0.0075, 0.0075, 0.0)), "outside the radius");
-    assert!(!region.contains(DVec3::new(0.0, 0.0, -0.002)), "below the bottom");
+    assert!(
+        !region.contains(DVec3::new(0.0075, 0.0075, 0.0)),
+        "outside the radius"
+    );
+    assert!(
+        !region.contains(DVec3::new(0.0, 0.0, -0.002)),
+        "below the bottom"
+    );
 }
 
 #[test]

@@ -379,9 +379,7 @@ pub fn discharge_benchmark(
         Phase::Discharge { opened, .. }
         | Phase::Pulse { opened, .. }
         | Phase::Lift { opened }
-        | Phase::Rest { opened, .. } => {
-            opened
-        }
+        | Phase::Rest { opened, .. } => opened,
         Phase::Done { reason, opened } => {
             return Err(crate::RunError::EndedBeforeWindow {
                 reason,

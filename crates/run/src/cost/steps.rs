@@ -122,13 +122,11 @@ pub fn time_left(case: &Case, phase: Phase, t: f64, step: u64, first_batch: usiz
         Phase::Discharge { opened, .. }
         | Phase::Pulse { opened, .. }
         | Phase::Lift { opened }
-        | Phase::Rest { opened, .. } => {
-            PhaseTimes {
-                fill: 0.0,
-                settle: 0.0,
-                discharge: (opened + discharge - t).max(0.0),
-            }
-        }
+        | Phase::Rest { opened, .. } => PhaseTimes {
+            fill: 0.0,
+            settle: 0.0,
+            discharge: (opened + discharge - t).max(0.0),
+        },
         Phase::Done { .. } => PhaseTimes::default(),
     }
 }

@@ -123,6 +123,10 @@ fn avalanches_are_written_and_a_killed_run_resumes_to_the_same_bytes() {
     let (a, b) = (strip(&whole), strip(&killed));
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
     for (name, bytes) in &a {
-        assert!(bytes == &b[name], "{} differs after the resume", name.display());
+        assert!(
+            bytes == &b[name],
+            "{} differs after the resume",
+            name.display()
+        );
     }
 }
