@@ -33,7 +33,7 @@
 use glam::DVec3;
 
 use crate::contact::geometry::{sphere_sphere, sphere_wall, Sphere};
-use crate::contact::{BodyMotion, ContactHistory, ContactLaws};
+use crate::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
 use crate::history::SurfaceContact;
 use crate::material::PairCoefficients;
 use crate::neighbour::{PairList, WallPairList};
@@ -213,18 +213,9 @@ impl ContactSource<'_> {
                         velocity: wall.velocity_at(contact.point),
                         omega: wall.angular_velocity,
                     };
-                    let cf = self
-                        .laws
-                        .resolve(&g, &self.motion(p, i), &bw, &c, &mut h, 0.0);
-                    if g.overlap <= 0.0 && !h.bonded {
-                        continue;
-                    }
-                    out.walls.push(WallContact {
-                        particle: i,
-                        wall: id,
-                        force: cf.force,
-                        point: contact.point,
-                    });
+                    let at = (i, id, contact.point);
+                    out.walls
+                        .extend(self.wall_contact(p, at, (&g, &bw, &c), &mut h));
                 }
                 continue;
             }
@@ -238,19 +229,28 @@ impl ContactSource<'_> {
                 velocity: wall.velocity_at(x),
                 omega: DVec3::ZERO,
             };
-            let cf = self
-                .laws
-                .resolve(&g, &self.motion(p, i), &bw, &c, &mut h, 0.0);
-            if g.overlap <= 0.0 && !h.bonded {
-                continue;
-            }
-            out.walls.push(WallContact {
-                particle: i,
-                wall: id,
-                force: cf.force,
-                point: cp,
-            });
+            out.walls
+                .extend(self.wall_contact(p, (i, id, cp), (&g, &bw, &c), &mut h));
         }
         out
+    }
+
+    /// Particle `i`'s contact with wall `id` at `point` [m]: the laws for geometry `g`, the
+    /// wall's motion `bw` and coefficients `c`, from history `h`; `None` where the sphere
+    /// neither touches nor stays bonded after them.
+    fn wall_contact(
+        &self,
+        p: &ParticleSet,
+        (i, id, point): (usize, WallId, DVec3),
+        (g, bw, c): (&ContactGeometry, &BodyMotion, &PairCoefficients),
+        h: &mut ContactHistory,
+    ) -> Option<WallContact> {
+        let cf = self.laws.resolve(g, &self.motion(p, i), bw, c, h, 0.0);
+        (g.overlap > 0.0 || h.bonded).then_some(WallContact {
+            particle: i,
+            wall: id,
+            force: cf.force,
+            point,
+        })
     }
 }
