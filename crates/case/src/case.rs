@@ -203,7 +203,7 @@ impl UnclogSpec {
     /// `growth`^(k − 1), at most [`MAX_UNCLOG_FORCE_RATIO`].
     pub fn force_ratio_of_pulse(&self, k: u32) -> f64 {
         let grown = self.force_ratio * self.growth.powi(k.saturating_sub(1).min(1000) as i32);
-        grown.min(MAX_UNCLOG_FORCE_RATIO.max(self.force_ratio))
+        grown.min(MAX_UNCLOG_FORCE_RATIO)
     }
 }
 /// Largest `protocol.unclog.avalanches`.

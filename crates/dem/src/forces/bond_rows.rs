@@ -6,6 +6,28 @@ use super::kernel::BATCH;
 use crate::contact::cohesion::{BondConstants, LAWS_MIXED, LAW_BRIDGE, LAW_JKR};
 use crate::contact::jkr::JkrPair;
 use crate::contact::liquid_bridge::BridgePair;
+use crate::material::PairCoefficients;
+
+/// Each material pair's and each wall–material pair's bonding constants ([`BondConstants`]:
+/// a cosine and a cube root each), formed once with the coefficient tables they come from
+/// and indexed as they are, rather than at every pair loop and wall run of every step.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BondTables {
+    /// By material pair, as the pair coefficients.
+    pub pair: Vec<BondConstants>,
+    /// By wall and material, as the wall coefficients.
+    pub wall: Vec<BondConstants>,
+}
+
+impl BondTables {
+    /// The constants of the coefficient tables `pair` and `wall`.
+    pub(crate) fn of(pair: &[PairCoefficients], wall: &[PairCoefficients]) -> Self {
+        Self {
+            pair: pair.iter().map(BondConstants::of).collect(),
+            wall: wall.iter().map(BondConstants::of).collect(),
+        }
+    }
+}
 
 /// [`BondConstants`] of each slot, structure of arrays.
 #[derive(Clone, Debug)]

@@ -19,8 +19,8 @@ use glam::DVec3;
 
 use super::bond_rows::BondRows;
 use crate::contact::cohesion::{
-    bonded_stage_lane, BondConstants, LAWS_MIXED, LAW_BRIDGE, LAW_DRY, LAW_JKR,
-    OUTCOME_BRIDGE_ONLY, OUTCOME_CONTACT,
+    bonded_stage_lane, LAWS_MIXED, LAW_BRIDGE, LAW_DRY, LAW_JKR, OUTCOME_BRIDGE_ONLY,
+    OUTCOME_CONTACT,
 };
 use crate::contact::geometry::{effective_radius, lever_arm};
 use crate::contact::tangential;
@@ -75,8 +75,6 @@ pub struct Batch {
     /// Bonding laws of the contacts, and what they made of each (read and written only by
     /// the bonded resolves).
     pub bond: BondRows,
-    /// Each material pair's bonding constants, by pair index (the bonded pair loop's).
-    pub bond_table: Vec<BondConstants>,
     /// Contacts filled in [-].
     pub len: usize,
 }
@@ -101,7 +99,6 @@ impl Default for Batch {
             overlap_fraction: z,
             stages: Stages::default(),
             bond: BondRows::default(),
-            bond_table: Vec::new(),
         }
     }
 }

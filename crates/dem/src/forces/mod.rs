@@ -23,7 +23,7 @@ use walls::{batched_wall_loop, WallProbe};
 
 mod accumulator;
 pub(crate) mod area_cohesion;
-mod bond_rows;
+pub(crate) mod bond_rows;
 mod chunked;
 mod compact;
 mod filter;
@@ -51,6 +51,8 @@ pub(crate) struct KernelInput<'a> {
     pub materials: usize,
     pub walls: &'a [Option<Wall>],
     pub wall_coeffs: &'a [PairCoefficients],
+    /// The bonding constants of `pair_coeffs` and `wall_coeffs`, index for index.
+    pub bond_tables: &'a bond_rows::BondTables,
     /// Radius [m] and mass [kg] of every particle, when all are alike (the batch is then
     /// filled with them once instead of per contact).
     pub uniform_body: Option<(f64, f64)>,

@@ -6,7 +6,7 @@ use glam::DVec3;
 use super::filter::{filter_touching, settle_bond};
 use super::kernel::{Batch, BATCH};
 use super::{gather, prefetch, KernelInput, PairSink, WorstOverlap, PREFETCH_BODIES};
-use crate::contact::cohesion::{BondConstants, LAW_DRY, OUTCOME_APART};
+use crate::contact::cohesion::{LAW_DRY, OUTCOME_APART};
 use crate::contact::ContactForce;
 use crate::material::PairCoefficients;
 
@@ -70,15 +70,10 @@ pub(super) fn batched_pair_loop(
     if let Some(c) = uniform {
         batch.fill_coefficients(c);
     }
+    let table = &input.bond_tables.pair;
     if bonds {
-        // Each material pair's bonding constants, formed once (a cosine, a cube root).
-        batch.bond_table.clear();
-        batch
-            .bond_table
-            .extend(input.pair_coeffs.iter().map(BondConstants::of));
         if let Some(c) = uniform {
-            let table = batch.bond_table[0];
-            batch.bond.fill(&table, c.e_star);
+            batch.bond.fill(&table[0], c.e_star);
         }
     }
     if let Some((r, m)) = input.uniform_body {
@@ -136,8 +131,7 @@ pub(super) fn batched_pair_loop(
                 let c = &input.pair_coeffs[pair];
                 batch.coeff.set(m, c);
                 if bonds {
-                    let table = batch.bond_table[pair];
-                    batch.bond.set(m, &table, c.e_star);
+                    batch.bond.set(m, &table[pair], c.e_star);
                 }
             }
         }

@@ -16,7 +16,7 @@ use super::loads::add_load;
 use super::pairs::batch_force;
 use super::surfaces::{continued, remember, touching, Stretch, StretchSinks, SurfaceScratch};
 use super::{KernelInput, WorstOverlap};
-use crate::contact::cohesion::{BondConstants, LAW_DRY, OUTCOME_APART};
+use crate::contact::cohesion::{LAW_DRY, OUTCOME_APART};
 use crate::history::{SurfaceContact, SurfaceSlot};
 
 /// A contact gathered into the batch and not yet handed out: its particle, where its
@@ -61,12 +61,6 @@ pub(super) fn resolve_batched(
     pending.clear();
     broken.clear();
     let bonds = input.wall_bonds;
-    if bonds {
-        // The wall's bonding constants with each material, formed once per stretch.
-        let row = &input.wall_coeffs[w * input.materials..(w + 1) * input.materials];
-        batch.bond_table.clear();
-        batch.bond_table.extend(row.iter().map(BondConstants::of));
-    }
     // With a bonding cohesion, the places within its reach: a bonded contact may act across
     // a gap (docs/physics.md §2.4, §2.6).
     let reach = if bonds { input.reach } else { 0.0 };
@@ -88,7 +82,8 @@ pub(super) fn resolve_batched(
         }
         remember(&mut slot.contacts, previous, taken);
         // `slots[candidate]` is indexed anew below: a full batch hands out into `slots`.
-        let c = &input.wall_coeffs[w * input.materials + p.material[i] as usize];
+        let pair = w * input.materials + p.material[i] as usize;
+        let (c, bond) = (&input.wall_coeffs[pair], &input.bond_tables.wall[pair]);
         for contact in contacts.iter() {
             // `geometry::sphere_wall`: δ = R − distance; the kernel forms the lever arm.
             let overlap = r - contact.distance;
@@ -120,8 +115,7 @@ pub(super) fn resolve_batched(
             batch.mass[0][m] = p.mass[i];
             batch.coeff.set(m, c);
             if bonds {
-                let table = batch.bond_table[p.material[i] as usize];
-                batch.bond.set(m, &table, c.e_star);
+                batch.bond.set(m, bond, c.e_star);
             }
             pending.push(Pending {
                 particle: i as u32,
@@ -209,6 +203,7 @@ fn hand_out(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::forces::bond_rows::BondTables;
     use crate::forces::loads::LoadSum;
     use crate::forces::surfaces::resolve_one_by_one;
     use crate::material::{Interaction, Material, PairCoefficients, WallMaterial};
@@ -392,13 +387,14 @@ mod tests {
     /// coefficients and the laws; with a bonding wall cohesion where `reach` [m] is not 0.
     fn surface_input<'a>(
         set: &'a ParticleSet,
-        (walls, wall_coeffs): (&'a [Option<Wall>], &'a [PairCoefficients]),
+        (walls, wall_coeffs, tables): (&'a [Option<Wall>], &'a [PairCoefficients], &'a BondTables),
         laws: &'a crate::contact::ContactLaws,
         reach: f64,
     ) -> KernelInput<'a> {
         KernelInput {
             particles: set,
             laws,
+            bond_tables: tables,
             pair_coeffs: &[],
             materials: 2,
             walls,
@@ -476,7 +472,9 @@ mod tests {
                         set.position[i as usize] = x + (x - cp) / dist * (0.1 * R);
                     }
                 }
-                let input = surface_input(&set, (&walls, &wall_coeffs), &contact_laws, reach);
+                let tables = BondTables::of(&[], &wall_coeffs);
+                let input =
+                    surface_input(&set, (&walls, &wall_coeffs, &tables), &contact_laws, reach);
                 let a = pass(&input, w, ids, &mut batched, true);
                 let b = pass(&input, w, ids, &mut scalar, false);
                 assert_eq!(a.3, b.3, "wall {w} step {step}: contacts");
@@ -516,7 +514,8 @@ mod tests {
         let walls = walls();
         let wall_coeffs = coefficients(&walls);
         let laws = crate::contact::ContactLaws::default();
-        let input = surface_input(&set, (&walls, &wall_coeffs), &laws, 0.0);
+        let tables = BondTables::of(&[], &wall_coeffs);
+        let input = surface_input(&set, (&walls, &wall_coeffs, &tables), &laws, 0.0);
         for (w, ids) in ids.iter().enumerate() {
             let mut batched = vec![SurfaceSlot::default(); ids.len()];
             let mut scalar = batched.clone();

@@ -3,6 +3,7 @@
 
 use rand::{Rng, SeedableRng};
 
+use super::bond_rows::BondTables;
 use super::filter::{live_history, note_live, plane_touches};
 use super::*;
 use crate::contact::geometry::plane_distance;
@@ -305,8 +306,13 @@ impl Jumble {
     }
 }
 
-/// The kernel input of `jumble` under `laws`.
+/// The kernel input of `jumble` under `laws`, with no bonding constants: a test whose
+/// coefficients bond sets `bond_tables` to theirs ([`BondTables::of`]).
 pub(super) fn jumble_input<'a>(jumble: &'a Jumble, laws: &'a ContactLaws) -> KernelInput<'a> {
+    static NO_BONDS: BondTables = BondTables {
+        pair: Vec::new(),
+        wall: Vec::new(),
+    };
     KernelInput {
         particles: &jumble.set,
         laws,
@@ -314,6 +320,7 @@ pub(super) fn jumble_input<'a>(jumble: &'a Jumble, laws: &'a ContactLaws) -> Ker
         materials: jumble.materials,
         walls: &jumble.walls,
         wall_coeffs: &jumble.wall_coeffs,
+        bond_tables: &NO_BONDS,
         uniform_body: (!jumble.poly).then(|| (jumble.set.radius[0], jumble.set.mass[0])),
         dt: 2.5e-6,
         quanta: Default::default(),
@@ -578,7 +585,9 @@ fn bonded_pairs_and_walls_in_batches_match_the_scalar_contact_laws() {
         pairs.history.live.fill(LIVE | BONDED);
         wall_pairs.history.live.fill(LIVE | BONDED);
         let laws = ContactLaws::default();
+        let tables = BondTables::of(&jumble.pair_coeffs, &jumble.wall_coeffs);
         let mut input = jumble_input(&jumble, &laws);
+        input.bond_tables = &tables;
         input.pair_bonds = true;
         input.wall_bonds = true;
         assert!(input.batched_pairs() && input.batched());

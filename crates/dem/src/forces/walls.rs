@@ -10,7 +10,7 @@ use super::kernel::{Batch, BATCH};
 use super::loads::{add_batch_loads, LoadSum};
 use super::pairs::batch_force;
 use super::{compact, gather, KernelInput, WorstOverlap};
-use crate::contact::cohesion::{BondConstants, LAW_DRY, OUTCOME_APART};
+use crate::contact::cohesion::{LAW_DRY, OUTCOME_APART};
 use crate::contact::geometry::plane_distance;
 use crate::contact::ContactForce;
 use crate::wall::geometry::{ShapeVisitor, WallGeometry};
@@ -316,13 +316,8 @@ pub(super) fn wall_run(
         batch.fill_coefficients(c);
     }
     if bonds {
-        // The wall's bonding constants with each material, formed once per run.
-        let row = &input.wall_coeffs[w * input.materials..(w + 1) * input.materials];
-        batch.bond_table.clear();
-        batch.bond_table.extend(row.iter().map(BondConstants::of));
         if let Some(c) = uniform {
-            let table = batch.bond_table[0];
-            batch.bond.fill(&table, c.e_star);
+            batch.bond.fill(&input.bond_tables.wall[w], c.e_star);
         }
     }
     // Whether the wall's load is summed (`Wall::sums_load`).
@@ -483,11 +478,11 @@ impl WallSource<'_> {
                 batch.mass[0][m] = mass[i];
             }
             if let Some(w) = coefficients {
-                let c = &input.wall_coeffs[w * input.materials + material[i] as usize];
+                let pair = w * input.materials + material[i] as usize;
+                let c = &input.wall_coeffs[pair];
                 batch.coeff.set(m, c);
                 if input.wall_bonds {
-                    let table = batch.bond_table[material[i] as usize];
-                    batch.bond.set(m, &table, c.e_star);
+                    batch.bond.set(m, &input.bond_tables.wall[pair], c.e_star);
                 }
             }
         }

@@ -361,6 +361,7 @@ impl Simulation {
             }
         }
         self.wall_coeffs = wall_coeffs;
+        self.bond_tables = BondTables::of(&self.pair_coeffs, &self.wall_coeffs);
         let mut coefficients = self.pair_coeffs.iter().chain(&self.wall_coeffs);
         self.pair_bonds = self.pair_coeffs.iter().any(|c| c.cohesion.bonds());
         self.wall_bonds = self.wall_coeffs.iter().any(|c| c.cohesion.bonds());

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
+use crate::forces::bond_rows::BondTables;
 use crate::forces::loads::{LoadQuanta, SurfaceLoads, WallLoad};
 use crate::forces::{self, ContactCount, ForceBuffers, KernelInput, WorstOverlap};
 use crate::integrator::{
@@ -146,6 +147,8 @@ pub struct Simulation {
     buffers: ForceBuffers,
     pair_coeffs: Vec<PairCoefficients>,
     wall_coeffs: Vec<PairCoefficients>,
+    /// The bonding constants of `pair_coeffs` and `wall_coeffs`, formed with them.
+    bond_tables: BondTables,
     /// Whether any pair of materials, or any material and wall, bonds beyond contact (JKR, a
     /// liquid bridge; found with the coefficients): the lists then reach beyond contact.
     bonds: bool,
@@ -278,6 +281,7 @@ impl Simulation {
             buffers: ForceBuffers::default(),
             pair_coeffs: Vec::new(),
             wall_coeffs: Vec::new(),
+            bond_tables: BondTables::default(),
             bonds: false,
             pair_bonds: false,
             wall_bonds: false,

@@ -282,6 +282,7 @@ impl Simulation {
             materials: s.materials.len(),
             walls: &s.walls,
             wall_coeffs: &self.wall_coeffs,
+            bond_tables: &self.bond_tables,
             uniform_body: self.uniform_body,
             dt,
             quanta: self.load_quanta,
