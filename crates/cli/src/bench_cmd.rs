@@ -372,16 +372,44 @@ pub fn run(args: BenchArgs) -> i32 {
                 r.candidates_per_particle
             );
         }
-        // Where the time went, as LAMMPS' timing table after a run.
+        // Where the time went, as LAMMPS' timing table after a run, each phase with the part
+        // of it that one thread ran while the others waited (in brackets), and the serial
+        // share of the whole.
         println!(
-            "\n{:<8} {:>7} {:>10} {:>10} {:>10} {:>10}   (ns per particle-step)",
-            "case", "threads", "forces", "integrate", "neighbour", "other"
+            "\n{:<8} {:>7} {:>17} {:>17} {:>17} {:>7} {:>8}   (ns per particle-step; serial in brackets)",
+            "case", "threads", "forces", "integrate", "neighbour", "other", "serial"
         );
+        let split = |whole: f64, serial: f64| format!("{whole:.1} ({serial:.1})");
         for r in &results {
             let p = &r.phases;
             println!(
-                "{:<8} {:>7} {:>10.1} {:>10.1} {:>10.1} {:>10.1}",
-                r.case, r.threads, p.forces_ns, p.integrate_ns, p.neighbour_ns, p.other_ns
+                "{:<8} {:>7} {:>17} {:>17} {:>17} {:>7.1} {:>7.1}%",
+                r.case,
+                r.threads,
+                split(p.forces_ns, p.forces_serial_ns),
+                split(p.integrate_ns, p.integrate_serial_ns),
+                split(p.neighbour_ns, p.neighbour_serial_ns),
+                p.other_ns,
+                100.0 * p.serial_share
+            );
+        }
+        // Amdahl's law from the one-thread run and each run on more threads.
+        for r in results.iter().filter(|r| r.threads > 1) {
+            let Some(one) = results
+                .iter()
+                .find(|o| o.threads == 1 && o.case == r.case && o.particles == r.particles)
+            else {
+                continue;
+            };
+            let measured = (r.ns_per_particle_step, r.phases.serial_ns, r.threads);
+            let predict = |q| run::bench::amdahl_speedup(one.ns_per_particle_step, measured, q);
+            println!(
+                "\n{}: {:.2}× on {} threads; Amdahl's law from its serial part predicts {:.1}× on 16 and {:.1}× on 64 (an upper bound: docs/performance.md, Scaling model)",
+                r.case,
+                one.ns_per_particle_step / r.ns_per_particle_step,
+                r.threads,
+                predict(16),
+                predict(64)
             );
         }
         // With repeated runs, their spread, as hyperfine reports a command's runs.

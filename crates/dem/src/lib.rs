@@ -24,6 +24,7 @@ mod ranges;
 mod reach;
 mod region_force;
 mod simulation;
+pub(crate) mod team;
 pub mod timescale;
 mod timing;
 pub mod wall;
@@ -47,6 +48,7 @@ pub use region_force::{ForceRegion, RegionForce};
 pub use simulation::{
     Energy, MaterialIds, RemovedParticle, Simulation, SimulationConfig, SimulationState,
 };
+pub use team::Team;
 pub use timing::PhaseTimes;
 pub use wall::{Wall, WallId, WallMotion, WallShape};
 pub use watch::Watched;

@@ -240,7 +240,7 @@ pub(crate) fn evaluate(
     pairs: &mut PairList,
     wall_pairs: &mut WallPairList,
     buffers: &mut ForceBuffers,
-    pool: Option<&rayon::ThreadPool>,
+    pool: Option<&crate::team::Team>,
     elements: &mut [loads::SurfaceLoads],
 ) -> Evaluation {
     // Zeroed by `start_loads`; sized here for callers that sum over several evaluations.
@@ -273,7 +273,7 @@ fn add_surface_contacts(
     buffers: &mut ForceBuffers,
     elements: &mut [loads::SurfaceLoads],
     bodies: std::ops::Range<usize>,
-    pool: Option<&rayon::ThreadPool>,
+    pool: Option<&crate::team::Team>,
 ) {
     if !crate::wall::any_resolved_one_by_one(input.walls) {
         return;

@@ -19,7 +19,6 @@
 //! and this pass follows them on its own ([`surface_pass_parallel`]).
 
 use glam::DVec3;
-use rayon::prelude::*;
 
 use super::loads::{merge_loads, LoadSum, SurfaceLoads};
 use super::surfaces::{resolve_stretch, Stretch, StretchSinks, SurfaceScratch, SurfaceSinks};
@@ -67,10 +66,10 @@ pub(crate) fn surface_pass_parallel(
     slots: &mut [SurfaceSlot],
     scratches: &mut Vec<SurfaceScratch>,
     sinks: &mut SurfaceSinks,
-    pool: &rayon::ThreadPool,
+    pool: &crate::team::Team,
 ) -> (WorstOverlap, usize) {
     let n = input.particles.len();
-    let ranges = (pool.current_num_threads() * RANGES_PER_THREAD).clamp(1, n.max(1));
+    let ranges = (pool.threads() * RANGES_PER_THREAD).clamp(1, n.max(1));
     let bounds: Vec<usize> = (0..=ranges).map(|r| r * n / ranges).collect();
     scratches.resize_with(ranges, SurfaceScratch::default);
     let bands = element_counts(input, sinks.elements);
@@ -96,13 +95,11 @@ pub(crate) fn surface_pass_parallel(
         }
     }
 
-    let results: Vec<RangeResult> = pool.install(|| {
-        tasks
-            .into_par_iter()
-            .zip(scratches.par_iter_mut())
-            .with_max_len(1)
-            .map(|(task, scratch)| range_pass(input, pi, &bands, quanta, task, scratch))
-            .collect()
+    let results: Vec<RangeResult> = crate::timing::parallel_region(|| {
+        pool.map(
+            tasks.into_iter().zip(scratches.iter_mut()).collect(),
+            |(task, scratch)| range_pass(input, pi, &bands, quanta, task, scratch),
+        )
     });
     merge_ranges(&results, sinks, input.dt)
 }

@@ -455,10 +455,7 @@ fn bodies_beyond_the_prefetch_size_get_the_scalar_laws_forces() {
     let (force, torque, _) = scalar_forces(&input, laws, &mut p2, &mut w2);
     assert_close(&buffers, &force, &torque);
 
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
+    let pool = crate::team::Team::new(2).unwrap();
     let (mut p3, mut w3) = big.lists();
     let mut two = ForceBuffers::default();
     start(&big.set, DVec3::ZERO, &mut two);

@@ -21,8 +21,6 @@
 
 use glam::DVec3;
 
-use rayon::prelude::*;
-
 use crate::particles::{ParticleSet, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
 use crate::ranges::even_bounds;
 
@@ -64,14 +62,13 @@ pub(crate) fn kick_drift(
     pending: bool,
     uniform: Option<(f64, f64)>,
     gravity: DVec3,
-    pool: Option<&rayon::ThreadPool>,
+    pool: Option<&crate::team::Team>,
 ) -> (f64, bool, bool) {
     let n = p.len();
     let weight = shared_weight(p, gravity);
     let bodies = Bodies::of(p, reference);
     let one = |b: Bodies| kick_drift_bodies(b, (half, dt), pending, uniform, (gravity, weight));
-    let bounds =
-        pool.map(|pool| even_bounds(n, pool.current_num_threads(), RANGES_PER_THREAD, MIN_RANGE));
+    let bounds = pool.map(|pool| even_bounds(n, pool.threads(), RANGES_PER_THREAD, MIN_RANGE));
     let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
         return one(bodies);
     };
@@ -82,8 +79,7 @@ pub(crate) fn kick_drift(
         parts.push(part);
         rest = tail;
     }
-    let results: Vec<(f64, bool, bool)> =
-        pool.install(|| parts.into_par_iter().with_max_len(1).map(one).collect());
+    let results: Vec<(f64, bool, bool)> = crate::timing::parallel_region(|| pool.map(parts, one));
     results.into_iter().fold(NOTHING_MOVED, merge_drift)
 }
 
@@ -138,23 +134,42 @@ pub(crate) fn kick(p: &mut ParticleSet, half: f64, uniform: Option<(f64, f64)>) 
     }
 }
 
-/// [`kick_drift`] on the calling thread for free bodies that share 1/m and 1/I
-/// (`uniform`, as [`uniform_free_body`] finds them), measuring the displacements since the
-/// last list build only when `measure` ([`Moved`]). The simulation asks for them only when
-/// its bound on them ([`crate::reach::ReachBound`]) cannot rule a list build out.
+/// [`kick_drift`] for free bodies that share 1/m and 1/I (`uniform`, as
+/// [`uniform_free_body`] finds them), measuring the displacements since the last list build
+/// only when `measure` ([`Moved`]). The simulation asks for them only when its bound on them
+/// ([`crate::reach::ReachBound`]) cannot rule a list build out. With a `pool`, contiguous
+/// ranges of bodies move in parallel; the findings are maxima and conjunctions, the same in
+/// any order of merging, so the result is that of one thread.
 pub(crate) fn kick_drift_flat_tracked(
     p: &mut ParticleSet,
     reference: &[DVec3],
     (half, dt): (f64, f64),
     pending: bool,
     (inv_mass, inv_inertia): (f64, f64),
-    gravity: DVec3,
-    measure: bool,
+    (gravity, measure): (DVec3, bool),
+    pool: Option<&crate::team::Team>,
 ) -> Moved {
+    let n = p.len();
     let weight = shared_weight(p, gravity);
     let b = Bodies::of(p, reference);
     let (kv, kw) = (half * inv_mass, half * inv_inertia);
-    kick_drift_flat(b, (kv, kw), (dt, weight), pending, (measure, true))
+    let one = |b: Bodies| kick_drift_flat(b, (kv, kw), (dt, weight), pending, (measure, true));
+    let bounds = pool.map(|pool| even_bounds(n, pool.threads(), RANGES_PER_THREAD, MIN_RANGE));
+    let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
+        return one(b);
+    };
+    let mut parts = Vec::with_capacity(bounds.len() - 1);
+    let mut rest = b;
+    for w in bounds.windows(2) {
+        let (part, tail) = rest.split_at(w[1] - w[0]);
+        parts.push(part);
+        rest = tail;
+    }
+    let moved = crate::timing::parallel_region(|| pool.map(parts, one));
+    moved
+        .into_iter()
+        .reduce(Moved::merge)
+        .expect("at least two parts")
 }
 
 /// What a uniform kick-and-drift pass found.
@@ -169,6 +184,23 @@ pub(crate) struct Moved {
     /// The step's reach: the largest |Δt v_c| of any component of any body's drift [m]
     /// (0 where it was not asked for).
     pub reach: f64,
+}
+
+impl Moved {
+    /// The findings of two passes over disjoint sets of bodies, as one pass over both
+    /// would report them.
+    fn merge(self, other: Self) -> Self {
+        let larger = |a: f64, b: f64| if b > a { b } else { a };
+        Self {
+            max_disp2: match (self.max_disp2, other.max_disp2) {
+                (Some(a), Some(b)) => Some(larger(a, b)),
+                _ => None,
+            },
+            finite: self.finite & other.finite,
+            kicked_finite: self.kicked_finite & other.kicked_finite,
+            reach: larger(self.reach, other.reach),
+        }
+    }
 }
 
 impl From<Moved> for (f64, bool, bool) {

@@ -152,10 +152,7 @@ fn parallel_ranges_match_one_pass_bit_for_bit() {
     // number and the reported maximum must agree exactly, in both forms. 10 000 particles
     // on three threads make twelve ranges; the largest displacement and a NaN force are
     // placed in a late range, so that the merge, not the first range, must carry them.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(3)
-        .build()
-        .expect("a three-thread pool");
+    let pool = crate::team::Team::new(3).expect("a three-thread pool");
     for general in [false, true] {
         for pending in [false, true] {
             let (mut one, mut reference) = bed_of(7, 10_000);
@@ -203,4 +200,49 @@ fn parallel_ranges_match_one_pass_bit_for_bit() {
         "a NaN force fails the velocity probe on any thread count"
     );
     assert!(!a.1 && !b.1, "and the position probe");
+}
+
+#[test]
+fn the_tracked_flat_pass_on_a_pool_matches_one_thread_bit_for_bit() {
+    // The pass the simulation takes for alike free bodies, with and without the
+    // displacement measure, on one thread and on a three-thread pool (twelve ranges): the
+    // same bodies and the same findings, the step's reach included. The largest velocity and
+    // displacement sit in a late range, so that the merge must carry them.
+    let pool = crate::team::Team::new(3).expect("a three-thread pool");
+    for measure in [false, true] {
+        let (mut one, mut reference) = bed_of(9, 10_000);
+        reference[9100] -= DVec3::new(0.0, 0.0, 2e-3);
+        one.velocity[9200] = DVec3::new(0.0, 0.0, -3.0);
+        let mut many = one.clone();
+        let uniform = uniform_free_body(&one).expect("alike free bodies");
+        let step = (1.25e-6, 2.5e-6);
+        let a = kick_drift_flat_tracked(
+            &mut one,
+            &reference,
+            step,
+            true,
+            uniform,
+            (G, measure),
+            None,
+        );
+        let b = kick_drift_flat_tracked(
+            &mut many,
+            &reference,
+            step,
+            true,
+            uniform,
+            (G, measure),
+            Some(&pool),
+        );
+        assert_eq!(a.max_disp2, b.max_disp2);
+        assert_eq!(a.max_disp2.is_some(), measure);
+        assert_eq!((a.finite, a.kicked_finite), (b.finite, b.kicked_finite));
+        assert_eq!(a.reach.to_bits(), b.reach.to_bits());
+        // 3 m/s over 2.5 µs: the reach is at least 7.5 µm.
+        assert!(a.reach >= 7.4e-6, "reach {}", a.reach);
+        assert_eq!(one.position, many.position);
+        assert_eq!(one.velocity, many.velocity);
+        assert_eq!(one.omega, many.omega);
+        assert_eq!(one.force, many.force, "the weights");
+    }
 }

@@ -22,6 +22,7 @@ use crate::neighbour::{
 use crate::particles::{MaterialId, ParticleInit, ParticleSet, ParticleTag};
 use crate::reach::ReachBound;
 use crate::region_force::RegionForce;
+use crate::team::Team;
 use crate::timescale::rayleigh_time;
 use crate::timing::{Mark, PhaseTimes, StepClock};
 use crate::wall::{Wall, WallId};
@@ -138,7 +139,7 @@ impl SimulationState {
 /// A DEM simulation of spheres and walls.
 pub struct Simulation {
     state: SimulationState,
-    pool: Option<Arc<rayon::ThreadPool>>,
+    pool: Option<Arc<Team>>,
     /// Cells sized by the largest sphere: the order of the re-sorts, and the candidate search
     /// for (near-)uniform radii.
     grid: CellGrid,
@@ -196,13 +197,11 @@ pub struct Simulation {
     region_force: Option<RegionForce>,
 }
 
-fn make_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>, DemError> {
+fn make_pool(threads: usize) -> Result<Option<Arc<Team>>, DemError> {
     if threads == 1 {
         return Ok(None);
     }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
+    Team::new(threads)
         .map(|pool| Some(Arc::new(pool)))
         .map_err(|_| DemError::ThreadPool(threads))
 }

@@ -21,7 +21,7 @@ impl Simulation {
     /// (`pool.install`): each `run` then starts on a pool thread at once, instead of handing
     /// its steps over to a sleeping one and waiting for them. Changes no result, only which
     /// thread does the work.
-    pub fn pool_handle(&self) -> Option<Arc<rayon::ThreadPool>> {
+    pub fn pool_handle(&self) -> Option<Arc<Team>> {
         self.pool.clone()
     }
 

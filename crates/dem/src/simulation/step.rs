@@ -137,9 +137,9 @@ impl Simulation {
                     self.state.reference.clear();
                     self.state.reference.extend_from_slice(&p.position);
                 }
-                match self.uniform_free.filter(|_| self.pool.is_none()) {
-                    // One thread, bodies alike: the displacements are measured only where
-                    // the bounds cannot rule a list build out.
+                match self.uniform_free {
+                    // Bodies alike: the displacements are measured only where the bounds
+                    // cannot rule a list build out.
                     Some(uniform) => {
                         let s = &mut self.state;
                         let ahead = self.reach_bound.next_reach();
@@ -150,8 +150,8 @@ impl Simulation {
                             (half, dt),
                             kick_pending,
                             uniform,
-                            s.config.gravity,
-                            measure,
+                            (s.config.gravity, measure),
+                            self.pool.as_deref(),
                         );
                         self.reach_bound.step(moved.reach);
                         Drift {

@@ -1,6 +1,6 @@
 //! The engine's silo paths, pinned: a short run of a small silo of a cylinder over a cone
 //! over a meshed floor must reproduce the recorded state and per-element wall loads bit for
-//! bit, on one thread, on two (the bodies cut into four ranges) and on four (five ranges),
+//! bit, on one thread, on two (the bodies cut into two ranges) and on four (four ranges),
 //! under the default laws and under Mindlin–Deresiewicz.
 //!
 //! What it runs, so that a change in any of these moves the golden:
@@ -41,8 +41,8 @@ const CONE_HEIGHT: f64 = 0.012;
 const CYLINDER_HEIGHT: f64 = 0.03;
 /// The small and the large radius [m]: 1:3.
 const RADII: [f64; 2] = [1.0e-3, 3.0e-3];
-/// Spheres: 1300, one in eight large, enough for two threads to cut four ranges and four
-/// threads five (ranges hold at least 256 bodies).
+/// Spheres: 1300, one in eight large, enough for four threads to cut a range each (ranges
+/// hold at least 256 bodies).
 const COUNT: usize = 1300;
 /// Time step [s]: 9 % of the small spheres' Rayleigh time under the table's stiffer
 /// material.

@@ -77,6 +77,18 @@ pub struct PhaseBreakdown {
     /// The rest: the benchmark's own loop and, for the hopper, the run protocol's outlet
     /// probes, deletion below the outlet and measurements [ns].
     pub other_ns: f64,
+    /// The part of `forces_ns` outside the pool's parallel regions, run by one thread while
+    /// the others wait [ns]; all of it on one thread.
+    pub forces_serial_ns: f64,
+    /// The part of `integrate_ns` outside parallel regions [ns].
+    pub integrate_serial_ns: f64,
+    /// The part of `neighbour_ns` outside parallel regions [ns].
+    pub neighbour_serial_ns: f64,
+    /// Everything outside parallel regions, `other_ns` included [ns].
+    pub serial_ns: f64,
+    /// `serial_ns` over the whole time per particle-step [-]: the serial share of
+    /// Amdahl's law at this thread count.
+    pub serial_share: f64,
 }
 
 impl PhaseBreakdown {
@@ -84,13 +96,33 @@ impl PhaseBreakdown {
     fn of(times: Option<PhaseTimes>, secs: f64, particle_steps: f64) -> Self {
         let t = times.unwrap_or_default();
         let ns = |s: f64| s * 1e9 / particle_steps;
+        let serial = secs - t.parallel();
         Self {
             forces_ns: ns(t.forces),
             integrate_ns: ns(t.integrate),
             neighbour_ns: ns(t.neighbour),
             other_ns: ns(secs - t.total()),
+            forces_serial_ns: ns(t.forces - t.forces_parallel),
+            integrate_serial_ns: ns(t.integrate - t.integrate_parallel),
+            neighbour_serial_ns: ns(t.neighbour - t.neighbour_parallel),
+            serial_ns: ns(serial),
+            serial_share: if secs > 0.0 { serial / secs } else { 1.0 },
         }
     }
+}
+
+/// Amdahl's law from two measurements of one benchmark: `one` ns per particle-step on one
+/// thread, and `many` ns on `threads` threads of which `serial` ns ran outside the parallel
+/// regions ([`PhaseBreakdown::serial_ns`]). The parallel part measured on `threads` threads
+/// carries whatever extra work the split costs (pairs resolved twice at range boundaries,
+/// the joins); it is assumed to divide evenly over more threads while the serial part stays
+/// as it is. Returns the predicted speed-up over one thread on `target` threads, which is
+/// an upper bound wherever memory bandwidth or the joins' cost grow with the thread count
+/// (docs/performance.md, *Scaling model*).
+pub fn amdahl_speedup(one: f64, (many, serial, threads): (f64, f64, usize), target: usize) -> f64 {
+    let parallel = (many - serial).max(0.0);
+    let predicted = serial + parallel * threads as f64 / target.max(1) as f64;
+    one / predicted
 }
 
 /// CPU time consumed by the calling thread [ns], from Linux's schedstat.
@@ -254,6 +286,11 @@ pub fn scaling_benchmark(
         integrate_ns: mean(&|r| r.phases.integrate_ns),
         neighbour_ns: mean(&|r| r.phases.neighbour_ns),
         other_ns: mean(&|r| r.phases.other_ns),
+        forces_serial_ns: mean(&|r| r.phases.forces_serial_ns),
+        integrate_serial_ns: mean(&|r| r.phases.integrate_serial_ns),
+        neighbour_serial_ns: mean(&|r| r.phases.neighbour_serial_ns),
+        serial_ns: mean(&|r| r.phases.serial_ns),
+        serial_share: mean(&|r| r.phases.serial_share),
     };
     r.rebuilds = runs.iter().map(|r| r.rebuilds).sum();
     r.cpu_ns_per_particle_step = runs
@@ -511,5 +548,42 @@ mod tests {
         assert!(p.forces_ns > 0.0 && p.integrate_ns > 0.0, "{p:?}");
         assert!(p.other_ns >= 0.0, "{p:?}");
         assert_eq!(sim.phase_times().map(|t| t.steps), Some(30));
+        // One thread has no parallel regions: every phase is serial, and so is the whole.
+        assert_eq!(p.forces_serial_ns, p.forces_ns);
+        assert_eq!(p.integrate_serial_ns, p.integrate_ns);
+        assert_eq!(p.serial_share, 1.0);
+    }
+
+    #[test]
+    fn two_threads_split_each_phase_into_parallel_and_serial_time() {
+        // 4000 spheres in contact on two threads: the pair pass and the kicks run in the
+        // pool's regions, so the force phase is mostly parallel, and the serial parts are
+        // parts (never negative, never more than their phase, the share within [0, 1]).
+        let (mut sim, _) = dense_packing(4000, 2).expect("packing");
+        sim.run(10).expect("untimed steps");
+        let r = time_steps(&mut sim, 20, "scaling", 2).expect("timed steps");
+        let p = r.phases;
+        for (serial, whole) in [
+            (p.forces_serial_ns, p.forces_ns),
+            (p.integrate_serial_ns, p.integrate_ns),
+            (p.neighbour_serial_ns, p.neighbour_ns),
+        ] {
+            assert!((0.0..=whole).contains(&serial), "{p:?}");
+        }
+        assert!(p.forces_serial_ns < 0.5 * p.forces_ns, "{p:?}");
+        assert!(p.serial_share > 0.0 && p.serial_share < 1.0, "{p:?}");
+        let phases_serial = p.forces_serial_ns + p.integrate_serial_ns + p.neighbour_serial_ns;
+        assert!((p.serial_ns - phases_serial - p.other_ns).abs() <= 1e-6 * r.ns_per_particle_step);
+    }
+
+    #[test]
+    fn amdahl_keeps_the_serial_part_and_divides_the_parallel_one() {
+        // 40 ns on one thread; 25 ns on two of which 5 ns serial: the parallel 20 ns on two
+        // threads is 10 ns on four, so 15 ns in all and 40/15 = 2.67×; without end, 40/5 = 8×.
+        // Exact up to the rounding of a few operations.
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
+        assert!(close(amdahl_speedup(40.0, (25.0, 5.0, 2), 2), 1.6));
+        assert!(close(amdahl_speedup(40.0, (25.0, 5.0, 2), 4), 40.0 / 15.0));
+        assert!(amdahl_speedup(40.0, (25.0, 5.0, 2), 1 << 30) < 8.0 + 1e-6);
     }
 }
