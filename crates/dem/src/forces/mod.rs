@@ -164,12 +164,24 @@ pub(crate) struct ForceBuffers {
     pub loads: Vec<LoadSum>,
     /// Scratch of the body ranges (several threads only).
     ranges: Vec<parallel::RangeScratch>,
+    /// The pairs that cross from range to range, handed over during the pass.
+    handoffs: parallel::Handoffs,
+    /// The largest j − i of the pair list, once found for the current list (several
+    /// threads only); a list build forgets it ([`ForceBuffers::forget_lists`]).
+    pair_span: Option<usize>,
     /// Forces [N] the contacts are added to: during a step's evaluation, the particles'
     /// own array (holding the weights the integrator wrote), lent by swapping and swapped
     /// back after.
     pub force: Vec<DVec3>,
     /// Torques [N m], lent the same way.
     pub torque: Vec<DVec3>,
+}
+
+impl ForceBuffers {
+    /// Forgets what was found of the previous lists: a list build calls it.
+    pub(crate) fn forget_lists(&mut self) {
+        self.pair_span = None;
+    }
 }
 
 /// Counts of contacts that carried force in the last evaluation.

@@ -5,9 +5,12 @@
 //! 1. its bodies start from their weights and zero torques (the integrator's pass wrote them);
 //! 2. its **incoming** pairs, those whose i lies before the range and whose j lies in it.
 //!    They belong to an earlier range, which resolves them too, as its own. This task
-//!    resolves them again from copies of their histories taken before the pass, and keeps
-//!    only j's share. The kernel gives the same bits for the same inputs, so both sides of a
-//!    pair see one force; only the owner writes the new history;
+//!    resolves them again from copies of their histories, and keeps only j's share. The
+//!    kernel gives the same bits for the same inputs, so both sides of a pair see one force;
+//!    only the owner writes the new history. The copies are the owners' to make: each task
+//!    first hands its crossing pairs, with their histories as they stand, to the later
+//!    ranges ([`Handoffs`]), and then waits until every earlier range has done the same for
+//!    it, so that no range waits for the copies of a range after it;
 //! 3. its own pairs, those whose i lies in it: the kernel, the new histories, i's share, and
 //!    j's share when j lies in the range too (otherwise j's range resolves the pair again);
 //! 4. its wall contacts (filter, kernel and history);
@@ -31,6 +34,9 @@
 //!
 //! So the sums, and the whole trajectory, do not depend on the thread count or on where the
 //! ranges are cut.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 use glam::DVec3;
 
@@ -61,12 +67,6 @@ const MIN_RANGE: usize = if cfg!(test) { 64 } else { 256 };
 /// candidate of both faces), in units of one candidate pair, for cutting the ranges.
 const BODY_COST: usize = 2;
 
-/// Pairs to scan for the incoming copies, over all ranges, from which the copies are made in
-/// parallel: below it a parallel pass costs more than it saves. On two threads (four ranges)
-/// the paper's hopper scans 300–400 pairs per step, the dense packings of 10^4, 10^5 and 10^6
-/// spheres about 8 400, 39 000 and 179 000; the scan grows with the number of ranges.
-const PARALLEL_COPY: usize = 1 << 15;
-
 /// Scratch of one body range, reused from step to step.
 #[derive(Debug, Default)]
 pub(super) struct RangeScratch {
@@ -76,11 +76,87 @@ pub(super) struct RangeScratch {
     touch: Vec<u8>,
     /// Its pair filter's hits and the batch its pair and wall contacts are resolved in.
     kernel: KernelScratch,
-    /// The incoming pairs (resolved for j's share only), in list order, with copies of their
-    /// histories, live flags included, as they were before the pass.
-    incoming: PairList,
     /// The walls' loads from this range's wall contacts, in fixed point.
     loads: Vec<LoadSum>,
+}
+
+/// The crossing pairs handed from range to range during a pass: list `r · ranges + q` holds
+/// the pairs of range q whose j lies in range r (q < r), in list order, with their histories
+/// as they were before the pass; `reported[r]` counts the earlier ranges that have filled
+/// theirs for r.
+#[derive(Debug, Default)]
+pub(super) struct Handoffs {
+    lists: Vec<Mutex<PairList>>,
+    reported: Vec<AtomicUsize>,
+}
+
+impl Handoffs {
+    /// Ready for a pass over `ranges` ranges: nothing reported yet.
+    fn start(&mut self, ranges: usize) {
+        self.lists.resize_with(ranges * ranges, Default::default);
+        self.reported.resize_with(ranges, Default::default);
+        for r in &mut self.reported {
+            *r.get_mut() = 0;
+        }
+    }
+
+    /// Range q's hand-off: its pairs (list indices `base..`, ξ, rolling histories and live
+    /// flags `history`) whose j lies beyond its end `bounds[q + 1]`, each to the range that
+    /// holds its j, then reported to every later range. No pair's j lies more than `span`
+    /// past its i, so only the pairs of the range's last `span` bodies are looked at.
+    fn hand_off(
+        &self,
+        (q, bounds, span): (usize, &[usize], usize),
+        (pi, pj): (&[u32], &[u32]),
+        (base, history): (usize, (&[DVec3], &[DVec3], &[u8])),
+    ) {
+        let ranges = bounds.len() - 1;
+        let hi = bounds[q + 1];
+        let own = base..base + history.2.len();
+        let first = pair_start(&pi[own.clone()], hi.saturating_sub(span)) + base;
+        let mut outgoing: Vec<MutexGuard<'_, PairList>> = (q + 1..ranges)
+            .map(|r| lock(&self.lists[r * ranges + q]))
+            .collect();
+        for list in &mut outgoing {
+            list.i.clear();
+            list.j.clear();
+            list.history.clear();
+        }
+        for k in first - base..history.2.len() {
+            let j = pj[base + k];
+            if (j as usize) >= hi {
+                // The range of j: the last bound at or below it.
+                let r = bounds.partition_point(|&b| b <= j as usize) - 1;
+                let list = &mut outgoing[r - q - 1];
+                list.i.push(pi[base + k]);
+                list.j.push(j);
+                list.history.push_stored(history, k);
+            }
+        }
+        drop(outgoing);
+        for r in q + 1..ranges {
+            self.reported[r].fetch_add(1, Ordering::Release);
+        }
+    }
+
+    /// Waits until every range before `r` has handed its pairs off.
+    fn wait_for(&self, r: usize) {
+        let mut spins = 0u32;
+        while self.reported[r].load(Ordering::Acquire) < r {
+            spins = spins.wrapping_add(1);
+            if spins % 256 == 0 {
+                std::thread::yield_now();
+            } else {
+                std::hint::spin_loop();
+            }
+        }
+    }
+}
+
+/// The list behind `m`, whatever a panicking holder left in it (a panic in a pass is
+/// re-raised by the team anyway).
+fn lock(m: &Mutex<PairList>) -> MutexGuard<'_, PairList> {
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// What one body range owns for the pass.
@@ -134,16 +210,18 @@ pub(super) fn evaluate(
     let bounds = cost_bounds(ids.0, n, ranges, BODY_COST);
     let pair_starts: Vec<usize> = bounds.iter().map(|&b| pair_start(ids.0, b)).collect();
     buffers.ranges.resize_with(ranges, RangeScratch::default);
-
-    // The incoming pairs' histories, copied before any task rewrites them.
+    buffers.handoffs.start(ranges);
+    // A pair's j is at most this far past its i: a range's crossing pairs have i within it
+    // of the range's end.
+    let span = *buffers.pair_span.get_or_insert_with(|| {
+        ids.0
+            .iter()
+            .zip(ids.1)
+            .map(|(&i, &j)| j.saturating_sub(i))
+            .max()
+            .unwrap_or(0) as usize
+    });
     let (tangential, rolling, live) = pairs.history.parts_mut();
-    copy_all_incoming(
-        ids,
-        (&*tangential, &*rolling, &*live),
-        (&bounds, &pair_starts),
-        &mut buffers.ranges,
-        (pool, PARALLEL_COPY),
-    );
 
     let batched_walls = input.batched();
     let with_surfaces = batched_walls && crate::wall::any_resolved_one_by_one(input.walls);
@@ -190,12 +268,13 @@ pub(super) fn evaluate(
             buffers.ranges.iter_mut().map(|r| (r, None)).collect()
         };
     let surface_inputs = (wall_ids.0, &bands[..]);
+    let handoffs = (&buffers.handoffs, &bounds[..], span);
     let mut results: Vec<RangeResult> = crate::timing::parallel_region(|| {
         pool.map(
-            tasks.into_iter().zip(scratches).collect(),
-            |(task, (scratch, surface_scratch))| {
+            tasks.into_iter().enumerate().zip(scratches).collect(),
+            |((q, task), (scratch, surface_scratch))| {
                 let surface = (surface_inputs.0, surface_inputs.1, surface_scratch);
-                range_pass(input, ids, probes, task, scratch, surface)
+                range_pass(input, (ids, handoffs), probes, (q, task), scratch, surface)
             },
         )
     });
@@ -253,68 +332,6 @@ pub(super) fn evaluate(
         },
         with_surfaces,
     )
-}
-
-/// Fills each range's incoming pairs (`scratch[r].incoming` for the range from `bounds[r]`,
-/// whose own pairs start at `pair_starts[r]`): in parallel on `pool` when there are at least
-/// `parallel_from` pairs to scan ([`PARALLEL_COPY`]), otherwise on this thread. The same
-/// copies either way.
-fn copy_all_incoming(
-    ids: (&[u32], &[u32]),
-    history: (&[DVec3], &[DVec3], &[u8]),
-    (bounds, pair_starts): (&[usize], &[usize]),
-    scratch: &mut [RangeScratch],
-    (pool, parallel_from): (&crate::team::Team, usize),
-) {
-    let span = ids
-        .0
-        .iter()
-        .zip(ids.1)
-        .map(|(&i, &j)| j.saturating_sub(i))
-        .max()
-        .unwrap_or(0) as usize;
-    // A pair with j ≥ lo and i < lo has i ≥ lo − span: each range scans that window.
-    let windows: Vec<std::ops::Range<usize>> = bounds
-        .iter()
-        .zip(pair_starts)
-        .take(scratch.len())
-        .map(|(&lo, &start)| pair_start(ids.0, lo.saturating_sub(span))..start)
-        .collect();
-    let copy = |r: usize, s: &mut RangeScratch| {
-        let range = (bounds[r], bounds[r + 1]);
-        copy_incoming(ids, history, range, windows[r].clone(), &mut s.incoming)
-    };
-    if windows.iter().map(|w| w.len()).sum::<usize>() < parallel_from {
-        scratch.iter_mut().enumerate().for_each(|(r, s)| copy(r, s));
-    } else {
-        crate::timing::parallel_region(|| {
-            pool.map(scratch.iter_mut().enumerate().collect(), |(r, s)| {
-                copy(r, s)
-            })
-        });
-    }
-}
-
-/// Copies into `inc` the pairs of `window` (list indices) whose j lies in `lo..hi`, with
-/// their histories, in list order.
-fn copy_incoming(
-    (pi, pj): (&[u32], &[u32]),
-    history: (&[DVec3], &[DVec3], &[u8]),
-    (lo, hi): (usize, usize),
-    window: std::ops::Range<usize>,
-    inc: &mut PairList,
-) {
-    inc.i.clear();
-    inc.j.clear();
-    inc.history.clear();
-    for k in window {
-        let j = pj[k];
-        if (lo..hi).contains(&(j as usize)) {
-            inc.i.push(pi[k]);
-            inc.j.push(j);
-            inc.history.push_stored(history, k);
-        }
-    }
 }
 
 /// The wall candidates' particles and walls, and their ξ and live flags, as the force loop
@@ -411,15 +428,15 @@ impl PairSink for OwnSink<'_, '_> {
     }
 }
 
-/// One body range: its incoming and own pairs, its wall contacts, then its surface contacts
+/// Body range `q`: its hand-off of crossing pairs to the later ranges, its incoming and own pairs, its wall contacts, then its surface contacts
 /// when it has a stretch of them (`surface`: the wall list's particles, each wall's element
 /// count and the scratch),
 /// onto the weights and zero torques its force arrays start with.
 fn range_pass(
     input: &KernelInput,
-    ids: (&[u32], &[u32]),
+    (ids, (handoffs, bounds, span)): ((&[u32], &[u32]), (&Handoffs, &[usize], usize)),
     probes: &[WallProbe],
-    task: RangeTask,
+    (q, task): (usize, RangeTask),
     scratch: &mut RangeScratch,
     surface: (&[u32], &[usize], Option<&mut surfaces::SurfaceScratch>),
 ) -> RangeResult {
@@ -436,19 +453,28 @@ fn range_pass(
     scratch.loads.clear();
     scratch.loads.resize(input.walls.len(), LoadSum::default());
 
+    let history = (&*pairs.0, &*pairs.1, &*pairs.2);
+    handoffs.hand_off((q, bounds, span), ids, (pair_base, history));
+    handoffs.wait_for(q);
+
     let mut result = RangeResult::default();
     let mut acc = Accumulator::new(&mut *force, &mut *torque);
-    let inc = &mut scratch.incoming;
     let kernel = &mut scratch.kernel;
-    // Its worst overlap is the owner's to report.
-    pair_loop(
-        input,
-        (&inc.i, &inc.j),
-        0,
-        inc.history.parts_mut(),
-        (&mut kernel.touching, &mut kernel.batch),
-        &mut IncomingSink { acc: &mut acc, lo },
-    );
+    // Each earlier range's crossing pairs in turn: together, in list order. Their worst
+    // overlap is the owner's to report.
+    let ranges = bounds.len() - 1;
+    for from in 0..q {
+        let mut inc = lock(&handoffs.lists[q * ranges + from]);
+        let inc = &mut *inc;
+        pair_loop(
+            input,
+            (&inc.i, &inc.j),
+            0,
+            inc.history.parts_mut(),
+            (&mut kernel.touching, &mut kernel.batch),
+            &mut IncomingSink { acc: &mut acc, lo },
+        );
+    }
     let mut own = OwnSink {
         acc: &mut acc,
         lo,
@@ -507,11 +533,11 @@ mod tests {
     use crate::contact::{RollingLaw, TangentialLaw};
 
     #[test]
-    fn incoming_pairs_are_exactly_those_crossing_into_each_range_serial_or_parallel() {
-        // The jumble's lists (random order, so pairs cross every cut) cut into 5 ranges: each
-        // range must receive, in list order, exactly the pairs with i before it and j in it,
-        // with their histories, against a search of the whole list; from the serial copy
-        // (threshold above any scan) and from the parallel one (threshold 0).
+    fn the_handed_off_pairs_are_exactly_those_crossing_into_each_range() {
+        // The jumble's lists (random order, so pairs cross every cut) cut into 5 ranges, each
+        // range handing its pairs off in turn: each range must receive, in list order,
+        // exactly the pairs with i before it and j in it, with their histories, against a
+        // search of the whole list, and each must hear from every range before it.
         let jumble = Jumble::new(1, false);
         let (pairs, _) = jumble.lists();
         let ids = (&pairs.i[..], &pairs.j[..]);
@@ -519,18 +545,23 @@ mod tests {
         let history = (&h.tangential[..], &h.rolling[..], &h.live[..]);
         let bounds = cost_bounds(ids.0, jumble.set.len(), 5, BODY_COST);
         let starts: Vec<usize> = bounds.iter().map(|&b| pair_start(ids.0, b)).collect();
-        let pool = crate::team::Team::new(2).expect("a pool");
-        for parallel_from in [usize::MAX, 0] {
-            let mut scratch: Vec<RangeScratch> = (0..5).map(|_| RangeScratch::default()).collect();
-            copy_all_incoming(
-                ids,
-                history,
-                (&bounds, &starts),
-                &mut scratch,
-                (&pool, parallel_from),
-            );
+        let span = ids.0.iter().zip(ids.1).map(|(&i, &j)| j - i).max().unwrap() as usize;
+        let mut handoffs = Handoffs::default();
+        // Twice, so that lists left by one pass cannot leak into the next.
+        for _ in 0..2 {
+            handoffs.start(5);
+            for q in 0..5 {
+                let own = starts[q]..starts[q + 1];
+                let mine = (
+                    &history.0[own.clone()],
+                    &history.1[own.clone()],
+                    &history.2[own],
+                );
+                handoffs.hand_off((q, &bounds, span), ids, (starts[q], mine));
+            }
             let mut crossing = 0;
-            for (r, got) in scratch.iter().map(|s| &s.incoming).enumerate() {
+            for r in 0..5 {
+                assert_eq!(handoffs.reported[r].load(Ordering::Acquire), r);
                 let (lo, hi) = (bounds[r], bounds[r + 1]);
                 let want: Vec<usize> = (0..pairs.len())
                     .filter(|&k| {
@@ -538,12 +569,19 @@ mod tests {
                     })
                     .collect();
                 crossing += want.len();
+                let (mut gi, mut gj, mut gt, mut gl) = (vec![], vec![], vec![], vec![]);
+                for q in 0..r {
+                    let got = lock(&handoffs.lists[r * 5 + q]);
+                    gi.extend_from_slice(&got.i);
+                    gj.extend_from_slice(&got.j);
+                    gt.extend_from_slice(&got.history.tangential);
+                    gl.extend_from_slice(&got.history.live);
+                }
                 let pick = |a: &[u32]| want.iter().map(|&k| a[k]).collect::<Vec<u32>>();
-                assert_eq!((got.i.clone(), got.j.clone()), (pick(ids.0), pick(ids.1)));
+                assert_eq!((gi, gj), (pick(ids.0), pick(ids.1)), "range {r}");
                 let t: Vec<DVec3> = want.iter().map(|&k| history.0[k]).collect();
                 let l: Vec<u8> = want.iter().map(|&k| history.2[k]).collect();
-                let copied = (&got.history.tangential, &got.history.live);
-                assert_eq!(copied, (&t, &l), "range {r}");
+                assert_eq!((gt, gl), (t, l), "range {r}");
             }
             assert!(crossing > 100, "pairs must cross the cuts: {crossing}");
         }
@@ -597,7 +635,7 @@ mod tests {
                         // The jumble's order is random, so pairs cross every cut: the
                         // comparison covers the incoming pairs resolved twice.
                         let crossing: usize =
-                            buffers.ranges.iter().map(|r| r.incoming.i.len()).sum();
+                            buffers.handoffs.lists.iter().map(|l| lock(l).i.len()).sum();
                         assert!(buffers.ranges.len() >= 2 && crossing > 50, "{crossing}");
                     }
                     all

@@ -65,6 +65,7 @@ impl Simulation {
             &mut self.list_scratch,
         );
         self.spare_lists = (old_pairs, old_walls);
+        self.buffers.forget_lists();
         self.uniform_body = uniform_body(&s.particles);
         self.uniform_free = uniform_free_body(&s.particles);
         s.reference.clear();
