@@ -68,9 +68,22 @@ pub(crate) fn kick_drift(
     let weight = shared_weight(p, gravity);
     let bodies = Bodies::of(p, reference);
     let one = |b: Bodies| kick_drift_bodies(b, (half, dt), pending, uniform, (gravity, weight));
+    let results = on_ranges(bodies, n, pool, one);
+    results.into_iter().fold(NOTHING_MOVED, merge_drift)
+}
+
+/// `one` of contiguous ranges of `bodies` (`n` of them) on the `pool`'s threads where it has
+/// more than one and the bodies are enough to share, otherwise of all of them on this thread:
+/// each range's findings, in body order.
+fn on_ranges<R: Send>(
+    bodies: Bodies,
+    n: usize,
+    pool: Option<&crate::team::Team>,
+    one: impl Fn(Bodies) -> R + Sync + Send,
+) -> Vec<R> {
     let bounds = pool.map(|pool| even_bounds(n, pool.threads(), RANGES_PER_THREAD, MIN_RANGE));
     let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
-        return one(bodies);
+        return vec![one(bodies)];
     };
     let mut parts = Vec::with_capacity(bounds.len() - 1);
     let mut rest = bodies;
@@ -79,8 +92,7 @@ pub(crate) fn kick_drift(
         parts.push(part);
         rest = tail;
     }
-    let results: Vec<(f64, bool, bool)> = crate::timing::parallel_region(|| pool.map(parts, one));
-    results.into_iter().fold(NOTHING_MOVED, merge_drift)
+    crate::timing::parallel_region(|| pool.map(parts, one))
 }
 
 /// What [`kick_drift`] reports for no bodies: the neutral element of [`merge_drift`].
@@ -154,22 +166,10 @@ pub(crate) fn kick_drift_flat_tracked(
     let b = Bodies::of(p, reference);
     let (kv, kw) = (half * inv_mass, half * inv_inertia);
     let one = |b: Bodies| kick_drift_flat(b, (kv, kw), (dt, weight), pending, (measure, true));
-    let bounds = pool.map(|pool| even_bounds(n, pool.threads(), RANGES_PER_THREAD, MIN_RANGE));
-    let (Some(pool), Some(bounds)) = (pool, bounds.filter(|b| b.len() > 2)) else {
-        return one(b);
-    };
-    let mut parts = Vec::with_capacity(bounds.len() - 1);
-    let mut rest = b;
-    for w in bounds.windows(2) {
-        let (part, tail) = rest.split_at(w[1] - w[0]);
-        parts.push(part);
-        rest = tail;
-    }
-    let moved = crate::timing::parallel_region(|| pool.map(parts, one));
-    moved
+    on_ranges(b, n, pool, one)
         .into_iter()
         .reduce(Moved::merge)
-        .expect("at least two parts")
+        .expect("at least one range")
 }
 
 /// What a uniform kick-and-drift pass found.
