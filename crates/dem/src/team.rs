@@ -105,12 +105,19 @@ impl Team {
 /// Spins while the pass count is `pass`, for at most [`SPIN`], yielding the core now and
 /// then to any other thread that wants it.
 fn spin_until_next_pass(passes: &AtomicU64, pass: u64) {
+    spin_while(|| passes.load(Ordering::Acquire) == pass, Some(SPIN));
+}
+
+/// Spins while `waiting()` holds, for at most `limit` when one is given, yielding the core
+/// every 256 turns to any other thread that wants it: how the team's threads wait for each
+/// other inside a run of passes, where sleeping would cost a wake-up.
+pub(crate) fn spin_while(waiting: impl Fn() -> bool, limit: Option<Duration>) {
     let start = Instant::now();
     let mut spins = 0u32;
-    while passes.load(Ordering::Acquire) == pass {
+    while waiting() {
         spins = spins.wrapping_add(1);
         if spins % 256 == 0 {
-            if start.elapsed() > SPIN {
+            if limit.is_some_and(|limit| start.elapsed() > limit) {
                 return;
             }
             std::thread::yield_now();

@@ -112,8 +112,9 @@ impl Handoffs {
     ) {
         let ranges = bounds.len() - 1;
         let hi = bounds[q + 1];
-        let own = base..base + history.2.len();
-        let first = pair_start(&pi[own.clone()], hi.saturating_sub(span)) + base;
+        let len = history.2.len();
+        // Its first pair that could cross, counted from `base`.
+        let first = pair_start(&pi[base..base + len], hi.saturating_sub(span));
         let mut outgoing: Vec<MutexGuard<'_, PairList>> = (q + 1..ranges)
             .map(|r| lock(&self.lists[r * ranges + q]))
             .collect();
@@ -122,7 +123,7 @@ impl Handoffs {
             list.j.clear();
             list.history.clear();
         }
-        for k in first - base..history.2.len() {
+        for k in first..len {
             let j = pj[base + k];
             if (j as usize) >= hi {
                 // The range of j: the last bound at or below it.
@@ -141,15 +142,7 @@ impl Handoffs {
 
     /// Waits until every range before `r` has handed its pairs off.
     fn wait_for(&self, r: usize) {
-        let mut spins = 0u32;
-        while self.reported[r].load(Ordering::Acquire) < r {
-            spins = spins.wrapping_add(1);
-            if spins % 256 == 0 {
-                std::thread::yield_now();
-            } else {
-                std::hint::spin_loop();
-            }
-        }
+        crate::team::spin_while(|| self.reported[r].load(Ordering::Acquire) < r, None);
     }
 }
 
@@ -428,10 +421,10 @@ impl PairSink for OwnSink<'_, '_> {
     }
 }
 
-/// Body range `q`: its hand-off of crossing pairs to the later ranges, its incoming and own pairs, its wall contacts, then its surface contacts
-/// when it has a stretch of them (`surface`: the wall list's particles, each wall's element
-/// count and the scratch),
-/// onto the weights and zero torques its force arrays start with.
+/// Body range `q`: its hand-off of crossing pairs to the later ranges, its incoming and own
+/// pairs, its wall contacts, then its surface contacts when it has a stretch of them
+/// (`surface`: the wall list's particles, each wall's element count and the scratch), onto
+/// the weights and zero torques its force arrays start with.
 fn range_pass(
     input: &KernelInput,
     (ids, (handoffs, bounds, span)): ((&[u32], &[u32]), (&Handoffs, &[usize], usize)),

@@ -15,11 +15,11 @@ impl Simulation {
         self.run_watched(n, n, |_| Ok::<(), DemError>(()))
     }
 
-    /// The simulation's thread pool, if it has one, for callers that alternate short
+    /// The simulation's team of threads, if it has one, for callers that alternate short
     /// [`Simulation::run`]s with work of their own (a run protocol measuring the outlet every
-    /// few steps). Such a caller does better to run its whole loop inside the pool
-    /// (`pool.install`): each `run` then starts on a pool thread at once, instead of handing
-    /// its steps over to a sleeping one and waiting for them. Changes no result, only which
+    /// few steps). Such a caller does better to run its whole loop inside the team
+    /// ([`Team::install`]): each `run` then starts on a team thread at once, instead of
+    /// handing its steps over to one and waiting for them. Changes no result, only which
     /// thread does the work.
     pub fn pool_handle(&self) -> Option<Arc<Team>> {
         self.pool.clone()
