@@ -68,10 +68,10 @@ impl Team {
     /// `f` of every task, in the tasks' order. The tasks are dealt to the team's threads in
     /// contiguous shares of (about) equal counts, the first share to the first thread, the
     /// same way at every pass: a pass over body ranges then gives each thread the same
-    /// bodies as the pass before, whose numbers are still in its core's cache. Moving them
-    /// to another core costs more than a short pass's work (the paper's 3000 spheres: a
-    /// share of the kick and drift takes 1.5 µs on the thread that had its bodies and 15 µs
-    /// on another). Then the workers are kept spinning for the next pass.
+    /// bodies as the pass before, whose numbers may still be in its core's cache. Dealt so,
+    /// instead of to whichever thread is free, the paper's hopper went from 0.74× to 1.18×
+    /// on two threads against one (docs/performance.md, *Threads*). Then the workers are
+    /// kept spinning for the next pass.
     pub fn map<T: Send, R: Send>(&self, tasks: Vec<T>, f: impl Fn(T) -> R + Sync + Send) -> Vec<R> {
         let pass = self.passes.fetch_add(1, Ordering::AcqRel) + 1;
         let n = tasks.len();
