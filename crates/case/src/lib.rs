@@ -68,8 +68,8 @@ pub use geometry::Geometry;
 pub use heap::HeapGeometry;
 pub use mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
 pub use particles::{
-    mass_fractions_from_number, number_fractions_from_mass, Component, FractionBasis, MaterialSpec,
-    ParticleSpec, SizeDistribution,
+    mass_fractions_from_number, number_fractions_from_mass, CoarseGraining, Component,
+    FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution,
 };
 pub use slab::SlabGeometry;
 pub use sweep::{

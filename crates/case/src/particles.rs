@@ -83,6 +83,37 @@ pub enum SizeDistribution {
 }
 
 impl SizeDistribution {
+    /// The same distribution with every diameter `factor` times as large.
+    pub fn scaled(&self, factor: f64) -> SizeDistribution {
+        match self {
+            Self::Monodisperse { diameter } => Self::Monodisperse {
+                diameter: diameter * factor,
+            },
+            Self::Uniform { min, max } => Self::Uniform {
+                min: min * factor,
+                max: max * factor,
+            },
+            Self::Normal {
+                mean,
+                std_dev,
+                min,
+                max,
+            } => Self::Normal {
+                mean: mean * factor,
+                std_dev: std_dev * factor,
+                min: min * factor,
+                max: max * factor,
+            },
+            Self::Discrete {
+                diameters,
+                fractions,
+            } => Self::Discrete {
+                diameters: diameters.iter().map(|d| d * factor).collect(),
+                fractions: fractions.clone(),
+            },
+        }
+    }
+
     /// Smallest diameter that can occur [m] (sets the Rayleigh time).
     pub fn min_diameter(&self) -> f64 {
         match self {
@@ -244,6 +275,31 @@ pub struct ParticleSpec {
     pub components: Vec<Component>,
     /// How the components' fractions are counted.
     pub fraction_by: FractionBasis,
+    /// Where the case file asks for coarse-grained parcels (`particles.coarse_graining`):
+    /// the grains it gives, which the count and the components' sizes above stand for.
+    /// `None` for grains simulated as they are.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarse_graining: Option<CoarseGraining>,
+}
+
+/// Parcels that stand for grains (coarse-grained DEM, docs/physics.md §2.7): each parcel is
+/// κ times a grain's diameter, of the grains' material, and stands for κ³ grains; the
+/// count of parcels is the grains' over κ³, rounded.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CoarseGraining {
+    /// κ [-], ≥ 1: a parcel's diameter over its grains'.
+    pub factor: f64,
+    /// The number of grains the case file gives.
+    pub grain_count: usize,
+    /// Each component's grain sizes [m] as the case file gives them.
+    pub grain_sizes: Vec<SizeDistribution>,
+}
+
+impl CoarseGraining {
+    /// κ³ [-]: how many grains a parcel stands for (their volume over a grain's).
+    pub fn grains_per_parcel(&self) -> f64 {
+        self.factor * self.factor * self.factor
+    }
 }
 
 impl ParticleSpec {
@@ -268,6 +324,54 @@ impl ParticleSpec {
                 fraction: 1.0,
             }],
             fraction_by: FractionBasis::Number,
+            coarse_graining: None,
+        }
+    }
+
+    /// Parcels of `factor` κ > 1 times these grains' diameters (docs/physics.md §2.7): the
+    /// count over κ³, rounded to the nearest whole parcel (at least one), the same
+    /// components, materials and fractions, and the grains kept in
+    /// [`ParticleSpec::coarse_graining`].
+    pub fn coarse_grained(&self, factor: f64) -> ParticleSpec {
+        let grains_per_parcel = factor * factor * factor;
+        ParticleSpec {
+            count: ((self.count as f64 / grains_per_parcel).round() as usize).max(1),
+            components: self
+                .components
+                .iter()
+                .map(|c| Component {
+                    size: c.size.scaled(factor),
+                    ..c.clone()
+                })
+                .collect(),
+            fraction_by: self.fraction_by,
+            coarse_graining: Some(CoarseGraining {
+                factor,
+                grain_count: self.count,
+                grain_sizes: self.components.iter().map(|c| c.size.clone()).collect(),
+            }),
+        }
+    }
+
+    /// κ [-]: 1 for grains simulated as they are, else the parcels' factor.
+    pub fn coarse_graining_factor(&self) -> f64 {
+        self.coarse_graining.as_ref().map_or(1.0, |c| c.factor)
+    }
+
+    /// The grains' number-weighted mean diameter [m]: the parcels' over κ.
+    pub fn grain_mean_diameter(&self) -> f64 {
+        self.mean_diameter() / self.coarse_graining_factor()
+    }
+
+    /// The grains' smallest diameter [m], as the case file gives it.
+    pub fn grain_min_diameter(&self) -> f64 {
+        match &self.coarse_graining {
+            Some(c) => c
+                .grain_sizes
+                .iter()
+                .map(SizeDistribution::min_diameter)
+                .fold(f64::INFINITY, f64::min),
+            None => self.min_diameter(),
         }
     }
 

@@ -138,7 +138,12 @@ pub(crate) fn resolve_case(
         &mut errors,
     );
     if let Some((p, _)) = &particles {
-        super::resolve_cohesion::check_bridge_volumes(&volumes, p.min_diameter(), &mut errors);
+        // The bridge volumes are the grains', checked against the grains.
+        super::resolve_cohesion::check_bridge_volumes(
+            &volumes,
+            p.grain_min_diameter(),
+            &mut errors,
+        );
     }
     if let (Some(named), Some(names)) = (&named, &particle_materials) {
         // Every pair the run will meet must be listed or mixable (docs/physics.md §1.2).

@@ -4,7 +4,7 @@
 
 use super::document::NodeValue;
 use super::error::{number, rounded, ConfigError, ErrorKind};
-use super::limits::MAX_PARTICLE_COUNT;
+use super::limits::{MAX_COARSE_GRAINING, MAX_PARTICLE_COUNT};
 use super::particles::{Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution};
 use super::reader::{Located, Section};
 use super::resolve_materials::NamedMaterials;
@@ -165,6 +165,29 @@ pub(crate) fn read_particles(
         ));
         ok = false;
     }
+    let coarse = section.float_or("coarse_graining", "", 1.0, errors);
+    if !(1.0..=MAX_COARSE_GRAINING).contains(&coarse.value) {
+        errors.push(coarse.error(
+            ErrorKind::Invalid,
+            format!(
+                "must lie in [1, {}]: the parcels' diameter over the grains' (κ, 1 for the \
+                 grains themselves)",
+                number(MAX_COARSE_GRAINING)
+            ),
+        ));
+        ok = false;
+    } else if (count.value as f64 / coarse.value.powi(3)).round() < 1.0 {
+        errors.push(coarse.error(
+            ErrorKind::Invalid,
+            format!(
+                "leaves fewer than one parcel: particles.count = {} grains over κ³ = {} \
+                 grains a parcel",
+                count.value,
+                number(coarse.value.powi(3))
+            ),
+        ));
+        ok = false;
+    }
     let material = read_particle_material(section, named, errors);
     let read = if section.has("components") {
         for other in ["diameter", "size_distribution"] {
@@ -238,6 +261,7 @@ pub(crate) fn read_particles(
             "material",
             "components",
             "fraction_by",
+            "coarse_graining",
         ],
         errors,
     );
@@ -245,10 +269,26 @@ pub(crate) fn read_particles(
     if !ok {
         return None;
     }
-    let spec = ParticleSpec {
+    let grains = ParticleSpec {
         count: count.value as usize,
         components: components.iter().map(|c| c.component.clone()).collect(),
         fraction_by,
+        coarse_graining: None,
+    };
+    // Parcels: every check and default after this reads their diameters, which the
+    // messages name as the grains' key times κ.
+    let kappa = coarse.value;
+    let spec = if kappa > 1.0 {
+        grains.coarse_grained(kappa)
+    } else {
+        grains
+    };
+    let parcel = |key: &String| {
+        if kappa > 1.0 {
+            format!("{key} × {}", source(&coarse))
+        } else {
+            key.clone()
+        }
     };
     // The inputs of the limits: the component of the shortest Rayleigh time (its material
     // and smallest diameter) and the component of the largest diameter.
@@ -271,8 +311,8 @@ pub(crate) fn read_particles(
         .expect("at least one component");
     let sources = ParticleSources {
         material: shortest.material.clone(),
-        smallest_diameter: shortest.sizes.1.clone(),
-        largest_diameter: largest.sizes.2.clone(),
+        smallest_diameter: parcel(&shortest.sizes.1),
+        largest_diameter: parcel(&largest.sizes.2),
     };
     Some((spec, sources))
 }

@@ -318,13 +318,25 @@ impl Case {
 
         let p = &self.particles;
         out.table("[particles]");
-        out.key("count", p.count, "");
+        // Coarse-grained parcels are written as the case file gave them: the grains and κ.
+        let grain_size = |k: usize| match &p.coarse_graining {
+            Some(c) => &c.grain_sizes[k],
+            None => &p.components[k].size,
+        };
+        match &p.coarse_graining {
+            Some(c) => {
+                out.key("count", c.grain_count, "grains");
+                let note = format!("κ [-]: {} parcels of κ grains' diameter", p.count);
+                out.float("coarse_graining", c.factor, &note);
+            }
+            None => out.key("count", p.count, ""),
+        }
         match p.components.as_slice() {
             [one] => {
                 if let Some(name) = &one.material_name {
                     out.word("material", name, "");
                 }
-                size_lines(&mut out, &one.size, "particles");
+                size_lines(&mut out, grain_size(0), "particles");
                 if one.material_name.is_none() {
                     out.table("[particles.material]");
                     material_lines(&mut out, &one.material);
@@ -341,7 +353,7 @@ impl Case {
                     out.table("[particles.material]");
                     material_lines(&mut out, &shared.material);
                 }
-                for (c, n) in components.iter().zip(p.number_fractions()) {
+                for (k, (c, n)) in components.iter().zip(p.number_fractions()).enumerate() {
                     out.table("[[particles.components]]");
                     out.word("name", &c.name, "");
                     if let Some(name) = &c.material_name {
@@ -349,7 +361,7 @@ impl Case {
                     }
                     let note = format!("by {basis} [-]; {} by number", rounded(n));
                     out.float("fraction", c.fraction, &note);
-                    size_lines(&mut out, &c.size, "particles.components");
+                    size_lines(&mut out, grain_size(k), "particles.components");
                 }
             }
         }

@@ -188,6 +188,31 @@ pub struct CaseSummary {
     /// `avalanches.csv`, docs/physics.md §7.14); absent without the section.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub avalanches: Option<AvalancheSummary>,
+    /// The grains that coarse-grained parcels stand for (`particles.coarse_graining`,
+    /// docs/physics.md §2.7); absent when the grains are simulated as they are. Then
+    /// `particles` and `particle_diameter` above are the parcels'; masses and rates are the
+    /// grains' as they are.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarse_graining: Option<CoarseGrainingSummary>,
+}
+
+/// The grains behind coarse-grained parcels (docs/physics.md §2.7).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CoarseGrainingSummary {
+    /// κ [-]: a parcel's diameter over its grains'.
+    pub factor: f64,
+    /// κ³ [-]: the grains a parcel stands for.
+    pub grains_per_parcel: f64,
+    /// The grains' number-weighted mean diameter [m].
+    pub grain_diameter: f64,
+    /// The grains the case gives [-]; the parcels are this over κ³, rounded.
+    pub grains: usize,
+    /// The outlet size over the parcels' mean diameter, D/(κd) [-].
+    pub outlet_parcels: f64,
+    /// The outlet size over the grains' mean diameter, D/d [-].
+    pub outlet_grains: f64,
+    /// The discharged mass over a grain's mean mass: the grains that left [-].
+    pub discharged_grains: f64,
 }
 
 /// The statistics of the avalanches between clogs (docs/physics.md §7.14), over the

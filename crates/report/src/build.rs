@@ -182,6 +182,11 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     for block in super::clogging::clogging_blocks(&clogging) {
         doc.push(block);
     }
+    // Coarse-grained parcels: written only when some case ran with κ > 1.
+    let parcels = super::coarse_graining::load_parcels(root, &data.rows);
+    for block in super::coarse_graining::parcel_blocks(parcels.as_deref()) {
+        doc.push(block);
+    }
     // The lab tests' angles: written only when the study holds heap or draw-down cases.
     for block in super::lab_tests::lab_test_blocks(&data.rows) {
         doc.push(block);

@@ -24,6 +24,7 @@ mod build;
 mod calibration;
 pub mod centred;
 mod clogging;
+mod coarse_graining;
 mod cohesion;
 mod comparison;
 mod data;
@@ -40,6 +41,9 @@ pub use build::{build_report, ReportError, ReportFiles};
 pub use calibration::{build_calibration_report, is_calibration, CalibrationReportFiles};
 pub use clogging::{
     analyse_clogging, clogging_blocks, load_clogging, ClogCase, ClogGroup, ClogRow,
+};
+pub use coarse_graining::{
+    load_parcels, parcel_tables, ParcelLevel, ParcelRun, ParcelTable, BEVERLOO_K,
 };
 pub use cohesion::{
     analyse_cohesion, load_cohesion, BondCell, BondLevel, CohesionAnalysis, CohesionCase,

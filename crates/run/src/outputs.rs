@@ -351,6 +351,26 @@ fn write_crossings(path: &Path, record: &CrossingRecord, run: &CaseRun) -> Resul
     Ok(())
 }
 
+/// The grains behind a case's coarse-grained parcels, with `discharged` [kg] of them gone;
+/// `None` for a case of grains.
+fn coarse_graining_summary(case: &Case, discharged: f64) -> Option<files::CoarseGrainingSummary> {
+    let c = case.particles.coarse_graining.as_ref()?;
+    let grain_diameter = case.particles.grain_mean_diameter();
+    // A grain's mean mass: the parcels' mean mass over κ³ (the same material).
+    let mean_mass = case.particles.total_mass() / case.particles.count as f64;
+    let grain_mass = mean_mass / c.grains_per_parcel();
+    let outlet = case.geometry.outlet_size();
+    Some(files::CoarseGrainingSummary {
+        factor: c.factor,
+        grains_per_parcel: c.grains_per_parcel(),
+        grain_diameter,
+        grains: c.grain_count,
+        outlet_parcels: outlet / case.particles.mean_diameter(),
+        outlet_grains: outlet / grain_diameter,
+        discharged_grains: discharged / grain_mass,
+    })
+}
+
 /// Exponent b of φ/φ_c = (1 − x*²)^b (paper Eq. 11) fitted to one profile as the paper
 /// does for a set (divided by its centre value, bins |x*| ≤ 0.9, amplitude held at 1,
 /// weighted by the bins' errors when all are known); `None` when it cannot be fitted.
@@ -485,11 +505,21 @@ pub fn finish(
         None => None,
     };
 
-    // remaining.csv: N(t), the particles still above the orifice plane.
+    // remaining.csv: N(t), the particles still above the orifice plane; for parcels also
+    // the grains they stand for.
+    let grains_per_parcel = case
+        .particles
+        .coarse_graining
+        .as_ref()
+        .map(case::CoarseGraining::grains_per_parcel);
+    let mut remaining_columns = REMAINING_COLUMNS.to_vec();
+    if grains_per_parcel.is_some() {
+        remaining_columns.push("grains");
+    }
     write_csv_table(
         out_dir.join("remaining.csv"),
-        &REMAINING_COLUMNS,
-        &state.remaining.table(),
+        &remaining_columns,
+        &state.remaining.table(grains_per_parcel),
     )?;
 
     let mut profile_rows = Vec::new();
@@ -717,6 +747,7 @@ pub fn finish(
         draw_down,
         fields,
         avalanches,
+        coarse_graining: coarse_graining_summary(case, state.discharged_mass),
     })
 }
 

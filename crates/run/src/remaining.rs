@@ -65,10 +65,18 @@ impl RemainingRecorder {
     }
 
     /// The rows of `remaining.csv`.
-    pub(crate) fn table(&self) -> Vec<Vec<Cell>> {
+    /// The rows of `remaining.csv`; with `grains_per_parcel` (κ³ of coarse-grained parcels)
+    /// a fourth column, the grains the parcels stand for.
+    pub(crate) fn table(&self, grains_per_parcel: Option<f64>) -> Vec<Vec<Cell>> {
         self.rows
             .iter()
-            .map(|&(t, n, m)| vec![t.into(), (n as f64).into(), m.into()])
+            .map(|&(t, n, m)| {
+                let mut row = vec![t.into(), (n as f64).into(), m.into()];
+                if let Some(k3) = grains_per_parcel {
+                    row.push((n as f64 * k3).into());
+                }
+                row
+            })
             .collect()
     }
 }

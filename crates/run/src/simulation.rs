@@ -21,13 +21,26 @@ fn engine_material(m: &case::MaterialSpec) -> dem::Material {
     dem::Material::from_shear_modulus(m.density, m.shear_modulus, m.poisson_ratio)
 }
 
-fn engine_interaction(i: &case::InteractionSpec) -> dem::Interaction {
+/// The engine's coefficients of a pair whose case values are `i`, for particles of
+/// coarse-graining factor `kappa` (1 for the grains themselves): friction, rolling friction
+/// and restitution are kept, and the cohesion is the parcels' (docs/physics.md §2.7).
+fn engine_interaction(i: &case::InteractionSpec, kappa: f64) -> dem::Interaction {
     dem::Interaction {
         friction: i.friction,
         rolling_friction: i.rolling_friction,
         restitution: i.restitution,
-        cohesion: i.cohesion,
+        cohesion: i.cohesion.coarse_grained(kappa),
     }
+}
+
+/// The material table with every listed pair's cohesion the parcels' of factor `kappa`
+/// (unlisted pairs mix from these, as the grains' would).
+fn parcel_table(table: &dem::MaterialTable, kappa: f64) -> dem::MaterialTable {
+    let mut parcels = table.clone();
+    for pair in &mut parcels.pairs {
+        pair.cohesion = pair.cohesion.coarse_grained(kappa);
+    }
+    parcels
 }
 
 /// The engine's contact laws for a case.
@@ -76,9 +89,11 @@ pub fn case_simulation_by_component(
     config.max_rayleigh_fraction = case::MAX_RAYLEIGH_FRACTION;
     let mut sim = Simulation::new(config)?;
     let components = &case.particles.components;
+    // Coarse-grained parcels scale the cohesion; κ = 1 multiplies by one, exactly.
+    let kappa = case.particles.coarse_graining_factor();
     let Some(table) = &case.materials else {
         let material = engine_material(&components[0].material);
-        let id = sim.add_material(material, engine_interaction(&case.contact.particle))?;
+        let id = sim.add_material(material, engine_interaction(&case.contact.particle, kappa))?;
         let wall_material = match &case.wall.material {
             case::WallMaterialSpec::SameAsParticle => dem::WallMaterial::Elastic(material),
             case::WallMaterialSpec::Rigid => dem::WallMaterial::Rigid,
@@ -89,7 +104,7 @@ pub fn case_simulation_by_component(
             &mut sim,
             &case.geometry,
             wall_material,
-            engine_interaction(&case.wall.interaction),
+            engine_interaction(&case.wall.interaction, kappa),
         )?;
         return Ok((sim, walls, vec![id; components.len()]));
     };
@@ -106,6 +121,7 @@ pub fn case_simulation_by_component(
             names.push(name);
         }
     }
+    let table = &parcel_table(table, kappa);
     let ids = sim.add_material_table(table, &names)?;
     let component_ids = components
         .iter()
@@ -146,7 +162,7 @@ pub fn case_simulation_by_component(
                 &mut sim,
                 &case.geometry,
                 material,
-                engine_interaction(&case.wall.interaction),
+                engine_interaction(&case.wall.interaction, kappa),
             )?
         }
     };

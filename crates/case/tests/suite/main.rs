@@ -5,6 +5,7 @@ mod bad_case_files;
 mod bad_cases;
 mod calibration_file;
 mod case_file;
+mod coarse_graining;
 mod cohesion;
 mod fuzz;
 mod kinds;

@@ -69,6 +69,38 @@ impl Cohesion {
         }
     }
 
+    /// The law for parcels of `factor` κ ≥ 1 times the grains' size (coarse-grained DEM,
+    /// docs/physics.md §2.7), scaled so that a parcel contact's cohesive force is κ² times the
+    /// grains' at the same relative overlap, as its Hertz force is with the grains' elastic
+    /// constants: the stress a bulk of parcels carries is then the grains' (Feng & Owen 2014,
+    /// Comp. Part. Mech. 1, 159, exact scaling; Thakur, Ooi & Ahmadian 2016, Powder Technol.
+    /// 293, 130, the adhesive force scaling with the square of the particle size).
+    ///
+    /// - JKR: F = 4E*a³/(3R*) − √(8π w E* a³) scales as κ² with a and R* as κ when w → κw.
+    /// - Simplified JKR: k_c A scales as κ² with A, so k_c (a stress) is kept.
+    /// - Bridges: Willett's F = 2πRγ cos θ f(Ŝ), Ŝ = (S/2)√(R/V), scales as κ² when γ → κγ
+    ///   and V → κ³V, which keeps Ŝ and V/R³ and makes the rupture distance κ S_c.
+    pub fn coarse_grained(&self, factor: f64) -> Cohesion {
+        match *self {
+            Cohesion::None => Cohesion::None,
+            Cohesion::Jkr { work_of_adhesion } => Cohesion::Jkr {
+                work_of_adhesion: work_of_adhesion * factor,
+            },
+            Cohesion::SimplifiedJkr { energy_density } => {
+                Cohesion::SimplifiedJkr { energy_density }
+            }
+            Cohesion::LiquidBridge {
+                volume,
+                surface_tension,
+                contact_angle,
+            } => Cohesion::LiquidBridge {
+                volume: volume * factor * factor * factor,
+                surface_tension: surface_tension * factor,
+                contact_angle,
+            },
+        }
+    }
+
     /// Each parameter's key, value and allowed range where it is out of range, for the
     /// table checks: (key, value, allowed).
     pub fn problems(&self) -> Vec<(&'static str, f64, &'static str)> {
@@ -363,6 +395,73 @@ mod tests {
         };
         assert!(!sjkr.bonds() && sjkr.reach(1e8, 1e-3) == 0.0);
         assert!(!Cohesion::None.bonds() && Cohesion::None.is_none());
+    }
+
+    #[test]
+    fn coarse_grained_laws_pull_kappa_squared_times_harder_at_the_same_relative_overlap() {
+        // A pair of 1 mm spheres and its parcels of κ = 2.5 at the same overlap over radius:
+        // every law's force is κ² times the grains' (the scaling's definition), to rounding,
+        // and JKR breaks and a bridge ruptures κ times as far out.
+        use crate::material::{Interaction, Material};
+        let kappa = 2.5;
+        let m = Material::fan2023();
+        let laws = [
+            Cohesion::Jkr {
+                work_of_adhesion: 0.5,
+            },
+            Cohesion::SimplifiedJkr {
+                energy_density: 1e5,
+            },
+            Cohesion::LiquidBridge {
+                volume: 1e-12,
+                surface_tension: 0.072,
+                contact_angle: 0.3,
+            },
+        ];
+        for law in laws {
+            let grains =
+                PairCoefficients::new(&m, Some(&m), &Interaction::fan2023().with_cohesion(law));
+            let parcels = PairCoefficients::new(
+                &m,
+                Some(&m),
+                &Interaction::fan2023().with_cohesion(law.coarse_grained(kappa)),
+            );
+            let (r, e_star) = (0.5e-3, grains.e_star);
+            let reach = law.reach(e_star, r / 2.0);
+            // The simplified JKR acts in contact only: no reach to scale.
+            let scaled = law.coarse_grained(kappa).reach(e_star, kappa * r / 2.0);
+            assert!(
+                (scaled - kappa * reach).abs() <= 1e-12 * scaled,
+                "{law:?}: the reach {scaled:e} against κ × {reach:e}"
+            );
+            // Overlaps of the grains from just inside the reach to 1 % of the radius.
+            for overlap in [-0.9 * reach, -0.3 * reach, 1e-7, 1e-6, 5e-6] {
+                let force = |c: &PairCoefficients, scale: f64| {
+                    let g = ContactGeometry {
+                        normal: glam::DVec3::X,
+                        overlap: scale * overlap,
+                        r_eff: scale * r / 2.0,
+                        m_eff: 1e-6,
+                        arm_i: scale * r,
+                        arm_j: scale * r,
+                        inertia: [1.0; 2],
+                        mass_radius2: [1.0; 2],
+                        radius: [scale * r; 2],
+                    };
+                    match normal_stage(&g, c, true) {
+                        NormalOutcome::Contact(s) => s.elastic - s.pull,
+                        NormalOutcome::BridgeOnly(pull) => -pull,
+                        NormalOutcome::Apart => 0.0,
+                    }
+                };
+                let (f1, fk) = (force(&grains, 1.0), force(&parcels, kappa));
+                assert!(
+                    (fk - kappa * kappa * f1).abs() <= 1e-9 * fk.abs().max(1e-30),
+                    "{law:?} at {overlap:e}: {fk:e} against κ² × {f1:e}"
+                );
+            }
+        }
+        assert_eq!(Cohesion::None.coarse_grained(kappa), Cohesion::None);
     }
 
     #[test]

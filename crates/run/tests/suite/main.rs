@@ -6,6 +6,7 @@ mod tiny_hopper;
 
 mod bed;
 mod calibration_tests;
+mod coarse_graining;
 mod fields;
 mod golden;
 mod golden_silo;

@@ -255,6 +255,7 @@ fn common_summary(
         draw_down: None,
         fields: None,
         avalanches: None,
+        coarse_graining: None,
     }
 }
 
