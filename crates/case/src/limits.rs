@@ -8,7 +8,7 @@ use super::error::rounded;
 pub(crate) const MAX_PARTICLE_COUNT: i64 = 10_000_000;
 /// The largest coarse-graining factor κ [-] (`particles.coarse_graining`): parcels of 20
 /// grains' diameters stand for 8000 grains each, far past where the validation found them
-/// faithful (docs/physics.md §2.7), a bound against typing mistakes.
+/// faithful (docs/physics.md §2.8), a bound against typing mistakes.
 pub(crate) const MAX_COARSE_GRAINING: f64 = 20.0;
 
 /// Smallest outlet width in largest particle diameters (the rule: D ≥ 3 d).

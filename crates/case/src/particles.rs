@@ -282,7 +282,7 @@ pub struct ParticleSpec {
     pub coarse_graining: Option<CoarseGraining>,
 }
 
-/// Parcels that stand for grains (coarse-grained DEM, docs/physics.md §2.7): each parcel is
+/// Parcels that stand for grains (coarse-grained DEM, docs/physics.md §2.8): each parcel is
 /// κ times a grain's diameter, of the grains' material, and stands for κ³ grains; the
 /// count of parcels is the grains' over κ³, rounded.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -328,7 +328,7 @@ impl ParticleSpec {
         }
     }
 
-    /// Parcels of `factor` κ > 1 times these grains' diameters (docs/physics.md §2.7): the
+    /// Parcels of `factor` κ > 1 times these grains' diameters (docs/physics.md §2.8): the
     /// count over κ³, rounded to the nearest whole parcel (at least one), the same
     /// components, materials and fractions, and the grains kept in
     /// [`ParticleSpec::coarse_graining`].

@@ -187,6 +187,7 @@ hopper_angle_deg = 90.0  # α [°], bottom plates from the vertical, in (0, 90];
 [particles]
 count = 3000             # N, number of particles; they must fit below H (area fraction ≤ 0.885)
 diameter = 0.003         # d [m], monodisperse diameter
+# coarse_graining = 1.0 # κ [-] in [1, 20]: parcels of κ d, each for κ³ grains (docs/physics.md §2.8)
 # Instead of `diameter`, a size distribution (number-weighted), one of:
 # [particles.size_distribution]
 # kind = "uniform"       # min [m], max [m]
@@ -279,6 +280,7 @@ mesh_segments = 96       # segments around the axis of meshed walls and of the o
 [particles]
 count = 20000            # N; they must fit below H at volume fraction 0.64
 diameter = 0.004         # d [m], or a [particles.size_distribution] as in `hopperflow init`
+# coarse_graining = 1.0 # κ [-] in [1, 20]: parcels of κ d, each for κ³ grains (docs/physics.md §2.8)
 # A mixture instead of `diameter`: [[particles.components]], each with a diameter, a
 # material and a fraction, and particles.fraction_by = "number" or "mass"; named materials
 # and their pairs in [materials.NAME] and [[pairs]]. `hopperflow init` lists the keys, and

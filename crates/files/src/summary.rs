@@ -189,14 +189,14 @@ pub struct CaseSummary {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub avalanches: Option<AvalancheSummary>,
     /// The grains that coarse-grained parcels stand for (`particles.coarse_graining`,
-    /// docs/physics.md §2.7); absent when the grains are simulated as they are. Then
+    /// docs/physics.md §2.8); absent when the grains are simulated as they are. Then
     /// `particles` and `particle_diameter` above are the parcels'; masses and rates are the
     /// grains' as they are.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coarse_graining: Option<CoarseGrainingSummary>,
 }
 
-/// The grains behind coarse-grained parcels (docs/physics.md §2.7).
+/// The grains behind coarse-grained parcels (docs/physics.md §2.8).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CoarseGrainingSummary {
     /// κ [-]: a parcel's diameter over its grains'.

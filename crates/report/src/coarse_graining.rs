@@ -1,4 +1,4 @@
-//! Coarse-grained parcels in a study (docs/physics.md §2.7): for cases that differ only in
+//! Coarse-grained parcels in a study (docs/physics.md §2.8): for cases that differ only in
 //! their factor κ, the discharge rate W, the half-discharge time of N(t) and the wall
 //! pressure against κ = 1, beside the ratio the Beverloo law predicts from the parcels'
 //! larger empty annulus.
@@ -248,7 +248,7 @@ pub fn parcel_blocks(runs: Option<&[ParcelRun]>) -> Vec<super::Block> {
     let mut blocks = vec![
         Block::Heading(2, "Coarse-grained parcels".into()),
         Block::Paragraph(format!(
-            "Parcels of κ grains' diameter, of the grains' material, each standing for κ³ grains (docs/physics.md §2.7). The cases that share everything but κ form one table. W: mean ± error over the replicas that flowed, in g/s; W/W(κ = 1) with the errors combined in quadrature. Beverloo: the ratio ((D − kκd)/(D − kd))^(5/2) that the parcels' wider empty annulus predicts, k = {BEVERLOO_K}. t₁/₂: the time from the opening at which half the settled mass had left (remaining.csv). p_sat: Janssen's saturation pressure on the wall, fitted to the settled bed (summary.json)."
+            "Parcels of κ grains' diameter, of the grains' material, each standing for κ³ grains (docs/physics.md §2.8). The cases that share everything but κ form one table. W: mean ± error over the replicas that flowed, in g/s; W/W(κ = 1) with the errors combined in quadrature. Beverloo: the ratio ((D − kκd)/(D − kd))^(5/2) that the parcels' wider empty annulus predicts, k = {BEVERLOO_K}. t₁/₂: the time from the opening at which half the settled mass had left (remaining.csv). p_sat: Janssen's saturation pressure on the wall, fitted to the settled bed (summary.json)."
         )),
     ];
     let tables = parcel_tables(runs);

@@ -23,7 +23,7 @@ fn engine_material(m: &case::MaterialSpec) -> dem::Material {
 
 /// The engine's coefficients of a pair whose case values are `i`, for particles of
 /// coarse-graining factor `kappa` (1 for the grains themselves): friction, rolling friction
-/// and restitution are kept, and the cohesion is the parcels' (docs/physics.md §2.7).
+/// and restitution are kept, and the cohesion is the parcels' (docs/physics.md §2.8).
 fn engine_interaction(i: &case::InteractionSpec, kappa: f64) -> dem::Interaction {
     dem::Interaction {
         friction: i.friction,

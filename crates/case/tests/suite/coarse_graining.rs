@@ -1,5 +1,5 @@
 //! Coarse-grained parcels in the case file (`particles.coarse_graining`, docs/physics.md
-//! §2.7): the parcels the run simulates, the grains written back, and the refusals.
+//! §2.8): the parcels the run simulates, the grains written back, and the refusals.
 
 use case::{load_case, parse_case, SizeDistribution};
 

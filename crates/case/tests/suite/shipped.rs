@@ -167,11 +167,11 @@ fn every_template_of_hopperflow_init_is_a_valid_case_with_its_files() {
 const TEMPLATE_SHA256: [(&str, &str); 6] = [
     (
         "slab",
-        "74df33b3d83f14d87e28ac66177c5b513f9d017fd29df786dc1973d195900300",
+        "1dd0ea765d22da3eb6b5c4b50673c033b5603f2eb10a4c212a69984c8cf008c5",
     ),
     (
         "cylinder",
-        "a87b1e71065bf6cdd08b940deda95f4cb3866891842cf38c5fa256502d67a4b9",
+        "497d5d7c73abbd43b4ff7343a010f68de70d56570f65b018f36afa5df144bac0",
     ),
     (
         "box",

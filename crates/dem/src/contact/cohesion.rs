@@ -70,7 +70,7 @@ impl Cohesion {
     }
 
     /// The law for parcels of `factor` κ ≥ 1 times the grains' size (coarse-grained DEM,
-    /// docs/physics.md §2.7), scaled so that a parcel contact's cohesive force is κ² times the
+    /// docs/physics.md §2.8), scaled so that a parcel contact's cohesive force is κ² times the
     /// grains' at the same relative overlap, as its Hertz force is with the grains' elastic
     /// constants: the stress a bulk of parcels carries is then the grains' (Feng & Owen 2014,
     /// Comp. Part. Mech. 1, 159, exact scaling; Thakur, Ooi & Ahmadian 2016, Powder Technol.

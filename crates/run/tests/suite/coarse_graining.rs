@@ -1,4 +1,4 @@
-//! Runs of coarse-grained parcels (`particles.coarse_graining`, docs/physics.md §2.7): the
+//! Runs of coarse-grained parcels (`particles.coarse_graining`, docs/physics.md §2.8): the
 //! run of parcels is the run of spheres of the parcels' size with the scaled cohesion, bit
 //! for bit, and it reports the grains the parcels stand for.
 
@@ -23,7 +23,7 @@ fn silo(particles: &str, cohesion: &str) -> Case {
 #[test]
 fn parcels_run_as_spheres_of_their_size_with_the_cohesion_scaled() {
     // 3200 grains of 2 mm at κ = 2 are 400 parcels of 4 mm; their JKR work of adhesion
-    // w = 0.05 J/m² becomes κ w = 0.1 J/m² (docs/physics.md §2.7). The same seed then
+    // w = 0.05 J/m² becomes κ w = 0.1 J/m² (docs/physics.md §2.8). The same seed then
     // gives the run of 400 spheres of 4 mm with w = 0.1 J/m², to the bit.
     let root = tempfile::tempdir().expect("temporary directory");
     let parcels = silo(
