@@ -1,11 +1,12 @@
 //! Coarse-grained parcels in a study (docs/physics.md §2.8): for cases that differ only in
-//! their factor κ, the discharge rate W, the half-discharge time of N(t) and the wall
-//! pressure against κ = 1, beside the ratio the Beverloo law predicts from the parcels'
-//! larger empty annulus.
+//! their factor κ, the discharge rate W, the half-discharge time of N(t) and the settled
+//! bed's pressure on the hopper wall against κ = 1, beside the ratio the Beverloo law
+//! predicts from the parcels' larger empty annulus.
 //!
-//! Everything is read from saved files: κ, D/(κd) and the wall pressure from each case's
-//! `summary.json`, N(t) from its `remaining.csv`, W and the status from `results.csv`, and
-//! what the cases share from their resolved `case.toml` (without its seed and κ).
+//! Everything is read from saved files: κ and D/(κd) from each case's `summary.json`, N(t)
+//! from its `remaining.csv`, the wall pressure from its `wall_pressure.csv`, W and the status
+//! from `results.csv`, and what the cases share from their resolved `case.toml` (without its
+//! seed and κ).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -43,8 +44,8 @@ pub struct ParcelRun {
     /// Time from the opening at which half the settled mass had left [s]; NaN if it never
     /// did.
     pub half_time: f64,
-    /// Janssen's saturation pressure on the wall and its error [Pa]; NaN if not fitted.
-    pub pressure: (f64, f64),
+    /// The settled bed's mean normal pressure on the hopper's cone [Pa]; NaN without a cone.
+    pub pressure: f64,
 }
 
 /// The replicas of one κ in one table.
@@ -68,7 +69,7 @@ pub struct ParcelLevel {
     pub beverloo_ratio: f64,
     /// The half-discharge time [s], replica mean.
     pub half_time: Option<Estimate>,
-    /// The wall's saturation pressure [Pa], replica mean.
+    /// The settled bed's mean pressure on the cone [Pa], replica mean.
     pub pressure: Option<Estimate>,
     /// It over κ = 1's.
     pub relative_pressure: Option<Estimate>,
@@ -123,9 +124,11 @@ pub fn load_parcels(root: &Path, rows: &[ResultRow]) -> Option<Vec<ParcelRun>> {
             status: row.status,
             rate: (row.discharge_rate, row.discharge_rate_error),
             half_time: half_time(&dir.join("remaining.csv")),
-            pressure: summary.janssen.as_ref().map_or((f64::NAN, f64::NAN), |j| {
-                (j.saturation_pressure[0], j.saturation_pressure[1])
-            }),
+            pressure: cone_pressure(
+                &dir.join("wall_pressure.csv"),
+                outlet,
+                summary.hopper_angle_deg,
+            ),
         });
     }
     any.then_some(runs)
@@ -158,6 +161,38 @@ fn half_time(path: &Path) -> f64 {
     rows.iter()
         .find(|&&(_, m)| m <= 0.5 * first)
         .map_or(f64::NAN, |&(t, _)| t)
+}
+
+/// The settled bed's normal pressure on the cone of a hopper of outlet `outlet` [m] and
+/// half-angle `angle_deg` [°], averaged over the cone's area [Pa]: each settled zone of the
+/// wall `hopper` in `wall_pressure.csv` weighted by its area, ∝ its height times its mean
+/// radius D/2 + z tan θ. NaN for a flat bottom or a missing file.
+fn cone_pressure(path: &Path, outlet: f64, angle_deg: f64) -> f64 {
+    if !(angle_deg < 90.0) {
+        return f64::NAN;
+    }
+    let Ok(mut reader) = csv::Reader::from_path(path) else {
+        return f64::NAN;
+    };
+    let tan = angle_deg.to_radians().tan();
+    let (mut force, mut area) = (0.0, 0.0);
+    for record in reader.records().filter_map(|r| r.ok()) {
+        if record.get(1) != Some("settled") || record.get(2) != Some("hopper") {
+            continue;
+        }
+        let number = |k: usize| record.get(k).and_then(|v| v.parse::<f64>().ok());
+        let (Some(low), Some(high), Some(p)) = (number(3), number(4), number(5)) else {
+            continue;
+        };
+        let weight = (high - low) * (0.5 * outlet + 0.5 * (low + high) * tan);
+        force += p * weight;
+        area += weight;
+    }
+    if area > 0.0 {
+        force / area
+    } else {
+        f64::NAN
+    }
 }
 
 /// a/b with the relative errors combined in quadrature.
@@ -218,7 +253,7 @@ pub fn parcel_tables(runs: &[ParcelRun]) -> Vec<ParcelTable> {
                         .max(0.0)
                         .powf(2.5),
                     half_time: mean(runs.iter().map(|r| (r.half_time, 0.0)).collect()),
-                    pressure: mean(runs.iter().map(|r| r.pressure).collect()),
+                    pressure: mean(runs.iter().map(|r| (r.pressure, 0.0)).collect()),
                     relative_pressure: None,
                 }
             })
@@ -248,7 +283,7 @@ pub fn parcel_blocks(runs: Option<&[ParcelRun]>) -> Vec<super::Block> {
     let mut blocks = vec![
         Block::Heading(2, "Coarse-grained parcels".into()),
         Block::Paragraph(format!(
-            "Parcels of κ grains' diameter, of the grains' material, each standing for κ³ grains (docs/physics.md §2.8). The cases that share everything but κ form one table. W: mean ± error over the replicas that flowed, in g/s; W/W(κ = 1) with the errors combined in quadrature. Beverloo: the ratio ((D − kκd)/(D − kd))^(5/2) that the parcels' wider empty annulus predicts, k = {BEVERLOO_K}. t₁/₂: the time from the opening at which half the settled mass had left (remaining.csv). p_sat: Janssen's saturation pressure on the wall, fitted to the settled bed (summary.json)."
+            "Parcels of κ grains' diameter, of the grains' material, each standing for κ³ grains (docs/physics.md §2.8). The cases that share everything but κ form one table. W: mean ± error over the replicas that flowed, in g/s; W/W(κ = 1) with the errors combined in quadrature. Beverloo: the ratio ((D − kκd)/(D − kd))^(5/2) that the parcels' wider empty annulus predicts, k = {BEVERLOO_K}. t₁/₂: the time from the opening at which half the settled mass had left (remaining.csv). p_cone: the settled bed's normal pressure on the hopper's cone, averaged over its area (wall_pressure.csv); the replicas' spread is its error."
         )),
     ];
     let tables = parcel_tables(runs);
@@ -279,8 +314,8 @@ pub fn parcel_blocks(runs: Option<&[ParcelRun]>) -> Vec<super::Block> {
             "W/W(κ = 1)",
             "Beverloo",
             "t₁/₂ [s]",
-            "p_sat [Pa]",
-            "p_sat/p_sat(κ = 1)",
+            "p_cone [Pa]",
+            "p_cone/p_cone(κ = 1)",
             "clogged",
         ]
         .map(String::from)
@@ -329,7 +364,7 @@ mod tests {
             status: CaseStatus::Complete,
             rate: (rate, 0.01 * rate),
             half_time: 1.0,
-            pressure: (pressure, 0.02 * pressure),
+            pressure,
         }
     }
 
@@ -354,6 +389,29 @@ mod tests {
         assert!((r.standard_error - 0.8 * 2f64.sqrt() * 0.01).abs() < 1e-12);
         assert!((three.relative_pressure.unwrap().value - 820.0 / 800.0).abs() < 1e-12);
         assert!(levels[0].relative_rate.is_none());
+    }
+
+    #[test]
+    fn the_cone_pressure_is_the_settled_zones_weighted_by_their_area() {
+        // Zones 0–10 mm at 100 Pa and 10–20 mm at 200 Pa on a 45° cone over a 20 mm
+        // orifice: areas ∝ 10 mm × 15 mm and 10 mm × 25 mm, so (100·15 + 200·25)/40 Pa. The
+        // discharge row and the cylinder's zone are not the settled cone's.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("wall_pressure.csv");
+        std::fs::write(
+            &path,
+            "time,phase,wall,z_low,z_high,pressure,shear
+             0,settled,hopper,0,0.01,100,1
+0,settled,hopper,0.01,0.02,200,1
+             0,settled,cylinder,0.02,0.03,900,1
+0.1,discharge,hopper,0,0.01,5000,1
+",
+        )
+        .unwrap();
+        let p = cone_pressure(&path, 0.02, 45.0);
+        assert!((p - 162.5).abs() < 1e-9, "{p}");
+        assert!(cone_pressure(&path, 0.02, 90.0).is_nan());
+        assert!(cone_pressure(&dir.path().join("none.csv"), 0.02, 45.0).is_nan());
     }
 
     #[test]
