@@ -110,6 +110,8 @@ def test_copy_is_independent():
         ("seed", object(), "no TOML form"),
         ("contact.normal_clamp", "yes", "expected true or false"),
         ("geometry.nope", 1.0, "unknown key"),
+        ("particles.coarse_graining", 0.5, "must lie in [1, 20]"),
+        ("particles.coarse_graining", 30.0, "must lie in [1, 20]"),
         ("geometry.outlet_width=0.04", 1.0, "dotted name"),
         ("geometry..outlet_width", 1.0, "not a dotted key"),
     ],
@@ -216,3 +218,15 @@ def test_missing_file_and_wrong_key_types():
         case["geometry.nope"]
     with pytest.raises(KeyError):
         case["geometry.width.x"]
+
+
+def test_coarse_graining_simulates_parcels_and_keeps_the_grains_in_the_case():
+    # docs/physics.md §2.8: 3000 grains of 3 mm at κ = 2 are 375 parcels of 6 mm; the case
+    # keeps the grains and κ, and the estimate counts the parcels it would simulate.
+    case = hf.Case.paper()
+    case["particles.coarse_graining"] = 2.0
+    assert case["particles.count"] == 3000
+    assert case["particles.diameter"] == 0.003
+    assert case["particles.coarse_graining"] == 2.0
+    cost = hf.estimate(case)
+    assert cost["particles"] == 375
