@@ -67,6 +67,9 @@ pub struct ParcelLevel {
     pub relative_rate: Option<Estimate>,
     /// ((D − kκd)/(D − kd))^{5/2}: the ratio Beverloo's law predicts with k = [`BEVERLOO_K`].
     pub beverloo_ratio: f64,
+    /// W over [`ParcelLevel::beverloo_ratio`] [kg/s]: the grains' W that the parcels' W
+    /// implies when Beverloo's law holds for both.
+    pub corrected_rate: Option<Estimate>,
     /// The half-discharge time [s], replica mean.
     pub half_time: Option<Estimate>,
     /// The settled bed's mean pressure on the cone [Pa], replica mean.
@@ -232,8 +235,11 @@ pub fn parcel_tables(runs: &[ParcelRun]) -> Vec<ParcelTable> {
                         values.into_iter().filter(|v| v.0.is_finite()).collect();
                     (!values.is_empty()).then(|| replica_mean(&values))
                 };
-                let d_grain_over_d = first.outlet_grains;
-                let k = BEVERLOO_K;
+                // (D − kκd)/(D − kd) = (D/d − kκ)/(D/d − k).
+                let (d_over_d, k) = (first.outlet_grains, BEVERLOO_K);
+                let beverloo_ratio = ((d_over_d - k * first.factor) / (d_over_d - k))
+                    .max(0.0)
+                    .powf(2.5);
                 ParcelLevel {
                     factor: first.factor,
                     outlet_parcels: first.outlet_parcels,
@@ -248,10 +254,11 @@ pub fn parcel_tables(runs: &[ParcelRun]) -> Vec<ParcelTable> {
                         .count(),
                     rate: (!flowed.is_empty()).then(|| replica_mean(&flowed)),
                     relative_rate: None,
-                    // (D − kκd)/(D − kd) = (D/d − kκ)/(D/d − k).
-                    beverloo_ratio: ((d_grain_over_d - k * first.factor) / (d_grain_over_d - k))
-                        .max(0.0)
-                        .powf(2.5),
+                    beverloo_ratio,
+                    corrected_rate: (!flowed.is_empty() && beverloo_ratio > 0.0).then(|| {
+                        let w = replica_mean(&flowed);
+                        Estimate::new(w.value / beverloo_ratio, w.standard_error / beverloo_ratio)
+                    }),
                     half_time: mean(runs.iter().map(|r| (r.half_time, 0.0)).collect()),
                     pressure: mean(runs.iter().map(|r| (r.pressure, 0.0)).collect()),
                     relative_pressure: None,
@@ -283,7 +290,7 @@ pub fn parcel_blocks(runs: Option<&[ParcelRun]>) -> Vec<super::Block> {
     let mut blocks = vec![
         Block::Heading(2, "Coarse-grained parcels".into()),
         Block::Paragraph(format!(
-            "Parcels of κ grains' diameter, of the grains' material, each standing for κ³ grains (docs/physics.md §2.8). The cases that share everything but κ form one table. W: mean ± error over the replicas that flowed, in g/s; W/W(κ = 1) with the errors combined in quadrature. Beverloo: the ratio ((D − kκd)/(D − kd))^(5/2) that the parcels' wider empty annulus predicts, k = {BEVERLOO_K}. t₁/₂: the time from the opening at which half the settled mass had left (remaining.csv). p_cone: the settled bed's normal pressure on the hopper's cone, averaged over its area (wall_pressure.csv); the replicas' spread is its error."
+            "Parcels of κ grains' diameter, of the grains' material, each standing for κ³ grains (docs/physics.md §2.8). The cases that share everything but κ form one table. W: mean ± error over the replicas that flowed, in g/s; W/W(κ = 1) with the errors combined in quadrature. Beverloo: the ratio ((D − kκd)/(D − kd))^(5/2) that the parcels' wider empty annulus predicts, k = {BEVERLOO_K}; W/Beverloo: the grains' W that the parcels' W implies where that law holds. t₁/₂: the time from the opening at which half the settled mass had left (remaining.csv). p_cone: the settled bed's normal pressure on the hopper's cone, averaged over its area (wall_pressure.csv); the replicas' spread is its error."
         )),
     ];
     let tables = parcel_tables(runs);
@@ -313,6 +320,7 @@ pub fn parcel_blocks(runs: Option<&[ParcelRun]>) -> Vec<super::Block> {
             "W [g/s]",
             "W/W(κ = 1)",
             "Beverloo",
+            "W/Beverloo [g/s]",
             "t₁/₂ [s]",
             "p_cone [Pa]",
             "p_cone/p_cone(κ = 1)",
@@ -334,6 +342,7 @@ pub fn parcel_blocks(runs: Option<&[ParcelRun]>) -> Vec<super::Block> {
                         (false, r) => estimate(r, 1.0, 3),
                     },
                     format!("{:.3}", l.beverloo_ratio),
+                    estimate(l.corrected_rate, 1e3, 1),
                     estimate(l.half_time, 1.0, 3),
                     estimate(l.pressure, 1.0, 0),
                     match (l.factor == 1.0, l.relative_pressure) {
@@ -389,6 +398,9 @@ mod tests {
         assert!((r.standard_error - 0.8 * 2f64.sqrt() * 0.01).abs() < 1e-12);
         assert!((three.relative_pressure.unwrap().value - 820.0 / 800.0).abs() < 1e-12);
         assert!(levels[0].relative_rate.is_none());
+        // W/Beverloo: 0.4 kg/s over the ratio, the error scaled alike.
+        let corrected = three.corrected_rate.unwrap();
+        assert!((corrected.value - 0.4 / three.beverloo_ratio).abs() < 1e-12);
     }
 
     #[test]
