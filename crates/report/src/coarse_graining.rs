@@ -6,7 +6,7 @@
 //! Everything is read from saved files: κ and D/(κd) from each case's `summary.json`, N(t)
 //! from its `remaining.csv`, the wall pressure from its `wall_pressure.csv`, W and the status
 //! from `results.csv`, and what the cases share from their resolved `case.toml` (without its
-//! seed and κ).
+//! seed, κ, `[measure]` and `[output]`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -26,8 +26,8 @@ pub const BEVERLOO_K: f64 = 1.5;
 pub struct ParcelRun {
     /// Case identifier.
     pub id: String,
-    /// What it shares with the others of its table (the resolved case without its seed and
-    /// κ).
+    /// What it shares with the others of its table (the resolved case without its seed, κ,
+    /// `[measure]` and `[output]`).
     pub conditions: String,
     /// κ [-], 1 for grains.
     pub factor: f64,
@@ -137,10 +137,13 @@ pub fn load_parcels(root: &Path, rows: &[ResultRow]) -> Option<Vec<ParcelRun>> {
     any.then_some(runs)
 }
 
-/// The resolved case without its seed and its κ.
+/// The resolved case without its seed, its κ and what only measures or writes the run
+/// (`[measure]` and `[output]`, whose bin widths default to the parcels' diameter).
 fn conditions(case: &toml::Table) -> String {
     let mut case = case.clone();
-    case.remove("seed");
+    for key in ["seed", "measure", "output"] {
+        case.remove(key);
+    }
     if let Some(toml::Value::Table(p)) = case.get_mut("particles") {
         p.remove("coarse_graining");
     }
