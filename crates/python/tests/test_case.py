@@ -222,8 +222,15 @@ def test_missing_file_and_wrong_key_types():
 
 def test_coarse_graining_simulates_parcels_and_keeps_the_grains_in_the_case():
     # docs/physics.md §2.8: 3000 grains of 3 mm at κ = 2 are 375 parcels of 6 mm; the case
-    # keeps the grains and κ, and the estimate counts the parcels it would simulate.
+    # keeps the grains and κ, and the estimate counts the parcels it would simulate. The
+    # paper's slab is 1.01 grains thick: the parcels need one 1.01 parcels thick, and are
+    # refused from the grains' slab with the keys that clash.
     case = hf.Case.paper()
+    with pytest.raises(hf.CaseError) as info:
+        case["particles.coarse_graining"] = 2.0
+    assert "geometry.thickness" in str(info.value)
+    assert "particles.coarse_graining = 2" in str(info.value)
+    case["geometry.thickness"] = 0.00606
     case["particles.coarse_graining"] = 2.0
     assert case["particles.count"] == 3000
     assert case["particles.diameter"] == 0.003
