@@ -174,7 +174,8 @@ fn half_time(path: &Path) -> f64 {
 /// wall `hopper` in `wall_pressure.csv` weighted by its area, ∝ its height times its mean
 /// radius D/2 + z tan θ. NaN for a flat bottom or a missing file.
 fn cone_pressure(path: &Path, outlet: f64, angle_deg: f64) -> f64 {
-    if !(angle_deg < 90.0) {
+    // A flat bottom (90°) has no cone; NaN from an unreadable summary has none either.
+    if angle_deg.is_nan() || angle_deg >= 90.0 {
         return f64::NAN;
     }
     let Ok(mut reader) = csv::Reader::from_path(path) else {
