@@ -302,6 +302,12 @@ impl CoarseGraining {
     }
 }
 
+/// The parcels of factor κ that `grains` grains make: their count over κ³, rounded to the
+/// nearest whole parcel (zero when the grains are fewer than half a parcel's).
+pub(crate) fn parcel_count(grains: usize, factor: f64) -> usize {
+    (grains as f64 / (factor * factor * factor)).round() as usize
+}
+
 impl ParticleSpec {
     /// Table 1: 3000 spheres of 3 mm, ρ = 2500 kg/m³, G = 1e8 Pa, ν = 0.25.
     pub fn paper() -> Self {
@@ -333,9 +339,8 @@ impl ParticleSpec {
     /// components, materials and fractions, and the grains kept in
     /// [`ParticleSpec::coarse_graining`].
     pub fn coarse_grained(&self, factor: f64) -> ParticleSpec {
-        let grains_per_parcel = factor * factor * factor;
         ParticleSpec {
-            count: ((self.count as f64 / grains_per_parcel).round() as usize).max(1),
+            count: parcel_count(self.count, factor).max(1),
             components: self
                 .components
                 .iter()

@@ -5,7 +5,9 @@
 use super::document::NodeValue;
 use super::error::{number, rounded, ConfigError, ErrorKind};
 use super::limits::{MAX_COARSE_GRAINING, MAX_PARTICLE_COUNT};
-use super::particles::{Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution};
+use super::particles::{
+    parcel_count, Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution,
+};
 use super::reader::{Located, Section};
 use super::resolve_materials::NamedMaterials;
 use super::sources::{source, MaterialSources, ParticleSources};
@@ -176,7 +178,7 @@ pub(crate) fn read_particles(
             ),
         ));
         ok = false;
-    } else if (count.value as f64 / coarse.value.powi(3)).round() < 1.0 {
+    } else if count.value >= 1 && parcel_count(count.value as usize, coarse.value) == 0 {
         errors.push(coarse.error(
             ErrorKind::Invalid,
             format!(

@@ -14,7 +14,7 @@ use std::path::Path;
 use analysis::Estimate;
 use files::{CaseStatus, ResultRow, StudyPaths};
 
-use super::data::replica_mean;
+use super::data::{ratio, read_summary, replica_mean};
 
 /// The Beverloo k of spheres through a circular orifice used for the predicted ratio: the
 /// middle of the classic range 1.3–1.6 ([`super::silo::CLASSIC_K`]), as Nedderman (1992,
@@ -95,10 +95,7 @@ pub fn load_parcels(root: &Path, rows: &[ResultRow]) -> Option<Vec<ParcelRun>> {
     let mut any = false;
     for row in rows {
         let dir = paths.case_dir(&row.id);
-        let Some(summary) = std::fs::read_to_string(dir.join(files::SUMMARY_FILE))
-            .ok()
-            .and_then(|text| serde_json::from_str::<files::CaseSummary>(&text).ok())
-        else {
+        let Some(summary) = read_summary(&dir) else {
             continue;
         };
         let Some(conditions) = std::fs::read_to_string(dir.join("case.toml"))
@@ -202,14 +199,6 @@ fn cone_pressure(path: &Path, outlet: f64, angle_deg: f64) -> f64 {
     }
 }
 
-/// a/b with the relative errors combined in quadrature.
-fn ratio(a: Estimate, b: Estimate) -> Estimate {
-    let r = a.value / b.value;
-    let e =
-        r * ((a.standard_error / a.value).powi(2) + (b.standard_error / b.value).powi(2)).sqrt();
-    Estimate::new(r, e)
-}
-
 /// The tables of `runs`: cases grouped by their conditions, with at least two levels of κ.
 pub fn parcel_tables(runs: &[ParcelRun]) -> Vec<ParcelTable> {
     let mut groups: BTreeMap<&str, Vec<&ParcelRun>> = BTreeMap::new();
@@ -229,16 +218,18 @@ pub fn parcel_tables(runs: &[ParcelRun]) -> Vec<ParcelTable> {
             .values()
             .map(|runs| {
                 let first = runs[0];
-                let flowed: Vec<(f64, f64)> = runs
-                    .iter()
-                    .filter(|r| r.status == CaseStatus::Complete && r.rate.0.is_finite())
-                    .map(|r| r.rate)
-                    .collect();
                 let mean = |values: Vec<(f64, f64)>| {
                     let values: Vec<(f64, f64)> =
                         values.into_iter().filter(|v| v.0.is_finite()).collect();
                     (!values.is_empty()).then(|| replica_mean(&values))
                 };
+                // W over the replicas that flowed.
+                let rate = mean(
+                    runs.iter()
+                        .filter(|r| r.status == CaseStatus::Complete)
+                        .map(|r| r.rate)
+                        .collect(),
+                );
                 // (D − kκd)/(D − kd) = (D/d − kκ)/(D/d − k).
                 let (d_over_d, k) = (first.outlet_grains, BEVERLOO_K);
                 let beverloo_ratio = ((d_over_d - k * first.factor) / (d_over_d - k))
@@ -256,11 +247,10 @@ pub fn parcel_tables(runs: &[ParcelRun]) -> Vec<ParcelTable> {
                         .iter()
                         .filter(|r| r.status == CaseStatus::Clogged)
                         .count(),
-                    rate: (!flowed.is_empty()).then(|| replica_mean(&flowed)),
+                    rate,
                     relative_rate: None,
                     beverloo_ratio,
-                    corrected_rate: (!flowed.is_empty() && beverloo_ratio > 0.0).then(|| {
-                        let w = replica_mean(&flowed);
+                    corrected_rate: rate.filter(|_| beverloo_ratio > 0.0).map(|w| {
                         Estimate::new(w.value / beverloo_ratio, w.standard_error / beverloo_ratio)
                     }),
                     half_time: mean(runs.iter().map(|r| (r.half_time, 0.0)).collect()),

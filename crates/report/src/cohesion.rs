@@ -16,7 +16,7 @@ use analysis::Estimate;
 use files::{ArchSummary, CaseStatus, ResultRow, StudyPaths, SUMMARY_FILE};
 
 use super::bond::{bond_number, case_grains, is_self_pair, read_cohesion, GrainCohesion};
-use super::data::{case_gravity, replica_mean};
+use super::data::{case_gravity, ratio, replica_mean};
 
 /// Relative tolerance under which two outlet widths are the same grid value.
 const WIDTH_TOLERANCE: f64 = 1e-9;
@@ -311,14 +311,6 @@ pub struct CohesionAnalysis {
 
 fn same_width(a: f64, b: f64) -> bool {
     (a - b).abs() <= WIDTH_TOLERANCE * a.abs().max(b.abs())
-}
-
-/// Ratio of two estimates, relative errors combined in quadrature (independent runs).
-fn ratio(a: Estimate, b: Estimate) -> Estimate {
-    let r = a.value / b.value;
-    let e =
-        r * ((a.standard_error / a.value).powi(2) + (b.standard_error / b.value).powi(2)).sqrt();
-    Estimate::new(r, e)
 }
 
 /// W against Bo per width, the critical widths and the arches of `study`'s cases.

@@ -151,6 +151,14 @@ pub(crate) fn replica_mean(samples: &[(f64, f64)]) -> Estimate {
     Estimate::new(mean, between.max(within))
 }
 
+/// Ratio of two estimates, relative errors combined in quadrature (independent runs).
+pub(crate) fn ratio(a: Estimate, b: Estimate) -> Estimate {
+    let r = a.value / b.value;
+    let e =
+        r * ((a.standard_error / a.value).powi(2) + (b.standard_error / b.value).powi(2)).sqrt();
+    Estimate::new(r, e)
+}
+
 /// Reads `profiles.csv` rows; `None` when absent or unreadable (the report then says the
 /// profile was not measured rather than failing).
 fn read_profiles(path: &Path) -> Option<Vec<ProfileRow>> {
@@ -244,7 +252,7 @@ pub(crate) fn case_gravity(table: &toml::Table) -> f64 {
 }
 
 /// A case's `summary.json`, when it reads.
-fn read_summary(dir: &Path) -> Option<files::CaseSummary> {
+pub(crate) fn read_summary(dir: &Path) -> Option<files::CaseSummary> {
     let text = std::fs::read_to_string(dir.join(SUMMARY_FILE)).ok()?;
     serde_json::from_str(&text).ok()
 }

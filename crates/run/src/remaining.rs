@@ -64,7 +64,6 @@ impl RemainingRecorder {
         self.samples = (since / self.interval + 1e-9).floor() as u64 + 1;
     }
 
-    /// The rows of `remaining.csv`.
     /// The rows of `remaining.csv`; with `grains_per_parcel` (κ³ of coarse-grained parcels)
     /// a fourth column, the grains the parcels stand for.
     pub(crate) fn table(&self, grains_per_parcel: Option<f64>) -> Vec<Vec<Cell>> {
