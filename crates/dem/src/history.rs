@@ -9,6 +9,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::capacity::reserve_total;
 use crate::contact::ContactHistory;
 
 /// Bit of [`HistoryArrays::live`]: the stored history is the contact's own.
@@ -32,9 +33,10 @@ pub(crate) const NO_SOURCE: u32 = u32::MAX;
 /// serialisation, equality, [`HistoryArrays::split_mut`]) sees those zeros, so the lists'
 /// contents, checkpoints and list rebuilds are what the eager clearing gave, bit for bit.
 ///
-/// Serialised as a sequence of [`ContactHistory`], the layout checkpoints have always had.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-#[serde(from = "Vec<ContactHistory>", into = "Vec<ContactHistory>")]
+/// Serialised as a sequence of [`ContactHistory`], the layout checkpoints have always had;
+/// written straight from the arrays, so that a checkpoint holds no second copy of them.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(from = "Vec<ContactHistory>")]
 pub struct HistoryArrays {
     /// Tangential displacement ξ of each contact [m].
     pub(crate) tangential: Vec<DVec3>,
@@ -61,6 +63,13 @@ impl HistoryArrays {
         self.tangential.clear();
         self.rolling.clear();
         self.live.clear();
+    }
+
+    /// Makes room for `len` contacts in all ([`reserve_total`]).
+    pub(crate) fn reserve_total(&mut self, len: usize) {
+        reserve_total(&mut self.tangential, len);
+        reserve_total(&mut self.rolling, len);
+        reserve_total(&mut self.live, len);
     }
 
     /// Appends one contact's history.
@@ -94,6 +103,7 @@ impl HistoryArrays {
     /// to make this copy cost about 10 ns an entry. The kept value or +0.0 is chosen by masking its bits, so the copy is exact.
     pub(crate) fn carry_from(&mut self, old: &HistoryArrays, source: &[u32]) {
         self.clear();
+        self.reserve_total(source.len());
         let n = old.len();
         if n == 0 {
             self.tangential.resize(source.len(), DVec3::ZERO);
@@ -184,9 +194,20 @@ impl PartialEq for HistoryArrays {
     }
 }
 
+impl Serialize for HistoryArrays {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_seq(self.iter())
+    }
+}
+
 impl FromIterator<ContactHistory> for HistoryArrays {
     fn from_iter<I: IntoIterator<Item = ContactHistory>>(iter: I) -> Self {
+        let iter = iter.into_iter();
         let mut out = Self::default();
+        let (least, _) = iter.size_hint();
+        out.tangential.reserve_exact(least);
+        out.rolling.reserve_exact(least);
+        out.live.reserve_exact(least);
         for h in iter {
             out.push(h);
         }

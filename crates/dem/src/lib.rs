@@ -11,6 +11,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
 #![warn(missing_docs)]
 
+mod capacity;
 pub mod contact;
 mod contacts;
 mod error;

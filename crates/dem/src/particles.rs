@@ -121,6 +121,23 @@ impl ParticleSet {
         self.tag.iter().position(|&t| t == tag)
     }
 
+    /// Reserves room for exactly `additional` more particles in every array.
+    pub(crate) fn reserve_exact(&mut self, additional: usize) {
+        self.tag.reserve_exact(additional);
+        self.position.reserve_exact(additional);
+        self.velocity.reserve_exact(additional);
+        self.omega.reserve_exact(additional);
+        self.force.reserve_exact(additional);
+        self.torque.reserve_exact(additional);
+        self.radius.reserve_exact(additional);
+        self.mass.reserve_exact(additional);
+        self.inertia.reserve_exact(additional);
+        self.inv_mass.reserve_exact(additional);
+        self.inv_inertia.reserve_exact(additional);
+        self.material.reserve_exact(additional);
+        self.flags.reserve_exact(additional);
+    }
+
     pub(crate) fn push(&mut self, init: &ParticleInit, density: f64) -> ParticleTag {
         let r = init.radius;
         let mass = density * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;

@@ -21,7 +21,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{case_changes, config_hash, framed, unframed, FrameFault, KeyChange};
+use super::checkpoint::{
+    case_changes, config_hash, unframed, write_framed, FrameFault, KeyChange,
+};
 use files::{BED_CASE_FILE, BED_FILE};
 
 use super::protocol::RunState;
@@ -307,12 +309,11 @@ pub(crate) fn write_bed(
     remove_stale_temporaries(dir)?;
     write_atomic(dir.join(BED_CASE_FILE), case_file_text.as_bytes())?;
     let path = dir.join(BED_FILE);
-    let mut body = postcard::to_allocvec(header)
-        .map_err(|e| OutputError::invalid(&path, format!("bed header: {e}")))?;
-    let state = postcard::to_allocvec(state)
-        .map_err(|e| OutputError::invalid(&path, format!("bed state: {e}")))?;
-    body.extend_from_slice(&state);
-    write_atomic(&path, &framed(&BED_MAGIC, &body))
+    write_framed(&path, &BED_MAGIC, |out| {
+        postcard::to_io(header, &mut *out).map_err(|e| format!("bed header: {e}"))?;
+        postcard::to_io(state, &mut *out).map_err(|e| format!("bed state: {e}"))?;
+        Ok(())
+    })
 }
 
 /// The header of `dir`'s bed, if it holds a readable one of this program version.

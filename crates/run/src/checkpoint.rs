@@ -21,16 +21,17 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::io::Write;
 use std::path::Path;
 
 use sha2::{Digest, Sha256};
 
 use super::outputs::PictureSchedule;
-use super::protocol::RunState;
+use super::protocol::{RunState, RunStateView};
 use super::time_spent::TimeSpent;
 use super::unclog::UnclogRecord;
 use files::StartRecord;
-use files::{write_atomic, OutputError};
+use files::{AtomicFile, OutputError};
 
 /// The first eight bytes of every checkpoint: a name and the layout's version (9: each
 /// contact's history says whether the pair is bonded by its cohesion, and the state how far
@@ -102,34 +103,95 @@ pub enum CheckpointError {
     },
 }
 
-/// Writes `header`, `state`, the snapshot schedule `pictures` and the time `spent` so far to
-/// `path` atomically.
+/// Writes `header`, the run's `state`, the snapshot schedule `pictures` and the time `spent`
+/// so far to `path` atomically, streamed: the body is never held in memory whole.
 pub(crate) fn write_checkpoint(
     path: &Path,
     header: &CheckpointHeader,
-    state: &RunState,
+    state: RunStateView<'_>,
     pictures: &PictureSchedule,
     spent: &TimeSpent,
 ) -> Result<(), OutputError> {
-    let mut body = postcard::to_allocvec(header)
-        .map_err(|e| OutputError::invalid(path, format!("checkpoint header: {e}")))?;
-    let saved = postcard::to_allocvec(&(state, pictures))
-        .map_err(|e| OutputError::invalid(path, format!("checkpoint state: {e}")))?;
-    body.extend_from_slice(&saved);
-    let spent = postcard::to_allocvec(spent)
-        .map_err(|e| OutputError::invalid(path, format!("checkpoint time spent: {e}")))?;
-    body.extend_from_slice(&spent);
-    if let Some(record) = &state.unclog {
-        let record = postcard::to_allocvec(record)
-            .map_err(|e| OutputError::invalid(path, format!("checkpoint clogs: {e}")))?;
-        body.extend_from_slice(&record);
-    }
-    write_atomic(path, &framed(&MAGIC, &body))
+    write_framed(path, &MAGIC, |out| {
+        postcard::to_io(header, &mut *out).map_err(|e| format!("checkpoint header: {e}"))?;
+        postcard::to_io(&(state, pictures), &mut *out)
+            .map_err(|e| format!("checkpoint state: {e}"))?;
+        postcard::to_io(spent, &mut *out).map_err(|e| format!("checkpoint time spent: {e}"))?;
+        if let Some(record) = &state.record.unclog {
+            postcard::to_io(record, &mut *out).map_err(|e| format!("checkpoint clogs: {e}"))?;
+        }
+        Ok(())
+    })
 }
 
-/// A body framed as a checkpoint is, behind `magic`: the magic, the body's length, the body
-/// and its SHA-256 (the layout in the module comment). Saved beds share it
-/// (`run::bed`), with a magic of their own.
+/// Bytes counted and hashed, not kept.
+#[derive(Default)]
+struct Tally {
+    length: u64,
+    hasher: Sha256,
+}
+
+impl Write for Tally {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.length += bytes.len() as u64;
+        self.hasher.update(bytes);
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Writes to `path` atomically the body that `body` writes, framed behind `magic` as the
+/// module comment lays out (the magic, the body's length, the body, its SHA-256). The body
+/// is streamed, not held in memory: `body` runs twice, once to count and hash its bytes and
+/// once to write them, so it must write the same bytes each time (a serialisation does).
+/// Saved beds share the frame (`run::bed`), with a magic of their own.
+pub(crate) fn write_framed(
+    path: &Path,
+    magic: &[u8; 8],
+    body: impl Fn(&mut dyn Write) -> Result<(), String>,
+) -> Result<(), OutputError> {
+    let mut tally = Tally::default();
+    body(&mut tally).map_err(|e| OutputError::invalid(path, e))?;
+    let length = tally.length;
+    let digest = tally.hasher.finalize();
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(magic)
+        .and_then(|()| file.write_all(&length.to_le_bytes()))
+        .map_err(|e| OutputError::io(path, e))?;
+    let mut written = Tally::default();
+    body(&mut Both(&mut file, &mut written)).map_err(|e| OutputError::invalid(path, e))?;
+    if written.length != length {
+        return Err(OutputError::invalid(
+            path,
+            format!("the body wrote {} bytes, then {length}", written.length),
+        ));
+    }
+    file.write_all(&digest)
+        .map_err(|e| OutputError::io(path, e))?;
+    file.commit()
+}
+
+/// A writer that writes to a file and counts what it wrote.
+struct Both<'a>(&'a mut AtomicFile, &'a mut Tally);
+
+impl Write for Both<'_> {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        let n = self.0.write(bytes)?;
+        self.1.length += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
+}
+
+/// The bytes that [`write_framed`] writes for `body`, in memory: the frame's definition,
+/// against which the tests hold the streamed file.
+#[cfg(test)]
 pub(crate) fn framed(magic: &[u8; 8], body: &[u8]) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(PREFIX + body.len() + DIGEST);
     bytes.extend_from_slice(magic);
@@ -230,7 +292,7 @@ pub(crate) fn read_checkpoint(path: &Path) -> Result<Checkpoint, CheckpointError
         let (spent, rest) = postcard::take_from_bytes::<TimeSpent>(rest)
             .map_err(|e| CheckpointError::Undecodable(format!("time spent: {e}")))?;
         if !rest.is_empty() {
-            state.unclog = Some(
+            state.record.unclog = Some(
                 postcard::from_bytes::<UnclogRecord>(rest)
                     .map_err(|e| CheckpointError::Undecodable(format!("clogs: {e}")))?,
             );
@@ -348,6 +410,40 @@ mod tests {
             "geometry.outlet_width: 0.018 -> 0.03"
         );
         assert!(case_changes(old, old).is_empty());
+    }
+
+    #[test]
+    fn a_streamed_frame_holds_the_bytes_of_the_frame_in_memory() {
+        let dir = std::env::temp_dir().join(format!("hopperflow-frame-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("frame.bin");
+        let parts: [&[u8]; 3] = [b"some ", b"", b"body"];
+        write_framed(&path, &MAGIC, |out| {
+            parts
+                .iter()
+                .try_for_each(|p| out.write_all(p))
+                .map_err(|e| e.to_string())
+        })
+        .unwrap();
+        let written = std::fs::read(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(written, framed(&MAGIC, b"some body"));
+    }
+
+    #[test]
+    fn a_body_that_writes_other_bytes_the_second_time_is_refused() {
+        let dir = std::env::temp_dir().join(format!("hopperflow-frame2-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("frame.bin");
+        let calls = std::cell::Cell::new(0);
+        let result = write_framed(&path, &MAGIC, |out| {
+            calls.set(calls.get() + 1);
+            out.write_all(&vec![0; calls.get()]).map_err(|e| e.to_string())
+        });
+        let left = std::fs::read_dir(&dir).unwrap().count();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(result.is_err(), "{result:?}");
+        assert_eq!(left, 0, "nothing is left behind");
     }
 
     #[test]

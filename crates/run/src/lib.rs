@@ -652,7 +652,7 @@ pub fn run_case_from(
                 case_text: case_text.clone(),
                 time: run.simulation().time(),
                 particles: run.simulation().particles().len(),
-                settled: state.settled,
+                settled: state.record.settled,
             };
             bed::write_bed(dir, &bed, &state, &case_file_text)?;
         }

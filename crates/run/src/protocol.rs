@@ -137,10 +137,38 @@ impl Phase {
     }
 }
 
-/// Everything of a run that a checkpoint must hold to resume bit-identically.
+/// Everything of a run that a checkpoint must hold to resume bit-identically: the engine's
+/// state, then the protocol's record. A running case holds only the record beside its
+/// live [`Simulation`] and serialises the two as a [`RunStateView`], so that no second copy
+/// of the particles and contact histories is kept; both serialise to the same bytes.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RunState {
     pub(crate) sim: SimulationState,
+    pub(crate) record: RunRecord,
+}
+
+/// A run's state borrowed from a running case: serialises as [`RunState`] does, byte for
+/// byte (postcard writes a struct as its fields in order).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub(crate) struct RunStateView<'a> {
+    pub(crate) sim: &'a SimulationState,
+    pub(crate) record: &'a RunRecord,
+}
+
+impl RunStateView<'_> {
+    /// An owned copy of the state.
+    pub(crate) fn to_owned(self) -> RunState {
+        RunState {
+            sim: self.sim.clone(),
+            record: self.record.clone(),
+        }
+    }
+}
+
+/// The protocol's part of a run's state: the walls' handles, the fill's draws, the phase, the
+/// probes and the recorders.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunRecord {
     pub(crate) walls: ContainerWalls,
     /// The engine material of each component of `particles.components`.
     pub(crate) materials: Vec<MaterialId>,
@@ -193,20 +221,22 @@ impl RunState {
 
     /// The handles of the container's walls in [`RunState::simulation`].
     pub fn walls(&self) -> &ContainerWalls {
-        &self.walls
+        &self.record.walls
     }
 
     /// The engine material of each component of `particles.components`, in order.
     pub fn component_materials(&self) -> &[MaterialId] {
-        &self.materials
+        &self.record.materials
     }
 
     /// The component of each particle, by tag, for a mixture (an index into
     /// `particles.components`; `u8::MAX` for a tag never given one); empty for one component.
     pub fn particle_components(&self) -> &[u8] {
-        &self.components
+        &self.record.components
     }
+}
 
+impl RunRecord {
     /// Records that the particle tagged `tag` belongs to mixture component `component`.
     fn record_component(&mut self, tag: u64, component: u8) {
         let k = tag as usize;
@@ -221,7 +251,7 @@ impl RunState {
 pub struct CaseRun {
     pub(crate) case: Case,
     pub(crate) sim: Simulation,
-    pub(crate) state: RunState,
+    pub(crate) state: RunRecord,
     /// Whether to keep the state at the end of the settling ([`CaseRun::keep_bed`]).
     keep_bed: bool,
     /// The state kept at the end of the settling, gate closed, until taken.
@@ -404,8 +434,7 @@ impl CaseRun {
         let pressure = pressure_recorder(case, &walls, &mut sim)?;
         let wall_forces =
             WallForceRecorder::new(&sim, &walls, case.measure.rate_bin_width, case.time_step);
-        let state = RunState {
-            sim: sim.state().clone(),
+        let state = RunRecord {
             walls,
             materials,
             rng: Xoshiro256PlusPlus::seed_from_u64(case.seed),
@@ -443,8 +472,12 @@ impl CaseRun {
     }
 
     /// Resumes from a checkpointed state.
-    pub fn resume(case: &Case, mut state: RunState, threads: usize) -> Result<Self, RunError> {
-        let sim = Simulation::from_state(state.sim.clone(), threads)?;
+    pub fn resume(case: &Case, state: RunState, threads: usize) -> Result<Self, RunError> {
+        let RunState {
+            sim,
+            record: mut state,
+        } = state;
+        let sim = Simulation::from_state(sim, threads)?;
         if state.fields.is_none() {
             state.fields = FieldsRecorder::new(case)?;
         }
@@ -481,7 +514,8 @@ impl CaseRun {
     /// case nothing changes, and the discharge is the saving run's, bit for bit.
     pub fn from_bed(case: &Case, bed: RunState, threads: usize) -> Result<Self, RunError> {
         let mut run = Self::new(case, 1)?;
-        let mut sim = Simulation::from_state(bed.sim, threads)?;
+        let RunState { sim, record: bed } = bed;
+        let mut sim = Simulation::from_state(sim, threads)?;
         let changed = adopt_walls(&mut sim, &run.sim)?;
         run.rebuilt = changed
             .iter()
@@ -513,7 +547,6 @@ impl CaseRun {
         );
         run.state.bulk = run.measure_bulk().ok();
         run.open_gate()?;
-        run.state.sim = run.sim.state().clone();
         Ok(run)
     }
 
@@ -525,6 +558,7 @@ impl CaseRun {
         // A mixture's particles each get their component's material, and the run records
         // their components by tag, as the fill does.
         let components = packing.components();
+        run.sim.reserve_particles(packing.particles().len());
         for (k, p) in packing.particles().iter().enumerate() {
             let component = components.get(k).copied();
             let material = run.state.materials[component.map_or(0, usize::from)];
@@ -538,7 +572,6 @@ impl CaseRun {
         let t = run.sim.time();
         run.state.next_check = t + MIN_SETTLE_AFTER_FILL;
         run.state.phase = Phase::Settle { since: t };
-        run.state.sim = run.sim.state().clone();
         Ok(run)
     }
 
@@ -561,10 +594,12 @@ impl CaseRun {
         self.bed.take().map(|b| *b)
     }
 
-    /// The state to checkpoint (the engine state is refreshed first).
-    pub fn checkpoint(&mut self) -> &RunState {
-        self.state.sim = self.sim.state().clone();
-        &self.state
+    /// The state to checkpoint, borrowed from the engine and the protocol.
+    pub(crate) fn checkpoint(&self) -> RunStateView<'_> {
+        RunStateView {
+            sim: self.sim.state(),
+            record: &self.state,
+        }
     }
 
     /// The simulation (read-only).
@@ -627,6 +662,9 @@ impl CaseRun {
 
     fn fill(&mut self, inserted: usize, last_insert: f64, chunk: u64) -> Result<(), RunError> {
         let total = self.case.particles.count;
+        if inserted == 0 && self.sim.particles().is_empty() {
+            self.sim.reserve_particles(total);
+        }
         let t = self.sim.time();
         let mut inserted = inserted;
         let mut last = last_insert;
@@ -738,7 +776,7 @@ impl CaseRun {
             self.state.fill_mass = self.sim.particles().masses().iter().sum();
             if self.keep_bed {
                 // The bed: everything a run from it needs to discharge as this one will.
-                self.bed = Some(Box::new(self.checkpoint().clone()));
+                self.bed = Some(Box::new(self.checkpoint().to_owned()));
             }
             match &self.case.geometry {
                 Geometry::Heap(g) => self.start_lift(g.lift_speed)?,
@@ -1266,5 +1304,31 @@ impl OwnedSnapshot {
             density,
             masses: self.masses.as_deref(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_borrowed_state_serialises_as_the_owned_one_and_reads_back_to_it() {
+        // A running case keeps no copy of the engine's state: its checkpoints serialise a
+        // view of the live simulation and the record. Those bytes must be the ones of the
+        // owned `RunState` that a resume reads, or resumed runs would not continue bit for
+        // bit. Mid-fill, particles and contacts present.
+        let text = include_str!("../tests/data/tiny.toml");
+        let case = case::parse_case(text, "tiny.toml", &[]).expect("the tiny case is valid");
+        let mut run = CaseRun::new(&case, 1).expect("builds");
+        while run.simulation().particles().len() < 100 {
+            run.advance().expect("fills");
+        }
+        let viewed = postcard::to_allocvec(&run.checkpoint()).expect("serialises");
+        let owned = run.checkpoint().to_owned();
+        assert_eq!(postcard::to_allocvec(&owned).expect("serialises"), viewed);
+        let read: RunState = postcard::from_bytes(&viewed).expect("reads back");
+        assert_eq!(postcard::to_allocvec(&read).expect("serialises"), viewed);
+        let resumed = Simulation::from_state(read.sim, 1).expect("resumes");
+        assert_eq!(resumed.particles().len(), run.simulation().particles().len());
     }
 }

@@ -45,6 +45,7 @@ pub(super) fn carry_moved_pairs(
         row[x + 1] += row[x];
     }
     history.clear();
+    history.reserve_total(ids.0.len());
     for (&a, &b) in ids.0.iter().zip(ids.1) {
         let (x, y) = (origin[a as usize], origin[b as usize]);
         let (lo, hi) = (x.min(y) as usize, x.max(y));
@@ -81,6 +82,7 @@ pub(super) fn carry_moved_walls(
     slot.resize(size, NO_SOURCE);
     let mut current: Option<(u32, std::ops::Range<usize>)> = None;
     history.clear();
+    history.reserve_total(walls.len());
     for (&w, &a) in walls.iter().zip(bodies) {
         if current.as_ref().is_none_or(|(v, _)| *v != w) {
             if let Some((_, run)) = current.take() {

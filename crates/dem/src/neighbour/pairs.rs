@@ -2,6 +2,7 @@
 //! pair by cell pair and put in (i, j) order.
 
 use super::*;
+use crate::capacity::reserve_total;
 
 /// Sorts a few indices in place: insertion sort, as the lists of one particle's new
 /// neighbours hold a handful.
@@ -154,6 +155,8 @@ pub(super) fn into_pair_order(
     }
     i_out.clear();
     j_out.clear();
+    reserve_total(i_out, found.len());
+    reserve_total(j_out, found.len());
     j_out.resize(found.len(), 0);
     fill.clear();
     fill.extend_from_slice(first);

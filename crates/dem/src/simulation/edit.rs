@@ -120,6 +120,13 @@ impl Simulation {
         Ok(())
     }
 
+    /// Makes room for `additional` more particles at once, so that adding a known number of
+    /// them allocates each array once, to its size, instead of doubling it on the way
+    /// (up to twice the memory the particles need). Changes nothing else.
+    pub fn reserve_particles(&mut self, additional: usize) {
+        self.state.particles.reserve_exact(additional);
+    }
+
     /// Adds a particle; its initial force is its weight.
     pub fn add_particle(&mut self, init: ParticleInit) -> Result<ParticleTag, DemError> {
         check_material_id(init.material, self.state.materials.len())?;

@@ -403,7 +403,7 @@ pub fn discharge_benchmark(
                 if let Some(dir) = path.parent() {
                     let _ = std::fs::create_dir_all(dir);
                 }
-                if let Ok(bytes) = postcard::to_allocvec(run.checkpoint()) {
+                if let Ok(bytes) = postcard::to_allocvec(&run.checkpoint()) {
                     files::write_atomic(path, &bytes)?;
                 }
             }

@@ -2,11 +2,13 @@
 
 use crate::bench::process_memory;
 
-/// Peak resident memory per sphere of a run [bytes]: the benchmark silo's runs peaked at 2.5
-/// and 2.9 kB per sphere (docs/reproduction.md), particle arrays, pair lists with their
-/// histories, probes, the checkpoint's copy of the state and its serialised bytes included;
-/// rounded up. The quasi-2D slab, with fewer contacts per sphere, needs less.
-pub const BYTES_PER_SPHERE: f64 = 3000.0;
+/// Peak resident memory per sphere of a run [bytes]: silo runs from a packing of 10^5 and
+/// 10^6 spheres peaked at 1.0 and 0.79 kB a sphere, the rise between them 0.76 kB a sphere
+/// (docs/performance.md, "Memory of a silo run"): particle arrays, the candidate lists and
+/// their histories (two of each, the old lists kept while the new ones take over their
+/// histories), probes and the checkpoint's streamed writing included; rounded up. The
+/// quasi-2D slab, with fewer contacts per sphere, needs less.
+pub const BYTES_PER_SPHERE: f64 = 1000.0;
 
 /// Memory of a run's outputs besides the particles [bytes]: the plots are drawn as bitmaps
 /// in memory. The base case's run (3000 spheres, 16.6 MB at its peak) peaked 2.2 MB above the

@@ -306,7 +306,7 @@ mod tests {
         let wall = e.wall_time.total();
         assert!((wall - expected * 30e-9).abs() < 1e-12 * wall, "{wall}");
         assert_eq!(e.steps, fill_steps + settle + discharge);
-        // Memory: the outputs' allowance and 3 kB a sphere over the baseline (0 here).
+        // Memory: the outputs' allowance and 1 kB a sphere over the baseline (0 here).
         let memory = OUTPUT_MEMORY + 3000.0 * BYTES_PER_SPHERE;
         assert!((e.peak_memory - memory).abs() < 1e-6, "{}", e.peak_memory);
         // About 14 minutes of wall time at most: within the limit, so no refusal.
