@@ -5,7 +5,7 @@
 # pytest.
 #
 # Needs python3 (≥ 3.9, with venv and pip) and the package index for maturin, numpy,
-# pandas, matplotlib, pytest and mypy.
+# pandas, matplotlib, pytest, pytest-xdist and mypy.
 #
 # `--prepare` only makes the virtual environment (scripts/test.sh runs that while Cargo
 # builds, as it waits mostly on the network and the disk); `--prepared` uses the one made.
@@ -19,7 +19,7 @@ if [ "${1:-}" != --prepared ]; then
     mkdir -p target
     python3 -m venv --clear "$venv"
     "$venv/bin/python" -m pip install --quiet --upgrade pip
-    "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest mypy
+    "$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" numpy pandas matplotlib pytest pytest-xdist mypy
 fi
 if [ "${1:-}" = --prepare ]; then
     exit 0
@@ -52,5 +52,8 @@ checked=$(date +%s)
 echo "Type check: $(($(date +%s) - checked)) s"
 
 # Run from outside the source tree, so that `import hopperflow` finds the installed wheel.
-(cd target && "../$venv/bin/python" -m pytest ../crates/python/tests -q -p no:cacheprovider)
+# pytest-xdist spreads the tests over the cores (at most four workers; each makes the
+# session's shared runs of the tiny case for itself): most of them wait on one-thread runs.
+(cd target && "../$venv/bin/python" -m pytest ../crates/python/tests -q -p no:cacheprovider \
+    -n auto --maxprocesses 4)
 echo "Python part: $(($(date +%s) - started)) s"
