@@ -36,8 +36,8 @@ pub struct RunArgs {
     /// Worker threads (results are identical for any value). The forces and the kick and
     /// drift run in parallel; list builds and the run's measurements stay on one thread. For
     /// 10^5 spheres and more two threads are nearly twice as fast as one; for the paper's
-    /// 3000 spheres a whole run is only 1-7 % faster (docs/performance.md). Several cases use
-    /// the cores better side by side: `study --jobs`.
+    /// 3000 spheres they gain about a quarter (docs/performance.md, "Threads"). Several cases
+    /// use the cores better side by side: `study --jobs`.
     #[arg(long, default_value_t = 1)]
     threads: usize,
     /// No progress bar.
