@@ -52,8 +52,8 @@ checked=$(date +%s)
 echo "Type check: $(($(date +%s) - checked)) s"
 
 # Run from outside the source tree, so that `import hopperflow` finds the installed wheel.
-# pytest-xdist spreads the tests over the cores (at most four workers; each makes the
-# session's shared runs of the tiny case for itself): most of them wait on one-thread runs.
+# pytest-xdist spreads the tests over the cores (at most four workers; each makes for itself
+# the runs of the tiny case that the tests share): most of them wait on one-thread runs.
 (cd target && "../$venv/bin/python" -m pytest ../crates/python/tests -q -p no:cacheprovider \
     -n auto --maxprocesses 4)
 echo "Python part: $(($(date +%s) - started)) s"
