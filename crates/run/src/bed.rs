@@ -21,9 +21,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::checkpoint::{
-    case_changes, config_hash, unframed, write_framed, FrameFault, KeyChange,
-};
+use super::checkpoint::{case_changes, config_hash, unframed, write_framed, FrameFault, KeyChange};
 use files::{BED_CASE_FILE, BED_FILE};
 
 use super::protocol::RunState;

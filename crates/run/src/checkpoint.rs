@@ -161,12 +161,15 @@ pub(crate) fn write_framed(
     file.write_all(magic)
         .and_then(|()| file.write_all(&length.to_le_bytes()))
         .map_err(|e| OutputError::io(path, e))?;
-    let mut written = Tally::default();
-    body(&mut Both(&mut file, &mut written)).map_err(|e| OutputError::invalid(path, e))?;
+    let mut written = Counted {
+        file: &mut file,
+        length: 0,
+    };
+    body(&mut written).map_err(|e| OutputError::invalid(path, e))?;
     if written.length != length {
         return Err(OutputError::invalid(
             path,
-            format!("the body wrote {} bytes, then {length}", written.length),
+            format!("the body wrote {length} bytes, then {}", written.length),
         ));
     }
     file.write_all(&digest)
@@ -174,18 +177,21 @@ pub(crate) fn write_framed(
     file.commit()
 }
 
-/// A writer that writes to a file and counts what it wrote.
-struct Both<'a>(&'a mut AtomicFile, &'a mut Tally);
+/// A file and the bytes written to it.
+struct Counted<'a> {
+    file: &'a mut AtomicFile,
+    length: u64,
+}
 
-impl Write for Both<'_> {
+impl Write for Counted<'_> {
     fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
-        let n = self.0.write(bytes)?;
-        self.1.length += n as u64;
+        let n = self.file.write(bytes)?;
+        self.length += n as u64;
         Ok(n)
     }
 
     fn flush(&mut self) -> std::io::Result<()> {
-        self.0.flush()
+        self.file.flush()
     }
 }
 
@@ -438,7 +444,8 @@ mod tests {
         let calls = std::cell::Cell::new(0);
         let result = write_framed(&path, &MAGIC, |out| {
             calls.set(calls.get() + 1);
-            out.write_all(&vec![0; calls.get()]).map_err(|e| e.to_string())
+            out.write_all(&vec![0; calls.get()])
+                .map_err(|e| e.to_string())
         });
         let left = std::fs::read_dir(&dir).unwrap().count();
         std::fs::remove_dir_all(&dir).unwrap();

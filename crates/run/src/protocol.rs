@@ -662,9 +662,8 @@ impl CaseRun {
 
     fn fill(&mut self, inserted: usize, last_insert: f64, chunk: u64) -> Result<(), RunError> {
         let total = self.case.particles.count;
-        if inserted == 0 && self.sim.particles().is_empty() {
-            self.sim.reserve_particles(total);
-        }
+        // Room for the whole fill at once (nothing once it is there).
+        self.sim.reserve_particles(total.saturating_sub(inserted));
         let t = self.sim.time();
         let mut inserted = inserted;
         let mut last = last_insert;
@@ -1329,6 +1328,9 @@ mod tests {
         let read: RunState = postcard::from_bytes(&viewed).expect("reads back");
         assert_eq!(postcard::to_allocvec(&read).expect("serialises"), viewed);
         let resumed = Simulation::from_state(read.sim, 1).expect("resumes");
-        assert_eq!(resumed.particles().len(), run.simulation().particles().len());
+        assert_eq!(
+            resumed.particles().len(),
+            run.simulation().particles().len()
+        );
     }
 }
