@@ -495,7 +495,7 @@ fn checkpoint_header(
 fn write_checkpoint(
     path: &Path,
     header: &CheckpointHeader,
-    run: &mut CaseRun,
+    run: &CaseRun,
     pictures: &outputs::Pictures,
     spent: &TimeSpent,
 ) -> Result<(), RunError> {
@@ -662,7 +662,7 @@ pub fn run_case_from(
             next_checkpoint = t + case.output.checkpoint_interval;
             let header = checkpoint_header(case, &case_text, &hash, &run, record.as_ref());
             let spent = earlier.then(started.elapsed().as_secs_f64(), protocol_time);
-            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures, &spent)?;
+            write_checkpoint(&checkpoint_path, &header, &run, &pictures, &spent)?;
         }
         if let Some(report) = &options.progress {
             let sim = run.simulation();
@@ -713,7 +713,7 @@ pub fn run_case_from(
         if stopped || options.chunk_limit.is_some_and(|limit| chunks >= limit) {
             let header = checkpoint_header(case, &case_text, &hash, &run, record.as_ref());
             let spent = earlier.then(started.elapsed().as_secs_f64(), protocol_time);
-            write_checkpoint(&checkpoint_path, &header, &mut run, &pictures, &spent)?;
+            write_checkpoint(&checkpoint_path, &header, &run, &pictures, &spent)?;
             return Ok(RunOutcome::Interrupted);
         }
     }
