@@ -12,6 +12,7 @@
 #![warn(missing_docs)]
 
 mod capacity;
+pub mod clump;
 pub mod contact;
 mod contacts;
 mod error;
@@ -37,7 +38,7 @@ pub use contacts::{Contacts, PairContact, WallContact, SLIP_MARGIN};
 pub use error::DemError;
 pub use forces::loads::{ElementLoad, SurfaceLoads, WallLoad};
 pub use forces::ContactCount;
-pub use glam::DVec3;
+pub use glam::{DQuat, DVec3};
 pub use material::{
     Interaction, Material, MaterialEntry, MaterialTable, MaterialTableError, PairEntry,
     WallMaterial,

@@ -26,6 +26,10 @@ pub mod j3;
 pub mod j4;
 mod meshes;
 pub mod p1;
+pub mod profile;
+pub mod rb1;
+pub mod rb2;
+pub mod rb3;
 mod resolution;
 mod row;
 mod surface;
@@ -49,7 +53,7 @@ type Case = (
 );
 
 /// Every case of docs/physics.md §9 that this crate implements, in the order of the spec.
-const CASES: [Case; 22] = [
+const CASES: [Case; 25] = [
     ("CO1", co1::run),
     ("CO2", co2::run),
     ("CO3", co3::run),
@@ -72,6 +76,9 @@ const CASES: [Case; 22] = [
     ("J2", j2::run),
     ("J3", j3::run),
     ("J4", j4::run),
+    ("RB1", rb1::run),
+    ("RB2", rb2::run),
+    ("RB3", rb3::run),
 ];
 
 /// Runs every case at `resolution` and returns all rows, in the order of docs/physics.md §9.

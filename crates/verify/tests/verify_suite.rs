@@ -120,6 +120,12 @@ fn every_case_reports_exactly_its_rows() {
         ("J3", 5),
         // curve, no force across the gap, parting speed.
         ("J4", 3),
+        // energy, carried momentum, flip interval, peak of ω₂.
+        ("RB1", 4),
+        // spin constancy, body-frame and world precession rates.
+        ("RB2", 3),
+        // one bead × 2, dumbbell × 2, lens, rod × 3.
+        ("RB3", 8),
     ];
     let rows = fast_rows();
     for (case, n) in expected {

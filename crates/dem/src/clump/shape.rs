@@ -1,0 +1,166 @@
+//! A clump as its user gives it (member spheres in any frame), and the rigid body it makes:
+//! mass, centre of mass, principal moments and axes, and the members in the principal frame.
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::mass::{union_moments, Ball};
+use super::principal::{principal_frame, rotation_quaternion};
+
+/// Why a clump's members were refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ClumpError {
+    /// No member at all.
+    #[error("a clump needs at least one member sphere; it has none")]
+    Empty,
+    /// A radius that is not a finite positive length.
+    #[error("member {member}: radius {value} m must be finite and greater than 0")]
+    Radius {
+        /// Index of the member, from 0.
+        member: usize,
+        /// The radius given [m].
+        value: f64,
+    },
+    /// A centre with a coordinate that is not finite.
+    #[error("member {member}: centre {value:?} m must have finite coordinates")]
+    Centre {
+        /// Index of the member, from 0.
+        member: usize,
+        /// The centre given [m].
+        value: [f64; 3],
+    },
+}
+
+/// Member spheres (centres [m] and radii [m]) in the frame their user gave them in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClumpShape {
+    members: Vec<Ball>,
+}
+
+impl ClumpShape {
+    /// The clump of `members`, refused when empty or when a member is not a finite ball.
+    pub fn new(members: Vec<Ball>) -> Result<Self, ClumpError> {
+        if members.is_empty() {
+            return Err(ClumpError::Empty);
+        }
+        for (member, &(c, r)) in members.iter().enumerate() {
+            if !(r > 0.0 && r.is_finite()) {
+                return Err(ClumpError::Radius { member, value: r });
+            }
+            if !c.is_finite() {
+                return Err(ClumpError::Centre {
+                    member,
+                    value: c.to_array(),
+                });
+            }
+        }
+        Ok(Self { members })
+    }
+
+    /// The members as given.
+    pub fn members(&self) -> &[Ball] {
+        &self.members
+    }
+
+    /// The rigid body of these members at `density` [kg/m³].
+    pub fn body(&self, density: f64) -> ClumpBody {
+        // Moments about the members' mean centre: about a far origin, the second moment's
+        // V c cᵀ would swamp the part that the inertia is made of.
+        let origin =
+            self.members.iter().map(|&(c, _)| c).sum::<DVec3>() / self.members.len() as f64;
+        let near: Vec<Ball> = self.members.iter().map(|&(c, r)| (c - origin, r)).collect();
+        let m = union_moments(&near);
+        let offset = m.first / m.volume;
+        let centre = origin + offset;
+        // ∫ x xᵀ about the centre, then the inertia tensor tr(S) 1 − S, per unit density.
+        let outer = DMat3::from_cols(offset * offset.x, offset * offset.y, offset * offset.z);
+        let s = m.second - outer * m.volume;
+        let trace = s.x_axis.x + s.y_axis.y + s.z_axis.z;
+        let inertia = DMat3::from_diagonal(DVec3::splat(trace)) - s;
+        let (moments, frame) = principal_frame(inertia);
+        let axes = rotation_quaternion(frame);
+        let members = self
+            .members
+            .iter()
+            .map(|&(c, r)| (axes.inverse() * (c - centre), r))
+            .collect();
+        ClumpBody {
+            volume: m.volume,
+            mass: density * m.volume,
+            centre,
+            principal_inertia: moments * density,
+            axes,
+            members,
+        }
+    }
+}
+
+/// A clump as a rigid body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClumpBody {
+    /// Volume of the members' union [m³].
+    pub volume: f64,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Centre of mass [m], in the frame the members were given in.
+    pub centre: DVec3,
+    /// Principal moments of inertia about the centre of mass [kg m²], ascending.
+    pub principal_inertia: DVec3,
+    /// The principal frame: the rotation from it to the frame the members were given in.
+    pub axes: DQuat,
+    /// The members' centres [m] in the principal frame, about the centre of mass, and their
+    /// radii [m].
+    pub members: Vec<Ball>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn bad_members_are_refused_with_the_member_and_the_value() {
+        assert_eq!(ClumpShape::new(vec![]), Err(ClumpError::Empty));
+        let e = ClumpShape::new(vec![(DVec3::ZERO, 0.001), (DVec3::X, 0.0)]).unwrap_err();
+        assert_eq!(
+            e,
+            ClumpError::Radius {
+                member: 1,
+                value: 0.0
+            }
+        );
+        assert!(e.to_string().contains("member 1") && e.to_string().contains("greater than 0"));
+        let nan = ClumpShape::new(vec![(DVec3::ZERO, f64::NAN)]).unwrap_err();
+        assert!(matches!(nan, ClumpError::Radius { member: 0, .. }));
+        let inf = ClumpShape::new(vec![(DVec3::new(0.0, f64::INFINITY, 0.0), 1.0)]).unwrap_err();
+        assert!(matches!(inf, ClumpError::Centre { member: 0, .. }));
+    }
+
+    #[test]
+    fn a_dumbbell_of_touching_balls_has_the_textbook_mass_properties() {
+        // Two balls of radius r touching at the origin along an arbitrary axis: mass 2 m,
+        // centre at the contact, I about the axis 2 (2/5 m r²), across it 2 (2/5 m r² + m r²)
+        // (parallel axes), the long axis being the principal axis of the largest moment's
+        // complement: the smallest moment.
+        let (r, rho) = (0.002, 2500.0);
+        let axis = DVec3::new(1.0, 1.0, -0.5).normalize();
+        let shape = ClumpShape::new(vec![(axis * r, r), (-axis * r, r)]).expect("valid");
+        let body = shape.body(rho);
+        let m = rho * 4.0 / 3.0 * PI * r.powi(3);
+        assert!((body.mass - 2.0 * m).abs() <= 1e-13 * m);
+        assert!(body.centre.length() <= 1e-15);
+        let along = 2.0 * 0.4 * m * r * r;
+        let across = 2.0 * (0.4 * m * r * r + m * r * r);
+        let want = DVec3::new(along, across, across);
+        assert!((body.principal_inertia - want).abs().max_element() <= 1e-12 * across);
+        // The first principal axis is the dumbbell's.
+        let long = body.axes * DVec3::X;
+        assert!(long.dot(axis).abs() >= 1.0 - 1e-12, "{long}");
+        // The members, in the principal frame, lie on its x axis at ±r.
+        for &(c, _) in &body.members {
+            assert!(
+                (c.x.abs() - r).abs() <= 1e-15 && c.y.abs() + c.z.abs() <= 1e-15,
+                "{c}"
+            );
+        }
+    }
+}
