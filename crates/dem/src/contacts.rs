@@ -37,7 +37,7 @@ use crate::contact::{BodyMotion, ContactGeometry, ContactHistory, ContactLaws};
 use crate::history::SurfaceContact;
 use crate::material::PairCoefficients;
 use crate::neighbour::{PairList, WallPairList};
-use crate::particles::{ParticleSet, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+use crate::particles::{ParticleSet, FLAG_HELD, FLAG_ROTATION_LOCKED};
 use crate::wall::{MeshScratch, Wall, WallId};
 
 /// One particle–particle contact carrying force.
@@ -118,7 +118,7 @@ impl ContactSource<'_> {
     fn motion(&self, p: &ParticleSet, k: usize) -> BodyMotion {
         let (mut velocity, mut omega) = (p.velocity[k], p.omega[k]);
         if let Some(half) = self.kicked {
-            if p.flags[k] & FLAG_FROZEN == 0 {
+            if p.flags[k] & FLAG_HELD == 0 {
                 velocity -= (half * p.inv_mass[k]) * p.force[k];
                 if p.flags[k] & FLAG_ROTATION_LOCKED == 0 {
                     omega -= (half * p.inv_inertia[k]) * p.torque[k];

@@ -44,7 +44,8 @@ pub use material::{
     WallMaterial,
 };
 pub use particles::{
-    MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_FROZEN, FLAG_ROTATION_LOCKED,
+    MaterialId, ParticleInit, ParticleSet, ParticleTag, FLAG_CLUMP_MEMBER, FLAG_FROZEN,
+    FLAG_ROTATION_LOCKED, NO_CLUMP,
 };
 pub use region_force::{ForceRegion, RegionForce};
 pub use simulation::{

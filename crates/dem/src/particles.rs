@@ -14,6 +14,13 @@ pub type ParticleTag = u64;
 pub const FLAG_ROTATION_LOCKED: u8 = 1;
 /// Neither translation nor rotation is integrated (a fixed particle).
 pub const FLAG_FROZEN: u8 = 2;
+/// A member sphere of a rigid clump: its body moves it (docs/physics.md §11.4), the particle
+/// integrator leaves it alone. Set by [`crate::Simulation::add_clump`] only.
+pub const FLAG_CLUMP_MEMBER: u8 = 4;
+/// The flags under which the particle integrator neither kicks nor drifts a particle.
+pub(crate) const FLAG_HELD: u8 = FLAG_FROZEN | FLAG_CLUMP_MEMBER;
+/// The clump of a particle that belongs to none.
+pub const NO_CLUMP: u32 = u32::MAX;
 
 /// What a new particle starts with.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,6 +72,10 @@ pub struct ParticleSet {
     pub(crate) material: Vec<u16>,
     pub(crate) flags: Vec<u8>,
     pub(crate) next_tag: ParticleTag,
+    /// The clump (its index among the simulation's clumps) each particle is a member of, or
+    /// [`NO_CLUMP`].
+    #[serde(default)]
+    pub(crate) clump: Vec<u32>,
 }
 
 impl ParticleSet {
@@ -116,6 +127,11 @@ impl ParticleSet {
     pub fn materials(&self) -> &[u16] {
         &self.material
     }
+    /// The clump each particle belongs to (an index into the simulation's clumps), or
+    /// [`NO_CLUMP`].
+    pub fn clumps(&self) -> &[u32] {
+        &self.clump
+    }
     /// Current index of the particle with this tag (linear search).
     pub fn index_of(&self, tag: ParticleTag) -> Option<usize> {
         self.tag.iter().position(|&t| t == tag)
@@ -136,6 +152,7 @@ impl ParticleSet {
         self.inv_inertia.reserve_exact(additional);
         self.material.reserve_exact(additional);
         self.flags.reserve_exact(additional);
+        self.clump.reserve_exact(additional);
     }
 
     pub(crate) fn push(&mut self, init: &ParticleInit, density: f64) -> ParticleTag {
@@ -157,6 +174,7 @@ impl ParticleSet {
         self.inv_inertia.push(1.0 / (0.4 * mass * r * r));
         self.material.push(init.material.0);
         self.flags.push(init.flags);
+        self.clump.push(NO_CLUMP);
         tag
     }
 
@@ -182,6 +200,7 @@ impl ParticleSet {
         filter(&mut self.inv_inertia, keep);
         filter(&mut self.material, keep);
         filter(&mut self.flags, keep);
+        filter(&mut self.clump, keep);
     }
 
     /// Reorders every field so that new index k holds old index `order[k]`, in place: each
@@ -206,5 +225,6 @@ impl ParticleSet {
         apply(&mut self.inv_inertia, order);
         apply(&mut self.material, order);
         apply(&mut self.flags, order);
+        apply(&mut self.clump, order);
     }
 }

@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use crate::contacts::{ContactSource, Contacts};
 use crate::forces::loads::WallLoad;
-use crate::particles::{ParticleSet, ParticleTag, FLAG_FROZEN};
+use crate::particles::{ParticleSet, ParticleTag, FLAG_HELD};
 use crate::wall::{Wall, WallId};
 
 /// The bodies at one step, as a caller that measures them sees them: tags, positions,
@@ -131,7 +131,7 @@ impl<'a> Watched<'a> {
             // or per body, and frozen bodies left alone.
             Some((half, Some((inv_mass, _)))) => v + (half * inv_mass) * p.force[k],
             Some((half, None)) => {
-                if p.flags[k] & FLAG_FROZEN != 0 {
+                if p.flags[k] & FLAG_HELD != 0 {
                     v
                 } else {
                     v + (half * p.inv_mass[k]) * p.force[k]

@@ -33,10 +33,9 @@ use super::unclog::UnclogRecord;
 use files::StartRecord;
 use files::{AtomicFile, OutputError};
 
-/// The first eight bytes of every checkpoint: a name and the layout's version (9: each
-/// contact's history says whether the pair is bonded by its cohesion, and the state how far
-/// beyond contact its neighbour lists reach).
-pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x09";
+/// The first eight bytes of every checkpoint: a name and the layout's version (10: each
+/// particle says which rigid clump it belongs to, and the state holds the clumps).
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x0a";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;
 /// Bytes of the trailing SHA-256.

@@ -95,7 +95,7 @@ impl ClumpShape {
 }
 
 /// A clump as a rigid body.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ClumpBody {
     /// Volume of the members' union [m³].
     pub volume: f64,

@@ -21,7 +21,7 @@
 
 use glam::DVec3;
 
-use crate::particles::{ParticleSet, FLAG_FROZEN, FLAG_ROTATION_LOCKED};
+use crate::particles::{ParticleSet, FLAG_HELD, FLAG_ROTATION_LOCKED};
 use crate::ranges::even_bounds;
 
 mod bodies;

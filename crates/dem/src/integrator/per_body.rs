@@ -106,7 +106,7 @@ impl KickDrift<'_> {
         b.force[k] = b.mass[k] * self.gravity;
         b.torque[k] = DVec3::ZERO;
         let flags = b.flags[k];
-        if flags & FLAG_FROZEN != 0 {
+        if flags & FLAG_HELD != 0 {
             return;
         }
         let rotates = flags & FLAG_ROTATION_LOCKED == 0;
@@ -146,7 +146,7 @@ pub(super) fn kick_per_body(p: &mut ParticleSet, half: f64) -> bool {
     for (((((&flags, &f), &t), &inv_m), &inv_i), (v, w)) in
         bodies.zip(p.velocity.iter_mut().zip(p.omega.iter_mut()))
     {
-        if flags & FLAG_FROZEN != 0 {
+        if flags & FLAG_HELD != 0 {
             continue;
         }
         *v += (half * inv_m) * f;

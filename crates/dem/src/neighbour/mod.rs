@@ -177,6 +177,10 @@ pub(crate) fn build_lists(
         }
         PairSearch::Classes(classes) => class_pair_candidates(classes, n, skin, ids, scratch),
     }
+    // A scan of 4 bytes a body, against the search's tens of candidates a body.
+    if particles.clump.iter().any(|&c| c != crate::particles::NO_CLUMP) {
+        drop_clump_pairs(&particles.clump, (&mut pairs.i, &mut pairs.j));
+    }
     let (ids, old_ids) = (
         (&pairs.i[..], &pairs.j[..]),
         (&old_pairs.i[..], &old_pairs.j[..]),
@@ -242,4 +246,22 @@ pub(crate) fn build_lists(
                 .unwrap_or_default()
         }));
     }
+}
+
+/// Drops the candidate pairs of two members of one clump (`clump`: each particle's clump,
+/// [`crate::particles::NO_CLUMP`] for none): a rigid body's members never touch each other
+/// (docs/physics.md §11.4). Keeps the others in order.
+fn drop_clump_pairs(clump: &[u32], (pi, pj): (&mut Vec<u32>, &mut Vec<u32>)) {
+    let mut kept = 0;
+    for k in 0..pi.len() {
+        let (i, j) = (pi[k], pj[k]);
+        let c = clump[i as usize];
+        if c == crate::particles::NO_CLUMP || c != clump[j as usize] {
+            pi[kept] = i;
+            pj[kept] = j;
+            kept += 1;
+        }
+    }
+    pi.truncate(kept);
+    pj.truncate(kept);
 }

@@ -151,15 +151,105 @@ impl Simulation {
         Ok(tag)
     }
 
+    /// Adds a rigid clump of `shape` (docs/physics.md §11) of `material`: the shape's frame
+    /// turned by `orientation` and its centre of mass put at `position` [m], moving at
+    /// `velocity` [m/s] and spinning at `angular_velocity` [rad/s] (world frame). Its members
+    /// become particles flagged [`crate::FLAG_CLUMP_MEMBER`], each carrying the clump's mass
+    /// for its contact laws. Returns the clump's index among [`Simulation::clumps`].
+    pub fn add_clump(
+        &mut self,
+        shape: &ClumpShape,
+        material: MaterialId,
+        (position, orientation): (DVec3, DQuat),
+        (velocity, angular_velocity): (DVec3, DVec3),
+    ) -> Result<usize, DemError> {
+        check_material_id(material, self.state.materials.len())?;
+        if !(position.is_finite()
+            && orientation.is_finite()
+            && velocity.is_finite()
+            && angular_velocity.is_finite())
+            || !(orientation.length() > 0.0)
+        {
+            return Err(DemError::InvalidInput(format!(
+                "a clump's position, orientation and motion must be finite, the orientation \
+                 non-zero: {position}, {orientation}, {velocity}, {angular_velocity}"
+            )));
+        }
+        let density = self.state.materials[material.0 as usize].density;
+        let body = shape.body(density);
+        let q = (orientation.normalize() * body.axes).normalize();
+        let inertia = body.principal_inertia;
+        let momentum = q * (inertia * (q.inverse() * angular_velocity));
+        let w = crate::clump::rotation::angular_velocity(q, momentum, inertia);
+        let g = self.state.config.gravity;
+        let s = &mut self.state;
+        let c = s.clumps.len();
+        let shape_index = match s.clumps.shapes.iter().position(|b| *b == body) {
+            Some(k) => k,
+            None => {
+                s.clumps.shapes.push(body.clone());
+                s.clumps.shapes.len() - 1
+            }
+        };
+        let p = &mut s.particles;
+        p.reserve_exact(body.members.len());
+        let mut first = None;
+        for &(offset, radius) in &body.members {
+            let arm = q * offset;
+            let init = ParticleInit {
+                position: position + arm,
+                velocity: velocity + w.cross(arm),
+                angular_velocity: w,
+                radius,
+                material,
+                flags: crate::particles::FLAG_CLUMP_MEMBER,
+            };
+            let tag = p.push(&init, density);
+            first.get_or_insert(tag);
+            let k = p.len() - 1;
+            // The member's contact laws see the whole grain's mass.
+            p.mass[k] = body.mass;
+            p.inertia[k] = 0.4 * body.mass * radius * radius;
+            p.inv_mass[k] = 1.0 / body.mass;
+            p.inv_inertia[k] = 1.0 / p.inertia[k];
+            p.force[k] = body.mass * g;
+            p.clump[k] = c as u32;
+        }
+        let cl = &mut s.clumps;
+        cl.shape.push(shape_index as u32);
+        cl.first_tag.push(first.unwrap_or_default());
+        cl.position.push(position);
+        cl.velocity.push(velocity);
+        cl.orientation.push(q);
+        cl.momentum.push(momentum);
+        cl.force.push(body.mass * g);
+        cl.torque.push(DVec3::ZERO);
+        s.needs_rebuild = true;
+        self.unprepare();
+        Ok(c)
+    }
+
     /// Removes every particle for which `remove(index, particles)` is true and returns them.
+    /// A clump goes whole: when one of its members is to go, all of them go, and the clump.
     pub fn remove_particles(
         &mut self,
         mut remove: impl FnMut(usize, &ParticleSet) -> bool,
     ) -> Vec<RemovedParticle> {
         let p = &self.state.particles;
-        let keep: Vec<bool> = (0..p.len()).map(|k| !remove(k, p)).collect();
+        let mut keep: Vec<bool> = (0..p.len()).map(|k| !remove(k, p)).collect();
         if keep.iter().all(|&k| k) {
             return Vec::new();
+        }
+        let mut gone = vec![false; self.state.clumps.len()];
+        for (k, &c) in p.clump.iter().enumerate() {
+            if c != crate::particles::NO_CLUMP && !keep[k] {
+                gone[c as usize] = true;
+            }
+        }
+        for (k, &c) in p.clump.iter().enumerate() {
+            if c != crate::particles::NO_CLUMP && gone[c as usize] {
+                keep[k] = false;
+            }
         }
         let removed = (0..p.len())
             .filter(|&k| !keep[k])
@@ -176,6 +266,10 @@ impl Simulation {
             .filter(|&k| keep[k as usize])
             .collect();
         self.state.particles.retain_mask(&keep);
+        if gone.contains(&true) {
+            let s = &mut self.state;
+            s.clumps.drop_clumps(&gone, &mut s.particles.clump);
+        }
         self.rebuild(Some(&origin));
         removed
     }
@@ -388,6 +482,11 @@ impl Simulation {
         }
         self.uniform_body = uniform_body(&s.particles);
         self.uniform_free = uniform_free_body(&s.particles);
+        if !s.clumps.is_empty() {
+            // A restored state keeps no member indices; any edit may have moved them.
+            self.state.clumps.find_members(&self.state.particles);
+        }
+        let s = &self.state;
         let p = &s.particles;
         let quanta = match s.load_quanta {
             Some(saved) if !self.new_quanta => saved,

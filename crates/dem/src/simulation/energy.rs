@@ -30,9 +30,19 @@ impl Simulation {
         let p = &s.particles;
         let mut e = Energy::default();
         for k in 0..p.len() {
+            if p.clump[k] != crate::particles::NO_CLUMP {
+                continue; // its clump's energy is counted below
+            }
             e.translational += 0.5 * p.mass[k] * p.velocity[k].length_squared();
             e.rotational += 0.5 * p.inertia[k] * p.omega[k].length_squared();
             e.gravitational -= p.mass[k] * s.config.gravity.dot(p.position[k]);
+        }
+        let clumps = &s.clumps;
+        for c in 0..clumps.len() {
+            let mass = clumps.body(c).mass;
+            e.translational += 0.5 * mass * clumps.velocity[c].length_squared();
+            e.rotational += 0.5 * clumps.angular_velocity(c).dot(clumps.momentum[c]);
+            e.gravitational -= mass * s.config.gravity.dot(clumps.position[c]);
         }
         let n = s.materials.len();
         let coeffs = |a: u16, b: u16| match s

@@ -3,9 +3,10 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
+use crate::clump::{ClumpSet, ClumpShape};
 use crate::contact::{normal::hertz_energy, ContactLaws};
 use crate::error::DemError;
 use crate::forces::bond_rows::BondTables;
@@ -123,6 +124,9 @@ pub struct SimulationState {
     /// the particles of that moment; `None` before the first. Kept in the state so that a
     /// restored simulation sums its wall loads to the same bits as the one that saved it.
     load_quanta: Option<LoadQuanta>,
+    /// The rigid clumps, whose members are among the particles (docs/physics.md §11.4).
+    #[serde(default)]
+    clumps: ClumpSet,
 }
 
 impl SimulationState {
@@ -263,6 +267,7 @@ impl Simulation {
             surface_loads: Vec::new(),
             wall_impulses: Vec::new(),
             load_quanta: None,
+            clumps: ClumpSet::default(),
         };
         Self::from_state(state, config.threads)
     }
@@ -345,6 +350,11 @@ impl Simulation {
     /// A wall by handle.
     pub fn wall(&self, id: WallId) -> Option<&Wall> {
         self.state.walls.get(id.0 as usize).and_then(Option::as_ref)
+    }
+
+    /// The rigid clumps (read-only); their members are among the particles.
+    pub fn clumps(&self) -> &ClumpSet {
+        &self.state.clumps
     }
 
     /// The particles (read-only; probes observe, never mutate).

@@ -64,6 +64,9 @@ impl Simulation {
             (&mut s.pairs, &mut s.wall_pairs),
             &mut self.list_scratch,
         );
+        if !s.clumps.is_empty() {
+            s.clumps.find_members(&s.particles);
+        }
         self.spare_lists = (old_pairs, old_walls);
         self.buffers.forget_lists();
         self.uniform_body = uniform_body(&s.particles);

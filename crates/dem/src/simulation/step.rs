@@ -175,6 +175,7 @@ impl Simulation {
                 }
             }
         };
+        let drift = self.drift_clumps(drift, (half, dt));
         self.check_drift(drift)?;
         StepClock::mark(&mut clock, Mark::Drifted);
         if self.state.needs_rebuild || !reference_valid || self.lists_may_miss(drift.max_disp2) {
@@ -200,6 +201,17 @@ impl Simulation {
             StepClock::mark(&mut clock, Mark::Forced);
             check_overlaps(s, &eval)?;
             s.contacts = eval.count;
+            // The clumps take their members' forces and their whole second kick now, whether
+            // or not the spheres' kick waits for the next step.
+            if !s.clumps.is_empty()
+                && !s
+                    .clumps
+                    .gather_kick(&mut s.particles, s.config.gravity, half)
+            {
+                return Err(non_finite_velocity(&s.particles, s.time).unwrap_or(
+                    DemError::InvalidInput("a clump's velocity is not finite".into()),
+                ));
+            }
 
             // Second half kick, unless the next step does it.
             if end == StepEnd::Kick {
@@ -217,11 +229,27 @@ impl Simulation {
         Ok(next)
     }
 
+    /// The clumps' half kick, drift and turn, and their members placed (docs/physics.md
+    /// §11.4), folded into what the spheres' pass found.
+    fn drift_clumps(&mut self, drift: Drift, step: (f64, f64)) -> Drift {
+        let s = &mut self.state;
+        if s.clumps.is_empty() {
+            return drift;
+        }
+        let (worst, finite) = s.clumps.kick_drift(&mut s.particles, &s.reference, step);
+        Drift {
+            max_disp2: drift.max_disp2.map(|d| d.max(worst)),
+            finite: drift.finite && finite,
+            kicked_finite: drift.kicked_finite,
+        }
+    }
+
     /// Whether a step that defers its second half kick also does the next step's kicks and
     /// drift, inside its evaluation ([`Simulation::evaluate_and_drift`]): on one thread, for
     /// the paper's laws, and for systems of more than [`FUSE_BODIES`] bodies.
     pub(super) fn fuses_next_drift(&self) -> bool {
         self.pool.is_none()
+            && self.state.clumps.is_empty()
             && self.state.particles.len() > FUSE_BODIES
             && self.state.config.laws == ContactLaws::default()
             && !self.wall_bonds

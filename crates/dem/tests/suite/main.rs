@@ -4,6 +4,7 @@
 mod common;
 
 mod checkpoint;
+mod clumps;
 mod cohesion;
 mod determinism;
 mod energy;

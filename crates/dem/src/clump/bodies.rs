@@ -1,0 +1,243 @@
+//! The clumps of a simulation as rigid bodies: their state, and their part of each step
+//! (docs/physics.md §11.4).
+//!
+//! A clump's members are ordinary particles of the particle set, flagged
+//! [`FLAG_CLUMP_MEMBER`]: the neighbour search, the contact laws and the walls treat them as
+//! spheres, and the particle integrator leaves them alone. Each member carries the clump's
+//! mass, which its contact laws see as the body's (the mass of the whole grain, as in
+//! LIGGGHTS' multisphere and EDEM), so its weight in the force array, m g, is taken out again
+//! when the members' forces are summed on the body.
+//!
+//! A step moves a clump as velocity Verlet moves a sphere (§6.2), with §11.3's rotation:
+//! 1. half kick: v += (Δt/2) F/m, L += (Δt/2) τ, with the force and torque of the last
+//!    evaluation;
+//! 2. drift: x += Δt v, and the free rotation of q by Δt;
+//! 3. the members placed: x_k = x + q r_k, v_k = v + ω × (q r_k), ω_k = ω;
+//! 4. after the evaluation, the members' contact forces c_k = f_k − m g summed in member
+//!    order: F = M g + Σ c_k, τ = Σ (τ_k + (x_k − x) × c_k); then the second half kick and
+//!    the members' velocities again.
+//!
+//! The sums run over each clump's members in their fixed order, whatever the particles'
+//! order, so a clump's motion has the same bits at any thread count.
+
+use glam::{DQuat, DVec3};
+use serde::{Deserialize, Serialize};
+
+use super::rotation::{angular_velocity, free_rotation};
+use super::ClumpBody;
+use crate::particles::{ParticleSet, ParticleTag, NO_CLUMP};
+
+/// Every clump of a simulation: the shapes they are made of, and each one's state.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct ClumpSet {
+    /// The shapes as bodies of their material: mass [kg], principal moments [kg m²] and
+    /// members in the principal frame.
+    pub(crate) shapes: Vec<ClumpBody>,
+    /// Per clump: its shape.
+    pub(crate) shape: Vec<u32>,
+    /// Per clump: the tag of its first member; member k has tag `first_tag + k`.
+    pub(crate) first_tag: Vec<ParticleTag>,
+    /// Per clump: centre of mass [m].
+    pub(crate) position: Vec<DVec3>,
+    /// Per clump: velocity of the centre of mass [m/s].
+    pub(crate) velocity: Vec<DVec3>,
+    /// Per clump: orientation, principal frame to world frame.
+    pub(crate) orientation: Vec<DQuat>,
+    /// Per clump: angular momentum about the centre of mass, world frame [kg m²/s].
+    pub(crate) momentum: Vec<DVec3>,
+    /// Per clump: force of the last evaluation, weight included [N].
+    pub(crate) force: Vec<DVec3>,
+    /// Per clump: torque about the centre of mass of the last evaluation [N m].
+    pub(crate) torque: Vec<DVec3>,
+    /// The members' particle indices, clump after clump, each clump's in member order; found
+    /// again whenever the particles' indices change ([`ClumpSet::find_members`]).
+    #[serde(skip)]
+    pub(crate) members: Vec<u32>,
+    /// Where each clump's members start in `members` (one more entry than clumps).
+    #[serde(skip)]
+    pub(crate) starts: Vec<usize>,
+}
+
+impl ClumpSet {
+    /// Number of clumps.
+    pub fn len(&self) -> usize {
+        self.shape.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.shape.is_empty()
+    }
+
+    /// Centres of mass [m].
+    pub fn positions(&self) -> &[DVec3] {
+        &self.position
+    }
+
+    /// Velocities of the centres of mass [m/s].
+    pub fn velocities(&self) -> &[DVec3] {
+        &self.velocity
+    }
+
+    /// Orientations (principal frame to world frame).
+    pub fn orientations(&self) -> &[DQuat] {
+        &self.orientation
+    }
+
+    /// Angular momenta about the centres of mass, world frame [kg m²/s].
+    pub fn angular_momenta(&self) -> &[DVec3] {
+        &self.momentum
+    }
+
+    /// The body of clump `c`: mass, principal moments, members.
+    pub fn body(&self, c: usize) -> &ClumpBody {
+        &self.shapes[self.shape[c] as usize]
+    }
+
+    /// Angular velocity of clump `c` [rad/s], world frame.
+    pub fn angular_velocity(&self, c: usize) -> DVec3 {
+        let b = self.body(c);
+        angular_velocity(self.orientation[c], self.momentum[c], b.principal_inertia)
+    }
+
+    /// Translational and rotational kinetic energy of clump `c` [J].
+    pub fn kinetic_energy(&self, c: usize) -> f64 {
+        let b = self.body(c);
+        let w = self.angular_velocity(c);
+        0.5 * b.mass * self.velocity[c].length_squared() + 0.5 * w.dot(self.momentum[c])
+    }
+
+    /// Finds each clump's members among `p` by their tags (after a list build, a re-sort or
+    /// a removal changed the indices).
+    pub(crate) fn find_members(&mut self, p: &ParticleSet) {
+        self.starts.clear();
+        self.starts.push(0);
+        for c in 0..self.len() {
+            let count = self.body(c).members.len();
+            self.starts.push(self.starts[c] + count);
+        }
+        self.members.clear();
+        self.members
+            .resize(*self.starts.last().unwrap_or(&0), u32::MAX);
+        for (k, (&c, &tag)) in p.clump.iter().zip(&p.tag).enumerate() {
+            if c != NO_CLUMP {
+                let c = c as usize;
+                let member = (tag - self.first_tag[c]) as usize;
+                self.members[self.starts[c] + member] = k as u32;
+            }
+        }
+    }
+
+    /// Steps 1–3 of a clump's step (module documentation) with Δt/2 = `half` and Δt = `dt`
+    /// [s]: kick, drift and turn every clump, then place its members in `p`. Returns the
+    /// largest squared displacement of a member from `reference` [m²] and whether every new
+    /// position was finite.
+    pub(crate) fn kick_drift(
+        &mut self,
+        p: &mut ParticleSet,
+        reference: &[DVec3],
+        (half, dt): (f64, f64),
+    ) -> (f64, bool) {
+        let mut worst = 0.0f64;
+        let mut finite = true;
+        for c in 0..self.len() {
+            let shape = self.shape[c] as usize;
+            let body = &self.shapes[shape];
+            let v = self.velocity[c] + (half / body.mass) * self.force[c];
+            let l = self.momentum[c] + half * self.torque[c];
+            let x = self.position[c] + dt * v;
+            let q = free_rotation(self.orientation[c], l, body.principal_inertia, dt);
+            (
+                self.velocity[c],
+                self.momentum[c],
+                self.position[c],
+                self.orientation[c],
+            ) = (v, l, x, q);
+            finite &= x.is_finite() && q.is_finite();
+            let w = angular_velocity(q, l, body.principal_inertia);
+            let members = &self.members[self.starts[c]..self.starts[c + 1]];
+            for (&k, &(offset, _)) in members.iter().zip(&body.members) {
+                let k = k as usize;
+                let arm = q * offset;
+                p.position[k] = x + arm;
+                p.velocity[k] = v + w.cross(arm);
+                p.omega[k] = w;
+                if let Some(r) = reference.get(k) {
+                    worst = worst.max((p.position[k] - *r).length_squared());
+                }
+            }
+        }
+        (worst, finite)
+    }
+
+    /// Step 4 (module documentation): the members' forces and torques of the evaluation in
+    /// `p` summed on each clump with its weight (`gravity` g [m/s²]), the second half kick
+    /// (Δt/2 = `half` [s]), and the members' velocities set from the kicked body. Returns
+    /// whether every velocity is finite.
+    pub(crate) fn gather_kick(&mut self, p: &mut ParticleSet, gravity: DVec3, half: f64) -> bool {
+        let mut finite = true;
+        for c in 0..self.len() {
+            let body = &self.shapes[self.shape[c] as usize];
+            let x = self.position[c];
+            let (mut force, mut torque) = (DVec3::ZERO, DVec3::ZERO);
+            let members = &self.members[self.starts[c]..self.starts[c + 1]];
+            for &k in members {
+                let k = k as usize;
+                let contact = p.force[k] - p.mass[k] * gravity;
+                force += contact;
+                torque += p.torque[k] + (p.position[k] - x).cross(contact);
+            }
+            force += body.mass * gravity;
+            let v = self.velocity[c] + (half / body.mass) * force;
+            let l = self.momentum[c] + half * torque;
+            (
+                self.velocity[c],
+                self.momentum[c],
+                self.force[c],
+                self.torque[c],
+            ) = (v, l, force, torque);
+            finite &= v.is_finite() && l.is_finite();
+            let q = self.orientation[c];
+            let w = angular_velocity(q, l, body.principal_inertia);
+            for (&k, &(offset, _)) in members.iter().zip(&body.members) {
+                let k = k as usize;
+                p.velocity[k] = v + w.cross(q * offset);
+                p.omega[k] = w;
+            }
+        }
+        finite
+    }
+
+    /// Drops the clumps for which `gone[c]` is true and renumbers the others' members in
+    /// `clump_of` (the particles' clump indices, after the gone clumps' members were removed).
+    pub(crate) fn drop_clumps(&mut self, gone: &[bool], clump_of: &mut [u32]) {
+        let mut renumber = vec![NO_CLUMP; gone.len()];
+        let mut next = 0u32;
+        for (c, &g) in gone.iter().enumerate() {
+            if !g {
+                renumber[c] = next;
+                next += 1;
+            }
+        }
+        for c in clump_of.iter_mut() {
+            if *c != NO_CLUMP {
+                *c = renumber[*c as usize];
+            }
+        }
+        fn keep<T>(v: &mut Vec<T>, gone: &[bool]) {
+            let mut k = 0;
+            v.retain(|_| {
+                k += 1;
+                !gone[k - 1]
+            });
+        }
+        keep(&mut self.shape, gone);
+        keep(&mut self.first_tag, gone);
+        keep(&mut self.position, gone);
+        keep(&mut self.velocity, gone);
+        keep(&mut self.orientation, gone);
+        keep(&mut self.momentum, gone);
+        keep(&mut self.force, gone);
+        keep(&mut self.torque, gone);
+    }
+}
