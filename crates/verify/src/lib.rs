@@ -1,7 +1,8 @@
 //! Verification suite of the DEM engine: the single-impact benchmarks of Chung & Ooi (2011),
 //! Thornton's normalised oblique impacts, Hertz impacts of unequal and of dissimilar spheres
-//! (H1), the analytic sliding/rolling cases, the walls of any shape (W1–W6) and the cohesion
-//! laws (J1–J4) of docs/physics.md §9, each reported as rows of expected and measured values.
+//! (H1), the analytic sliding/rolling cases, the walls of any shape (W1–W6), the cohesion
+//! laws (J1–J4) and rigid clumps (RB1–RB4) of docs/physics.md §9, each reported as rows of
+//! expected and measured values.
 //!
 //! Every case lives in its own file whose module documentation gives the set-up, the
 //! expected values and their source, and the tolerance with its reason.
@@ -30,6 +31,7 @@ pub mod profile;
 pub mod rb1;
 pub mod rb2;
 pub mod rb3;
+pub mod rb4;
 mod resolution;
 mod row;
 mod surface;
@@ -53,7 +55,7 @@ type Case = (
 );
 
 /// Every case of docs/physics.md §9 that this crate implements, in the order of the spec.
-const CASES: [Case; 25] = [
+const CASES: [Case; 26] = [
     ("CO1", co1::run),
     ("CO2", co2::run),
     ("CO3", co3::run),
@@ -79,6 +81,7 @@ const CASES: [Case; 25] = [
     ("RB1", rb1::run),
     ("RB2", rb2::run),
     ("RB3", rb3::run),
+    ("RB4", rb4::run),
 ];
 
 /// Runs every case at `resolution` and returns all rows, in the order of docs/physics.md §9.

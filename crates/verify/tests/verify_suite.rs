@@ -126,6 +126,8 @@ fn every_case_reports_exactly_its_rows() {
         ("RB2", 3),
         // one bead × 2, dumbbell × 2, lens, rod × 3.
         ("RB3", 8),
+        // slide: held, acceleration, no turn; tip: held, tipped.
+        ("RB4", 5),
     ];
     let rows = fast_rows();
     for (case, n) in expected {

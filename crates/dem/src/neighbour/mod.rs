@@ -178,7 +178,11 @@ pub(crate) fn build_lists(
         PairSearch::Classes(classes) => class_pair_candidates(classes, n, skin, ids, scratch),
     }
     // A scan of 4 bytes a body, against the search's tens of candidates a body.
-    if particles.clump.iter().any(|&c| c != crate::particles::NO_CLUMP) {
+    if particles
+        .clump
+        .iter()
+        .any(|&c| c != crate::particles::NO_CLUMP)
+    {
         drop_clump_pairs(&particles.clump, (&mut pairs.i, &mut pairs.j));
     }
     let (ids, old_ids) = (
