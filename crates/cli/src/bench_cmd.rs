@@ -4,9 +4,9 @@ use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
 use run::bench::{
-    bidisperse_benchmark, combine, hopper_benchmark, mesh_floor_benchmark, scaling_benchmark,
-    settled_bed, silo_benchmark, time_steps, BenchResult, BidisperseBed, SiloBench, SiloInputError,
-    SiloRequest, SiloSource, SiloStart,
+    bidisperse_benchmark, combine, dumbbell_benchmark, hopper_benchmark, mesh_floor_benchmark,
+    scaling_benchmark, settled_bed, silo_benchmark, time_steps, BenchResult, BidisperseBed,
+    SiloBench, SiloInputError, SiloRequest, SiloSource, SiloStart,
 };
 
 use crate::exit_codes::EXIT_BAD_INPUT;
@@ -26,6 +26,10 @@ pub enum BenchCase {
     /// The monodisperse 3D bed (2·10^4 spheres by default) timed on its floor plane and then
     /// on a floor of `--triangles` triangles (10^5 by default) in its place.
     MeshFloor,
+    /// The monodisperse bed of `--case bidisperse --ratio 1` with each pair of its spheres
+    /// along x joined into a rigid dumbbell (10^4 beads by default): the cost of a clump's
+    /// member sphere against a free sphere's.
+    Dumbbells,
     /// The benchmark silo of Dosta et al. (2024), M1 and the large orifice, with
     /// `--particles` spheres (default 20 000), timed over 0.05–0.08 s after the gate opens;
     /// `--meshed` for triangle-mesh walls, `--case-file` for any case instead, `--packing`
@@ -45,15 +49,17 @@ pub struct BenchArgs {
     #[arg(long)]
     json: bool,
     /// Particles in the bed (default 3000), the scaling packing (default 10^4, 10^5, 10^6),
-    /// the bidisperse bed (default 10^4, rounded to whole blocks) or the silo (default 20 000;
+    /// the bidisperse bed (default 10^4, rounded to whole blocks), the dumbbell bed's beads
+    /// (default 10^4) or the silo (default 20 000;
     /// with --case-file it replaces the file's particles.count and any --set of it).
     #[arg(long, conflicts_with = "packing")]
     particles: Option<usize>,
-    /// Steps timed (bed and bidisperse: default 4000; scaling: default 20 per
+    /// Steps timed (bed, bidisperse and dumbbells: default 4000; scaling: default 20 per
     /// repetition, repeated from a fresh packing until each size has 2·10^7 particle-steps).
     #[arg(long)]
     steps: Option<u64>,
-    /// Bed and bidisperse bed: untimed steps of settling before the timed steps (2.5 µs each).
+    /// Bed, bidisperse and dumbbell beds: untimed steps of settling before the timed steps
+    /// (2.5 µs each).
     /// The bed's default, 0.3 s, lets it compact: contacts per particle are 3.6 after 0.05 s,
     /// 4.22 after 0.3 s and 4.26 after 0.6 s, and the cost per particle-step follows them. The
     /// bidisperse bed's default is 0.4 s: its contacts per particle (1:3, 2000 spheres) are
@@ -232,6 +238,23 @@ fn one(
             let cache = args.cache.with_file_name(name);
             Ok(vec![bidisperse_benchmark(
                 bed,
+                threads,
+                settle,
+                steps,
+                Some(&cache),
+            )?])
+        }
+        BenchCase::Dumbbells => {
+            let beads = args.particles.unwrap_or(10_000);
+            let (settle, steps) = (
+                args.settle_steps.unwrap_or(160_000),
+                args.steps.unwrap_or(4000),
+            );
+            let cache = args
+                .cache
+                .with_file_name(format!("dumbbells-n{beads}-s{settle}.bin"));
+            Ok(vec![dumbbell_benchmark(
+                beads,
                 threads,
                 settle,
                 steps,

@@ -20,7 +20,7 @@
 //! The sums run over each clump's members in their fixed order, whatever the particles'
 //! order, so a clump's motion has the same bits at any thread count.
 
-use glam::{DQuat, DVec3};
+use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::rotation::{angular_velocity, free_rotation};
@@ -154,11 +154,13 @@ impl ClumpSet {
                 self.orientation[c],
             ) = (v, l, x, q);
             finite &= x.is_finite() && q.is_finite();
-            let w = angular_velocity(q, l, body.principal_inertia);
+            // One rotation matrix for ω and every member (cheaper than a quaternion each).
+            let turn = DMat3::from_quat(q);
+            let w = turn * (turn.transpose() * l / body.principal_inertia);
             let members = &self.members[self.starts[c]..self.starts[c + 1]];
             for (&k, &(offset, _)) in members.iter().zip(&body.members) {
                 let k = k as usize;
-                let arm = q * offset;
+                let arm = turn * offset;
                 p.position[k] = x + arm;
                 p.velocity[k] = v + w.cross(arm);
                 p.omega[k] = w;
@@ -197,11 +199,11 @@ impl ClumpSet {
                 self.torque[c],
             ) = (v, l, force, torque);
             finite &= v.is_finite() && l.is_finite();
-            let q = self.orientation[c];
-            let w = angular_velocity(q, l, body.principal_inertia);
+            let turn = DMat3::from_quat(self.orientation[c]);
+            let w = turn * (turn.transpose() * l / body.principal_inertia);
             for (&k, &(offset, _)) in members.iter().zip(&body.members) {
                 let k = k as usize;
-                p.velocity[k] = v + w.cross(q * offset);
+                p.velocity[k] = v + w.cross(turn * offset);
                 p.omega[k] = w;
             }
         }

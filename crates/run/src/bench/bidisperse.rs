@@ -18,12 +18,12 @@ use case::Case;
 pub const SMALL_DIAMETER: f64 = 3.0e-3;
 /// Lattice spacing of the small-sphere sites, as a fraction of the small diameter: a gap of
 /// 1 % between neighbours at the start.
-const SITE_SPACING: f64 = 1.01;
+pub(super) const SITE_SPACING: f64 = 1.01;
 /// Random displacement of each sphere along each axis, as a fraction of the small diameter,
 /// up to ±: at most 0.0035 d in all, so no two spheres overlap at the start (gaps ≥ 0.01 d).
-const SITE_JITTER: f64 = 0.002;
+pub(super) const SITE_JITTER: f64 = 0.002;
 /// Verlet skin as a fraction of the largest diameter, as the hopper set-up chooses it.
-const SKIN_DIAMETERS: f64 = 0.1;
+pub(super) const SKIN_DIAMETERS: f64 = 0.1;
 
 /// Which bed: the diameter ratio and the number of spheres asked for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -125,13 +125,29 @@ pub fn settled_bidisperse_bed(
     settle_steps: u64,
     cache: Option<&std::path::Path>,
 ) -> Result<Simulation, crate::RunError> {
+    settled(
+        || bidisperse_bed(bed, threads),
+        threads,
+        settle_steps,
+        cache,
+    )
+}
+
+/// The simulation `make` builds, after `settle_steps` untimed steps, read from `cache` when
+/// it holds a settled state and written there otherwise (see [`settled_bidisperse_bed`]).
+pub(super) fn settled(
+    make: impl FnOnce() -> Result<Simulation, DemError>,
+    threads: usize,
+    settle_steps: u64,
+    cache: Option<&std::path::Path>,
+) -> Result<Simulation, crate::RunError> {
     let cached: Option<dem::SimulationState> = cache
         .and_then(|p| std::fs::read(p).ok())
         .and_then(|bytes| postcard::from_bytes(&bytes).ok());
     if let Some(state) = cached {
         return Ok(Simulation::from_state(state, threads)?);
     }
-    let mut sim = bidisperse_bed(bed, threads)?;
+    let mut sim = make()?;
     sim.run(settle_steps)?;
     if let Some(path) = cache {
         if let Some(dir) = path.parent() {

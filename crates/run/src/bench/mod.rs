@@ -11,11 +11,13 @@ use crate::{lattice_bed, slab_simulation};
 use case::Case;
 
 mod bidisperse;
+mod dumbbell_bed;
 mod mesh_floor;
 mod repeat;
 mod silo_inputs;
 pub use bidisperse::{bidisperse_bed, bidisperse_benchmark, BidisperseBed};
 use bidisperse::{settled_bidisperse_bed, SMALL_DIAMETER};
+pub use dumbbell_bed::{dumbbell_bed, dumbbell_benchmark};
 pub use mesh_floor::mesh_floor_benchmark;
 pub use repeat::{combine, RunSpread};
 pub use silo_inputs::{
