@@ -197,16 +197,15 @@ impl Simulation {
             Some(next)
         } else {
             let eval = self.evaluate_forces(dt, None);
+            let pool = self.pool.as_deref();
             let s = &mut self.state;
             StepClock::mark(&mut clock, Mark::Forced);
             check_overlaps(s, &eval)?;
             s.contacts = eval.count;
             // The clumps take their members' forces and their whole second kick now, whether
             // or not the spheres' kick waits for the next step.
-            if !s.clumps.is_empty()
-                && !s
-                    .clumps
-                    .gather_kick(&mut s.particles, s.config.gravity, half)
+            let gravity = s.config.gravity;
+            if !s.clumps.is_empty() && !s.clumps.gather_kick(&mut s.particles, gravity, half, pool)
             {
                 return Err(non_finite_velocity(&s.particles, s.time).unwrap_or(
                     DemError::InvalidInput("a clump's velocity is not finite".into()),
@@ -236,7 +235,10 @@ impl Simulation {
         if s.clumps.is_empty() {
             return drift;
         }
-        let (worst, finite) = s.clumps.kick_drift(&mut s.particles, &s.reference, step);
+        let pool = self.pool.as_deref();
+        let (worst, finite) = s
+            .clumps
+            .kick_drift(&mut s.particles, &s.reference, step, pool);
         Drift {
             max_disp2: drift.max_disp2.map(|d| d.max(worst)),
             finite: drift.finite && finite,

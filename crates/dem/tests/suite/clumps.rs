@@ -228,7 +228,8 @@ fn clump_bits(sim: &Simulation) -> Vec<u64> {
 #[test]
 fn a_pile_of_clumps_collides_and_keeps_its_bits_on_two_threads_and_across_a_checkpoint() {
     // 216 clumps (dumbbells and L shapes) in a 46.5 mm box, at up to 1 m/s, 6000 steps: they
-    // meet each other and the walls. The clumps' states must be the same bits on one and two threads, and a
+    // meet each other and the walls. On two threads the clumps' own pass is shared too (108
+    // clumps a thread, over its 64). The clumps' states must be the same bits on one and two threads, and a
     // simulation restored from the state saved half way must end on the same bits.
     let run = |threads: usize| {
         let mut sim = pile(threads);
