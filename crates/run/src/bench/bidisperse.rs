@@ -70,17 +70,7 @@ pub fn bidisperse_bed(bed: BidisperseBed, threads: usize) -> Result<Simulation, 
     let site = SITE_SPACING * SMALL_DIAMETER;
     let block = ratio as f64 * site;
     let width = side as f64 * block;
-    // A floor and four side planes; the top is open.
-    let planes = [
-        (DVec3::ZERO, DVec3::Z),
-        (DVec3::ZERO, DVec3::X),
-        (DVec3::ZERO, DVec3::Y),
-        (DVec3::new(width, 0.0, 0.0), -DVec3::X),
-        (DVec3::new(0.0, width, 0.0), -DVec3::Y),
-    ];
-    for (point, normal) in planes {
-        super::add_plane(&mut sim, point, normal, material)?;
-    }
+    open_box(&mut sim, (width, width), material)?;
 
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
     // Half of the blocks hold a large sphere, in an order shuffled by Fisher–Yates.
@@ -114,6 +104,25 @@ pub fn bidisperse_bed(bed: BidisperseBed, threads: usize) -> Result<Simulation, 
         }
     }
     Ok(sim)
+}
+
+/// A floor at z = 0 and four side planes around [0, `wx`] × [0, `wy`] [m]; the top open.
+pub(super) fn open_box(
+    sim: &mut Simulation,
+    (wx, wy): (f64, f64),
+    material: Material,
+) -> Result<(), DemError> {
+    let planes = [
+        (DVec3::ZERO, DVec3::Z),
+        (DVec3::ZERO, DVec3::X),
+        (DVec3::ZERO, DVec3::Y),
+        (DVec3::new(wx, 0.0, 0.0), -DVec3::X),
+        (DVec3::new(0.0, wy, 0.0), -DVec3::Y),
+    ];
+    for (point, normal) in planes {
+        super::add_plane(sim, point, normal, material)?;
+    }
+    Ok(())
 }
 
 /// The bed of `bed` after `settle_steps` untimed steps (2.5 µs each). With `cache`, the

@@ -8,7 +8,9 @@ use dem::clump::ClumpShape;
 use dem::{DQuat, DVec3, DemError, Interaction, Material, Simulation, SimulationConfig};
 use rand::{Rng, SeedableRng};
 
-use super::bidisperse::{settled, SITE_JITTER, SITE_SPACING, SKIN_DIAMETERS, SMALL_DIAMETER};
+use super::bidisperse::{
+    open_box, settled, SITE_JITTER, SITE_SPACING, SKIN_DIAMETERS, SMALL_DIAMETER,
+};
 use super::{time_steps, BenchResult};
 use case::Case;
 
@@ -35,16 +37,7 @@ pub fn dumbbell_bed(beads: usize, threads: usize) -> Result<Simulation, DemError
     let pairs_x = (dumbbells as f64 / (side * side) as f64).ceil().max(1.0) as usize;
     let site = SITE_SPACING * SMALL_DIAMETER;
     let (width_x, width) = ((2 * pairs_x) as f64 * site, side as f64 * site);
-    let planes = [
-        (DVec3::ZERO, DVec3::Z),
-        (DVec3::ZERO, DVec3::X),
-        (DVec3::ZERO, DVec3::Y),
-        (DVec3::new(width_x, 0.0, 0.0), -DVec3::X),
-        (DVec3::new(0.0, width, 0.0), -DVec3::Y),
-    ];
-    for (point, normal) in planes {
-        super::add_plane(&mut sim, point, normal, material)?;
-    }
+    open_box(&mut sim, (width_x, width), material)?;
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
     for k in 0..dumbbells {
         let (a, b, c) = (k % pairs_x, (k / pairs_x) % side, k / (pairs_x * side));
