@@ -15,4 +15,4 @@ mod shape;
 pub use bodies::ClumpSet;
 pub use mass::{union_moments, Ball, REMAINDER_LINES};
 pub use principal::{principal_frame, rotation_quaternion};
-pub use shape::{ClumpBody, ClumpError, ClumpShape};
+pub use shape::{ClumpBody, ClumpError, ClumpShape, MAX_ROD_BEADS};

@@ -20,6 +20,25 @@ pub enum ClumpError {
         /// The radius given [m].
         value: f64,
     },
+    /// A rod's aspect ratio that is not finite and at least 1.
+    #[error("aspect ratio {value} must be finite and at least 1 (length over width)")]
+    Aspect {
+        /// The aspect ratio given [-].
+        value: f64,
+    },
+    /// Too few beads to make a connected rod of the aspect ratio, or too many.
+    #[error(
+        "{value} beads cannot make a rod of aspect ratio {aspect}: it needs from {least} \
+         (neighbours touching) to {MAX_ROD_BEADS} beads, and exactly 1 at aspect ratio 1"
+    )]
+    Beads {
+        /// The number of beads given.
+        value: usize,
+        /// The aspect ratio [-].
+        aspect: f64,
+        /// The fewest beads that keep neighbours touching.
+        least: usize,
+    },
     /// A centre with a coordinate that is not finite.
     #[error("member {member}: centre {value:?} m must have finite coordinates")]
     Centre {
@@ -29,6 +48,9 @@ pub enum ClumpError {
         value: [f64; 3],
     },
 }
+
+/// The most beads a generated rod may have.
+pub const MAX_ROD_BEADS: usize = 64;
 
 /// Member spheres (centres [m] and radii [m]) in the frame their user gave them in.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,6 +81,59 @@ impl ClumpShape {
     /// The members as given.
     pub fn members(&self) -> &[Ball] {
         &self.members
+    }
+
+    /// A rod of `beads` equal beads in a row along x, centred on the origin, its length (end
+    /// to end) `aspect` times its width (a bead's diameter), of the volume of a sphere of
+    /// diameter `diameter` [m], the equal-volume diameter. Neighbours overlap or touch: at
+    /// least ⌈aspect⌉ beads (one at aspect 1, where the rod is that sphere).
+    pub fn rod(aspect: f64, beads: usize, diameter: f64) -> Result<Self, ClumpError> {
+        if !(aspect >= 1.0 && aspect.is_finite()) {
+            return Err(ClumpError::Aspect { value: aspect });
+        }
+        if !(diameter > 0.0 && diameter.is_finite()) {
+            return Err(ClumpError::Radius {
+                member: 0,
+                value: diameter / 2.0,
+            });
+        }
+        // Centres (aspect − 1) w apart end to end, (aspect − 1) w / (beads − 1) between
+        // neighbours, at most w.
+        let least = if aspect == 1.0 {
+            1
+        } else {
+            (aspect.ceil() as usize).max(2)
+        };
+        let fits = if aspect == 1.0 {
+            beads == 1
+        } else {
+            (least..=MAX_ROD_BEADS).contains(&beads)
+        };
+        if !fits {
+            return Err(ClumpError::Beads {
+                value: beads,
+                aspect,
+                least,
+            });
+        }
+        let row = |width: f64| -> Vec<Ball> {
+            let span = (aspect - 1.0) * width;
+            (0..beads)
+                .map(|k| {
+                    let t = if beads == 1 {
+                        0.0
+                    } else {
+                        k as f64 / (beads - 1) as f64 - 0.5
+                    };
+                    (DVec3::new(t * span, 0.0, 0.0), width / 2.0)
+                })
+                .collect()
+        };
+        // The union's volume scales as the width cubed: the width of unit volume ratio, then
+        // the one of the sphere's volume.
+        let unit = union_moments(&row(1.0)).volume;
+        let sphere = std::f64::consts::PI / 6.0 * diameter.powi(3);
+        Self::new(row((sphere / unit).cbrt()))
     }
 
     /// The rigid body of these members at `density` [kg/m³].
@@ -133,6 +208,44 @@ mod tests {
         assert!(matches!(nan, ClumpError::Radius { member: 0, .. }));
         let inf = ClumpShape::new(vec![(DVec3::new(0.0, f64::INFINITY, 0.0), 1.0)]).unwrap_err();
         assert!(matches!(inf, ClumpError::Centre { member: 0, .. }));
+    }
+
+    #[test]
+    fn rods_have_the_equal_volume_sphere_s_volume_and_their_aspect_ratio() {
+        // Aspect ratios 1 to 3 with the fewest and with more beads: the union's volume is the
+        // sphere's of the given diameter (to the union's stated 1e-5, exactly where no three
+        // beads overlap), and the length end to end over the width is the aspect ratio.
+        let d: f64 = 0.004;
+        let sphere = PI / 6.0 * d.powi(3);
+        for (aspect, beads) in [(1.0, 1), (1.5, 2), (2.0, 2), (2.0, 5), (3.0, 3), (3.0, 9)] {
+            let rod = ClumpShape::rod(aspect, beads, d).expect("a rod");
+            let body = rod.body(1.0);
+            assert!(
+                (body.volume - sphere).abs() <= 1e-5 * sphere,
+                "{aspect} {beads}"
+            );
+            let m = rod.members();
+            let width = 2.0 * m[0].1;
+            let length = m[m.len() - 1].0.x - m[0].0.x + width;
+            assert!((length / width - aspect).abs() <= 1e-12, "{aspect} {beads}");
+        }
+        // Refusals: aspect below 1, too few beads to touch, more than one at aspect 1.
+        assert_eq!(
+            ClumpShape::rod(0.5, 2, d),
+            Err(ClumpError::Aspect { value: 0.5 })
+        );
+        let gap = ClumpShape::rod(3.0, 2, d).unwrap_err();
+        assert_eq!(
+            gap,
+            ClumpError::Beads {
+                value: 2,
+                aspect: 3.0,
+                least: 3
+            }
+        );
+        assert!(gap.to_string().contains("from 3"), "{gap}");
+        assert!(ClumpShape::rod(1.0, 2, d).is_err());
+        assert!(ClumpShape::rod(2.0, MAX_ROD_BEADS + 1, d).is_err());
     }
 
     #[test]
