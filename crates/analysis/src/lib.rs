@@ -22,6 +22,7 @@ pub mod fit;
 pub mod flowrate;
 pub mod geometry3d;
 pub mod janssen;
+pub mod orientation;
 pub mod profile;
 pub mod selfsimilar;
 pub mod series;
