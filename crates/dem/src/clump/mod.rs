@@ -8,11 +8,13 @@
 mod bodies;
 pub mod cap;
 mod mass;
+mod mesh_fill;
 mod principal;
 pub mod rotation;
 mod shape;
 
 pub use bodies::ClumpSet;
 pub use mass::{union_moments, Ball, REMAINDER_LINES};
+pub use mesh_fill::{fill_mesh, FilledMesh, MAX_FILL_SPHERES};
 pub use principal::{principal_frame, rotation_quaternion};
 pub use shape::{ClumpBody, ClumpError, ClumpShape, MAX_ROD_BEADS};
