@@ -23,7 +23,7 @@
 use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::rotation::{angular_velocity, free_rotation};
+use super::rotation::{angular_velocity, free_rotation_scaled};
 use super::ClumpBody;
 use crate::particles::{ParticleSet, ParticleTag, NO_CLUMP};
 use crate::ranges::even_bounds;
@@ -62,6 +62,27 @@ pub struct ClumpSet {
     /// computes them before they are copied into the particle arrays.
     #[serde(skip)]
     placed: Vec<Placed>,
+}
+
+/// What a pass needs of a shape, formed once a pass: 1/M [1/kg], 1/I [1/(kg m²)] and
+/// Δt/(2I) [s/(kg m²)] per principal axis.
+#[derive(Debug, Clone, Copy)]
+struct ShapeConstants {
+    inv_mass: f64,
+    inv_inertia: DVec3,
+    scale: DVec3,
+}
+
+/// [`ShapeConstants`] of every shape for a step of `dt` [s].
+fn constants(shapes: &[ClumpBody], dt: f64) -> Vec<ShapeConstants> {
+    shapes
+        .iter()
+        .map(|b| ShapeConstants {
+            inv_mass: 1.0 / b.mass,
+            inv_inertia: 1.0 / b.principal_inertia,
+            scale: dt / (2.0 * b.principal_inertia),
+        })
+        .collect()
 }
 
 /// A member's place [m], velocity [m/s] and angular velocity [rad/s].
@@ -109,17 +130,23 @@ struct ClumpRange<'a> {
 
 impl ClumpRange<'_> {
     /// Steps 1–3 for the range's clumps, their members' places written to `placed`.
-    fn kick_drift(&mut self, reference: &[DVec3], (half, dt): (f64, f64)) -> (f64, bool) {
+    fn kick_drift(
+        &mut self,
+        consts: &[ShapeConstants],
+        reference: &[DVec3],
+        (half, dt): (f64, f64),
+    ) -> (f64, bool) {
         let (shapes, members) = (self.shapes, self.members);
         let mut worst = 0.0f64;
         let mut finite = true;
         let base = self.starts[self.first];
         for c in 0..self.shape.len() {
-            let body = &shapes[self.shape[c] as usize];
-            let v = self.velocity[c] + (half / body.mass) * self.force[c];
+            let shape = self.shape[c] as usize;
+            let (body, k) = (&shapes[shape], consts[shape]);
+            let v = self.velocity[c] + (half * k.inv_mass) * self.force[c];
             let l = self.momentum[c] + half * self.torque[c];
             let x = self.position[c] + dt * v;
-            let q = free_rotation(self.orientation[c], l, body.principal_inertia, dt);
+            let q = free_rotation_scaled(self.orientation[c], l, k.scale);
             (
                 self.velocity[c],
                 self.momentum[c],
@@ -129,7 +156,7 @@ impl ClumpRange<'_> {
             finite &= x.is_finite() && q.is_finite();
             // One rotation matrix for ω and every member (cheaper than a quaternion each).
             let turn = DMat3::from_quat(q);
-            let w = turn * (turn.transpose() * l / body.principal_inertia);
+            let w = turn * (turn.transpose() * l * k.inv_inertia);
             let slots = self.starts[self.first + c]..self.starts[self.first + c + 1];
             for (slot, &(offset, _)) in slots.zip(&body.members) {
                 let arm = turn * offset;
@@ -149,12 +176,18 @@ impl ClumpRange<'_> {
 
     /// Step 4 for the range's clumps, from the evaluation's forces in `p`, their members'
     /// motion written to `placed`.
-    fn gather_kick(&mut self, p: &ParticleSet, (gravity, half): (DVec3, f64)) -> bool {
+    fn gather_kick(
+        &mut self,
+        consts: &[ShapeConstants],
+        p: &ParticleSet,
+        (gravity, half): (DVec3, f64),
+    ) -> bool {
         let (shapes, members) = (self.shapes, self.members);
         let mut finite = true;
         let base = self.starts[self.first];
         for c in 0..self.shape.len() {
-            let body = &shapes[self.shape[c] as usize];
+            let shape = self.shape[c] as usize;
+            let (body, k) = (&shapes[shape], consts[shape]);
             let x = self.position[c];
             let (mut force, mut torque) = (DVec3::ZERO, DVec3::ZERO);
             let slots = self.starts[self.first + c]..self.starts[self.first + c + 1];
@@ -165,7 +198,7 @@ impl ClumpRange<'_> {
                 torque += p.torque[k] + (p.position[k] - x).cross(contact);
             }
             force += body.mass * gravity;
-            let v = self.velocity[c] + (half / body.mass) * force;
+            let v = self.velocity[c] + (half * k.inv_mass) * force;
             let l = self.momentum[c] + half * torque;
             (
                 self.velocity[c],
@@ -175,7 +208,7 @@ impl ClumpRange<'_> {
             ) = (v, l, force, torque);
             finite &= v.is_finite() && l.is_finite();
             let turn = DMat3::from_quat(self.orientation[c]);
-            let w = turn * (turn.transpose() * l / body.principal_inertia);
+            let w = turn * (turn.transpose() * l * k.inv_inertia);
             for (slot, &(offset, _)) in slots.zip(&body.members) {
                 let place = &mut self.placed[slot - base];
                 place.velocity = v + w.cross(turn * offset);
@@ -269,8 +302,9 @@ impl ClumpSet {
         step: (f64, f64),
         pool: Option<&Team>,
     ) -> (f64, bool) {
+        let consts = constants(&self.shapes, step.1);
         let found = on_clump_ranges(self.ranges(pool), pool, |mut r| {
-            r.kick_drift(reference, step)
+            r.kick_drift(&consts, reference, step)
         });
         self.scatter(p, true);
         found
@@ -290,8 +324,9 @@ impl ClumpSet {
         pool: Option<&Team>,
     ) -> bool {
         let particles = &*p;
+        let consts = constants(&self.shapes, 2.0 * half);
         let found = on_clump_ranges(self.ranges(pool), pool, |mut r| {
-            r.gather_kick(particles, (gravity, half))
+            r.gather_kick(&consts, particles, (gravity, half))
         });
         self.scatter(p, false);
         found.into_iter().all(|f| f)

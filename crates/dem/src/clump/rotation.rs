@@ -22,9 +22,14 @@ const ROUNDS: usize = 64;
 /// `inertia` [kg m²], orientation `orientation` (body frame → world frame) and angular
 /// momentum `momentum` [kg m²/s] in the world frame, which the step leaves unchanged.
 pub fn free_rotation(orientation: DQuat, momentum: DVec3, inertia: DVec3, dt: f64) -> DQuat {
+    free_rotation_scaled(orientation, momentum, dt / (2.0 * inertia))
+}
+
+/// [`free_rotation`] with `scale` = Δt/(2I) [s/(kg m²)], per principal axis, formed
+/// beforehand (once a pass for each shape of clump): W = scale ⊙ (L + L').
+pub(crate) fn free_rotation_scaled(orientation: DQuat, momentum: DVec3, scale: DVec3) -> DQuat {
     let body = orientation.inverse() * momentum;
-    let scale = dt / (2.0 * inertia); // W = Δt I⁻¹ (L + L')/2
-                                      // The explicit step as the first guess, L' ≈ L + Δt L × I⁻¹L: one round less.
+    // The explicit step as the first guess, L' ≈ L + Δt L × I⁻¹L: one round less.
     let mut next = body + body.cross(2.0 * scale * body);
     let mut w = DVec3::ZERO;
     for _ in 0..ROUNDS {
