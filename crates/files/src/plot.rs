@@ -324,6 +324,52 @@ pub fn plot_svg(
 }
 
 /// Draws the whole figure on `root`; text sizes follow the image height.
+/// The corner of the plot whose quarter-sized box (35 % of each axis) holds the fewest data
+/// points, in the order upper right, upper left, lower right, lower left among equals: where
+/// the legend hides the least.
+fn legend_corner(
+    figure: &Figure,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> SeriesLabelPosition {
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let box_share = 0.35;
+    let crowd = |right: bool, upper: bool| {
+        figure
+            .series
+            .iter()
+            .flat_map(|s| s.x.iter().zip(&s.y))
+            .filter(|(x, y)| {
+                let (u, v) = ((**x - x0) / (x1 - x0), (**y - y0) / (y1 - y0));
+                let across = if right {
+                    u >= 1.0 - box_share
+                } else {
+                    u <= box_share
+                };
+                let along = if upper {
+                    v >= 1.0 - box_share
+                } else {
+                    v <= box_share
+                };
+                across && along
+            })
+            .count()
+    };
+    let mut best = (SeriesLabelPosition::UpperRight, usize::MAX);
+    for (corner, right, upper) in corners {
+        let n = crowd(right, upper);
+        if n < best.1 {
+            best = (corner, n);
+        }
+    }
+    best.0
+}
+
 fn draw_figure<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     figure: &Figure,
@@ -451,11 +497,22 @@ fn draw_figure<DB: DrawingBackend>(
         if let (Some(drawn), false) = (drawn, series.label.is_empty()) {
             has_legend = true;
             let legend_length = pixels(20.0) as i32;
+            let radius = marker as i32;
+            // The legend shows what the series draws: a line, a marker, or a line through one.
             drawn.label(series.label.clone()).legend(move |(x, y)| {
-                PathElement::new(
-                    vec![(x, y), (x + legend_length, y)],
-                    color.stroke_width(line_width),
-                )
+                let ends = if draws_line {
+                    vec![(x, y), (x + legend_length, y)]
+                } else {
+                    Vec::new()
+                };
+                let (size, fill) = if draws_points {
+                    (radius, color.filled())
+                } else {
+                    (0, color.mix(0.0).filled())
+                };
+                EmptyElement::at((0, 0))
+                    + PathElement::new(ends, color.stroke_width(line_width))
+                    + Circle::new((x + legend_length / 2, y), size, fill)
             });
         }
     }
@@ -463,7 +520,7 @@ fn draw_figure<DB: DrawingBackend>(
     if has_legend {
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend_corner(figure, (x_start, x_end), (y_start, y_end)))
             .label_font((FONT_FAMILY, size(14.0)).into_font())
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)

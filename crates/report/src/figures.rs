@@ -7,7 +7,7 @@ use analysis::selfsimilar::{packing_saturation, power_profile};
 
 use super::comparison::{ANGLE_SERIES, ECCENTRIC_SERIES};
 use super::{common_gravity, StudyAnalysis};
-use files::{Axis, Figure, Series};
+use files::{Axis, Figure, Series, PALETTE};
 
 /// A figure with its file stem and caption.
 pub struct ReportFigure {
@@ -32,6 +32,14 @@ fn curve(f: impl Fn(f64) -> f64) -> (Vec<f64>, Vec<f64>) {
         .map(|x| (x, f(x)))
         .unzip()
 }
+
+/// The colour of group `g` of a figure: its points and its fit share it.
+fn group_color(g: usize) -> [u8; 3] {
+    PALETTE[g % PALETTE.len()]
+}
+
+/// The colour of a pooled fit drawn over the groups.
+const POOLED: [u8; 3] = [0, 0, 0];
 
 fn push(out: &mut Vec<ReportFigure>, name: String, caption: String, figure: Figure) {
     if figure.series.iter().any(|s| !s.x.is_empty()) {
@@ -78,11 +86,12 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
     }
     // Fig. 2b / 8b: (W/Z)^{2/3} against D per angle, with Beverloo lines.
     let mut beverloo = Figure::new(
-        "Beverloo",
+        "Fig. 2b: (W/Z)^(2/3) against outlet width, per hopper angle",
         Axis::new("D", "mm"),
         Axis::new("(W/Z)^(2/3)", "(kg/(m·s))^(2/3)"),
     );
-    for f in &analysis.angles {
+    let mut widest = 0.0f64;
+    for (g, f) in analysis.angles.iter().enumerate() {
         let (x, y): (Vec<f64>, Vec<f64>) = f
             .points
             .iter()
@@ -93,11 +102,11 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                 )
             })
             .unzip();
-        beverloo = beverloo.with_series(Series::points(
-            format!("{} α = {}°", f.series, f.hopper_angle_deg),
-            x,
-            y,
-        ));
+        widest = widest.max(x.iter().cloned().fold(0.0, f64::max));
+        beverloo = beverloo.with_series(
+            Series::points(format!("{} α = {}°", f.series, f.hopper_angle_deg), x, y)
+                .with_color(group_color(g)),
+        );
         let group = analysis
             .beverloo
             .iter()
@@ -114,10 +123,27 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                 fit.line.slope.value * lo + fit.line.intercept.value,
                 fit.line.slope.value * hi + fit.line.intercept.value,
             ];
-            beverloo = beverloo.with_series(Series::line("", xs, ys));
+            beverloo = beverloo.with_series(Series::line("", xs, ys).with_color(group_color(g)));
         }
     }
-    push(&mut out, "fig02b-beverloo".into(), "Fig. 2b/8b: steady discharge rate per unit slab thickness to the 2/3 power against outlet width, per hopper angle; lines are weighted least-squares fits of Eq. 1 (2D), whose x-intercept is k·d.".into(), beverloo);
+    // The pooled fit over every angle, which the comparison's k item uses.
+    if let Ok(pooled) = super::beverloo::pooled_angle_fit(&analysis.beverloo, ANGLE_SERIES) {
+        if let Ok(fit) = &pooled.fit {
+            let (lo, hi) = (fit.kd.value, widest * 1e-3);
+            if hi > lo {
+                let line = |d: f64| fit.line.slope.value * d + fit.line.intercept.value;
+                beverloo = beverloo.with_series(
+                    Series::line(
+                        format!("{ANGLE_SERIES}, all α pooled"),
+                        vec![lo * 1e3, hi * 1e3],
+                        vec![line(lo), line(hi)],
+                    )
+                    .with_color(POOLED),
+                );
+            }
+        }
+    }
+    push(&mut out, "fig02b-beverloo".into(), "Fig. 2b/8b: steady discharge rate per unit slab thickness to the 2/3 power against outlet width, per hopper angle; lines are weighted least-squares fits of Eq. 1 (2D), whose x-intercept is k·d, in each angle's colour; the black line is the fit to every angle pooled, whose k the comparison table uses.".into(), beverloo);
 
     // Figs. 3 and 6: raw and normalised profiles per angle.
     for f in &analysis.angles {
@@ -181,18 +207,27 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
         }
     }
     // Fig. 4: v_c against √R; Fig. 7: φ_c against R; Fig. 5: a, b, γ against α.
-    let mut fig4 = Figure::new("v_c", Axis::new("√R", "√m"), Axis::new("v_c", "m/s"));
-    let mut fig7 = Figure::new("φ_c", Axis::new("R", "mm"), Axis::new("φ_c", "-"));
+    let mut fig4 = Figure::new(
+        "Fig. 4: centre velocity against √R, per hopper angle",
+        Axis::new("√R", "√m"),
+        Axis::new("v_c", "m/s"),
+    );
+    let mut fig7 = Figure::new(
+        "Fig. 7: centre area fraction against R, per hopper angle",
+        Axis::new("R", "mm"),
+        Axis::new("φ_c", "-"),
+    );
     let (mut alpha_a, mut a, mut alpha_b, mut b, mut alpha_g, mut g) =
         (vec![], vec![], vec![], vec![], vec![], vec![]);
-    for f in &analysis.angles {
+    for (group, f) in analysis.angles.iter().enumerate() {
+        let colour = group_color(group);
         let label = format!("{} α = {}°", f.series, f.hopper_angle_deg);
         let (x, y): (Vec<f64>, Vec<f64>) = f
             .points
             .iter()
             .map(|p| (p.radius().sqrt(), p.centre_velocity.value))
             .unzip();
-        fig4 = fig4.with_series(Series::points(label.clone(), x.clone(), y));
+        fig4 = fig4.with_series(Series::points(label.clone(), x.clone(), y).with_color(colour));
         // A fitted v_c implies one g over the group's points.
         if let (Ok(c), Ok(gravity)) = (&f.centre_velocity, common_gravity(&f.points)) {
             let xs: Vec<f64> = (0..=20)
@@ -202,7 +237,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                 .iter()
                 .map(|s| (2.0 * c.gamma.value * gravity).sqrt() * s)
                 .collect();
-            fig4 = fig4.with_series(Series::line("", xs, ys));
+            fig4 = fig4.with_series(Series::line("", xs, ys).with_color(colour));
             if f.series == ANGLE_SERIES {
                 alpha_g.push(f.hopper_angle_deg);
                 g.push(c.gamma.value);
@@ -213,7 +248,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .iter()
             .map(|p| (p.radius() * 1e3, p.centre_area_fraction.value))
             .unzip();
-        fig7 = fig7.with_series(Series::points(label, x.clone(), y));
+        fig7 = fig7.with_series(Series::points(label, x.clone(), y).with_color(colour));
         if let Ok(s) = &f.saturation {
             let hi = x.iter().cloned().fold(0.0, f64::max);
             let xs: Vec<f64> = (1..=40).map(|i| hi * i as f64 / 40.0).collect();
@@ -228,7 +263,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                     )
                 })
                 .collect();
-            fig7 = fig7.with_series(Series::line("", xs, ys));
+            fig7 = fig7.with_series(Series::line("", xs, ys).with_color(colour));
         }
         if f.series == ANGLE_SERIES {
             if let Ok(e) = &f.velocity_exponent {
@@ -260,8 +295,12 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
     push(&mut out, "fig07-centre-fraction".into(), "Fig. 7: centre area fraction φ_c against outlet half-width R; lines are Eq. 12, φ_c = φ∞(1 − τ₁e^(−2τ₂R)) with R in mm.".into(), fig7);
 
     // Fig. 8a: W against R with Eq. 14; Fig. 8c: W(α)/W(90°).
-    let mut fig8a = Figure::new("W", Axis::new("R", "mm"), Axis::new("W", "g/s"));
-    for f in &analysis.angles {
+    let mut fig8a = Figure::new(
+        "Fig. 8a: discharge rate against R, with Eq. 14, per hopper angle",
+        Axis::new("R", "mm"),
+        Axis::new("W", "g/s"),
+    );
+    for (group, f) in analysis.angles.iter().enumerate() {
         let (x, y): (Vec<f64>, Vec<f64>) = f
             .points
             .iter()
@@ -279,7 +318,8 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                 x.clone(),
                 y,
             )
-            .with_y_error(e),
+            .with_y_error(e)
+            .with_color(group_color(group)),
         );
         let predicted: Vec<(f64, f64)> = x
             .iter()
@@ -288,7 +328,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .collect();
         if !predicted.is_empty() {
             let (x, y) = predicted.into_iter().unzip();
-            fig8a = fig8a.with_series(Series::line("", x, y));
+            fig8a = fig8a.with_series(Series::line("", x, y).with_color(group_color(group)));
         }
     }
     push(&mut out, "fig08a-rate-eq14".into(), "Fig. 8a: measured steady discharge rate (replica mean ± standard error) against R; lines are Eq. 14 with the fitted a, b, γ and φ∞ of each angle.".into(), fig8a);
@@ -436,14 +476,27 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .with_series(Series::points("δ_s2", x, y))
             .with_series(Series::points("σ_s2", x2, y2)),
     );
-    let mut fig13 = Figure::new("φ_max", Axis::new("R", "mm"), Axis::new("φ_max", "-"));
-    let mut fig15 = Figure::new("W", Axis::new("R", "mm"), Axis::new("W", "g/s"));
-    let mut fig16 = Figure::new("W/W0", Axis::new("s*", "-"), Axis::new("W/W0", "-"));
-    for gap in analysis
+    let mut fig13 = Figure::new(
+        "Fig. 13: largest outlet area fraction against R, per outlet gap",
+        Axis::new("R", "mm"),
+        Axis::new("φ_max", "-"),
+    );
+    let mut fig15 = Figure::new(
+        "Fig. 15a: discharge rate against R, with the corrected Eq. 18, per outlet gap",
+        Axis::new("R", "mm"),
+        Axis::new("W", "g/s"),
+    );
+    let mut fig16 = Figure::new(
+        "Fig. 16: discharge rate over the centred rate against s*, per outlet width",
+        Axis::new("s*", "-"),
+        Axis::new("W/W0", "-"),
+    );
+    for (group, gap) in analysis
         .eccentric
         .gaps
         .iter()
         .filter(|g| g.series == ECCENTRIC_SERIES)
+        .enumerate()
     {
         let members: Vec<_> = series_of(ECCENTRIC_SERIES)
             .filter(|p| p.point.outlet_gap == gap.outlet_gap)
@@ -458,7 +511,8 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .iter()
             .map(|p| (p.point.radius() * 1e3, p.point.discharge_rate.value * 1e3))
             .unzip();
-        fig15 = fig15.with_series(Series::points(label.clone(), x, y));
+        fig15 =
+            fig15.with_series(Series::points(label.clone(), x, y).with_color(group_color(group)));
         let (x, y): (Vec<f64>, Vec<f64>) = members
             .iter()
             .filter_map(|p| {
@@ -468,7 +522,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                     .map(|w| (p.point.radius() * 1e3, w.value * 1e3))
             })
             .unzip();
-        fig15 = fig15.with_series(Series::line("", x, y));
+        fig15 = fig15.with_series(Series::line("", x, y).with_color(group_color(group)));
     }
     let mut widths: Vec<f64> = series_of(ECCENTRIC_SERIES)
         .map(|p| p.point.outlet_width)

@@ -55,6 +55,7 @@ pub use comparison::{
 };
 pub use data::{load_study, GridPoint, StudyData};
 pub use document::{Block, Document};
+pub use figures::{report_figures, ReportFigure};
 
 /// A fitted value, or why it could not be measured (too few points, no profiles, a fit
 /// that failed); the report prints the reason instead of failing.

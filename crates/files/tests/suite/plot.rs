@@ -263,3 +263,53 @@ fn non_finite_points_are_skipped_rather_than_breaking_the_plot() {
     let image = render_plot(&figure, 400, 300).expect("render");
     assert_eq!((image.width(), image.height()), (400, 300));
 }
+
+#[test]
+fn the_legend_shows_a_marker_for_points_and_a_line_for_lines() {
+    // Three labelled points and a labelled line: the SVG holds the three data circles and one
+    // legend circle of non-zero radius (the points' entry), and no visible circle for the
+    // line's entry, whose glyph is a line as before.
+    let directory = tempfile::tempdir().expect("temporary directory");
+    let path = directory.path().join("legend.svg");
+    let figure = unit_figure("legend")
+        .with_series(Series::points(
+            "dots",
+            vec![0.2, 0.5, 0.8],
+            vec![0.3, 0.6, 0.4],
+        ))
+        .with_series(Series::line("curve", vec![0.0, 1.0], vec![0.1, 0.9]));
+    plot_svg(&figure, &path, 800, 600).expect("plot");
+    let svg = std::fs::read_to_string(&path).expect("read back");
+    let visible = svg
+        .split("<circle")
+        .skip(1)
+        .filter(|c| !c.contains("r=\"0\""))
+        .count();
+    assert_eq!(visible, 4, "{svg}");
+}
+
+#[test]
+fn the_legend_moves_to_the_emptiest_corner() {
+    // Points rising to the upper right: the legend's entry is drawn in the left half, where
+    // the data leave room; points falling to the lower right keep it at the upper right.
+    let directory = tempfile::tempdir().expect("temporary directory");
+    let legend_x = |y: Vec<f64>| {
+        let path = directory.path().join("corner.svg");
+        let figure =
+            unit_figure("corner").with_series(Series::points("dots", vec![0.1, 0.5, 0.9, 1.0], y));
+        plot_svg(&figure, &path, 800, 600).expect("plot");
+        let svg = std::fs::read_to_string(&path).expect("read back");
+        let at = svg.find(">\ndots\n<").expect("the legend entry");
+        let tag = &svg[svg[..at].rfind("<text").expect("its text element")..at];
+        let x = tag
+            .split("x=\"")
+            .nth(1)
+            .expect("an x")
+            .split('"')
+            .next()
+            .expect("a value");
+        x.parse::<f64>().expect("a number")
+    };
+    assert!(legend_x(vec![0.1, 0.5, 0.9, 1.0]) < 400.0);
+    assert!(legend_x(vec![1.0, 0.5, 0.1, 0.0]) > 400.0);
+}

@@ -7,7 +7,7 @@ use crate::study_fake;
 use std::path::Path;
 
 use case::{load_sweep, parse_sweep, SweepPlan, FAN2023_QUICK_SWEEP, FAN2023_SWEEP};
-use report::{analyse_study, build_report, load_study};
+use report::{analyse_study, build_report, load_study, report_figures};
 use serde_json::Value;
 use study::{run_study, StudyEvent, StudyOptions};
 use study_fake::FakeRunner;
@@ -273,6 +273,62 @@ fn report_survives_failed_cases_and_missing_profiles() {
     );
     let md = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
     assert!(md.contains("1 failed"));
+}
+
+#[test]
+fn each_angle_s_points_and_fit_share_a_colour_and_the_pooled_fit_is_drawn() {
+    // Figs. 2b, 4, 7 and 8a of a synthetic paper study: every labelled series of points is
+    // followed by its fit, unlabelled (one legend entry), in the same colour, and no two
+    // angles share a colour; Fig. 2b also draws the pooled fit, in its own colour and named;
+    // every title says which figure it is.
+    let dir = tempfile::tempdir().unwrap();
+    run_fake(FAN2023_SWEEP, dir.path(), &FakeRunner::new());
+    let analysis = analyse_study(&load_study(dir.path()).unwrap().points);
+    let figures = report_figures(&analysis);
+    for name in [
+        "fig02b-beverloo",
+        "fig04-centre-velocity",
+        "fig07-centre-fraction",
+        "fig08a-rate-eq14",
+    ] {
+        let figure = &figures
+            .iter()
+            .find(|f| f.name == name)
+            .unwrap_or_else(|| panic!("{name}"))
+            .figure;
+        assert!(figure.title.starts_with("Fig."), "{name}: {}", figure.title);
+        let mut colours = Vec::new();
+        for pair in figure.series.windows(2) {
+            let (points, fit) = (&pair[0], &pair[1]);
+            if points.style == files::SeriesStyle::Points && fit.label.is_empty() {
+                assert!(
+                    points.color.is_some() && points.color == fit.color,
+                    "{name}: {}",
+                    points.label
+                );
+                colours.push(points.color);
+            }
+        }
+        assert!(colours.len() >= 2, "{name}: fits drawn for several angles");
+        let distinct: std::collections::BTreeSet<_> = colours.iter().collect();
+        assert_eq!(distinct.len(), colours.len(), "{name}: one colour an angle");
+    }
+    let beverloo = &figures
+        .iter()
+        .find(|f| f.name == "fig02b-beverloo")
+        .unwrap()
+        .figure;
+    let pooled = beverloo
+        .series
+        .iter()
+        .find(|s| s.label.contains("pooled"))
+        .expect("the pooled fit");
+    assert_eq!(pooled.style, files::SeriesStyle::Line);
+    assert!(beverloo
+        .series
+        .iter()
+        .filter(|s| s.label != pooled.label)
+        .all(|s| s.color != pooled.color));
 }
 
 #[test]
