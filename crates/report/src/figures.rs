@@ -84,7 +84,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                 p.key, p.outlet_width / p.particle_diameter), figure);
         }
     }
-    // Fig. 2b / 8b: (W/Z)^{2/3} against D per angle, with Beverloo lines.
+    // Fig. 2b: (W/Z)^{2/3} against D per angle, with Beverloo lines.
     let mut beverloo = Figure::new(
         "Fig. 2b: (W/Z)^(2/3) against outlet width, per hopper angle",
         Axis::new("D", "mm"),
@@ -143,7 +143,7 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             }
         }
     }
-    push(&mut out, "fig02b-beverloo".into(), "Fig. 2b/8b: steady discharge rate per unit slab thickness to the 2/3 power against outlet width, per hopper angle; lines are weighted least-squares fits of Eq. 1 (2D), whose x-intercept is k·d, in each angle's colour; the black line is the fit to every angle pooled, whose k the comparison table uses.".into(), beverloo);
+    push(&mut out, "fig02b-beverloo".into(), "Fig. 2b: steady discharge rate per unit slab thickness to the 2/3 power against outlet width, per hopper angle; lines are weighted least-squares fits of Eq. 1 (2D), whose x-intercept is k·d, in each angle's colour; the black line is the fit to every angle pooled, whose k the comparison table uses.".into(), beverloo);
 
     // Figs. 3 and 6: raw and normalised profiles per angle.
     for f in &analysis.angles {
@@ -294,12 +294,19 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
     push(&mut out, "fig05-exponents".into(), "Fig. 5: profile exponents a (velocity) and b (area fraction) and the free-fall factor γ against hopper angle, angle series; lines join the paper's Table 2 values.".into(), fig5);
     push(&mut out, "fig07-centre-fraction".into(), "Fig. 7: centre area fraction φ_c against outlet half-width R; lines are Eq. 12, φ_c = φ∞(1 − τ₁e^(−2τ₂R)) with R in mm.".into(), fig7);
 
-    // Fig. 8a: W against R with Eq. 14; Fig. 8c: W(α)/W(90°).
+    // Fig. 8a: W against R with Eq. 14; Fig. 8b: W^(2/3) against R, the same; Fig. 8c:
+    // W(α)/W(90°).
     let mut fig8a = Figure::new(
         "Fig. 8a: discharge rate against R, with Eq. 14, per hopper angle",
         Axis::new("R", "mm"),
         Axis::new("W", "g/s"),
     );
+    let mut fig8b = Figure::new(
+        "Fig. 8b: discharge rate to the 2/3 power against R, with Eq. 14, per hopper angle",
+        Axis::new("R", "mm"),
+        Axis::new("W^(2/3)", "(g/s)^(2/3)"),
+    );
+    let two_thirds = |w: f64| w.powf(2.0 / 3.0);
     for (group, f) in analysis.angles.iter().enumerate() {
         let (x, y): (Vec<f64>, Vec<f64>) = f
             .points
@@ -312,14 +319,19 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .map(|p| p.discharge_rate.standard_error * 1e3)
             .map(|e| if e.is_finite() { e } else { 0.0 })
             .collect();
-        fig8a = fig8a.with_series(
+        let label = format!("{} α = {}°", f.series, f.hopper_angle_deg);
+        fig8b = fig8b.with_series(
             Series::points(
-                format!("{} α = {}°", f.series, f.hopper_angle_deg),
+                label.clone(),
                 x.clone(),
-                y,
+                y.iter().map(|&w| two_thirds(w)).collect(),
             )
-            .with_y_error(e)
             .with_color(group_color(group)),
+        );
+        fig8a = fig8a.with_series(
+            Series::points(label, x.clone(), y)
+                .with_y_error(e)
+                .with_color(group_color(group)),
         );
         let predicted: Vec<(f64, f64)> = x
             .iter()
@@ -327,11 +339,15 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .filter_map(|(r, w)| w.as_ref().ok().map(|w| (*r, w.value * 1e3)))
             .collect();
         if !predicted.is_empty() {
-            let (x, y) = predicted.into_iter().unzip();
+            let (x, y): (Vec<f64>, Vec<f64>) = predicted.into_iter().unzip();
+            let y23 = y.iter().map(|&w| two_thirds(w)).collect();
+            fig8b =
+                fig8b.with_series(Series::line("", x.clone(), y23).with_color(group_color(group)));
             fig8a = fig8a.with_series(Series::line("", x, y).with_color(group_color(group)));
         }
     }
     push(&mut out, "fig08a-rate-eq14".into(), "Fig. 8a: measured steady discharge rate (replica mean ± standard error) against R; lines are Eq. 14 with the fitted a, b, γ and φ∞ of each angle.".into(), fig8a);
+    push(&mut out, "fig08b-rate-two-thirds".into(), "Fig. 8b: the measured steady discharge rate to the 2/3 power against R, which Eq. 14 makes linear in R; lines are Eq. 14 with the fitted a, b, γ and φ∞ of each angle, to the same power.".into(), fig8b);
     let ratios: Vec<_> = analysis
         .angle_ratios
         .iter()

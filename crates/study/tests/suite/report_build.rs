@@ -277,7 +277,7 @@ fn report_survives_failed_cases_and_missing_profiles() {
 
 #[test]
 fn each_angle_s_points_and_fit_share_a_colour_and_the_pooled_fit_is_drawn() {
-    // Figs. 2b, 4, 7 and 8a of a synthetic paper study: every labelled series of points is
+    // Figs. 2b, 4, 7, 8a and 8b of a synthetic paper study: every labelled series of points is
     // followed by its fit, unlabelled (one legend entry), in the same colour, and no two
     // angles share a colour; Fig. 2b also draws the pooled fit, in its own colour and named;
     // every title says which figure it is.
@@ -290,6 +290,7 @@ fn each_angle_s_points_and_fit_share_a_colour_and_the_pooled_fit_is_drawn() {
         "fig04-centre-velocity",
         "fig07-centre-fraction",
         "fig08a-rate-eq14",
+        "fig08b-rate-two-thirds",
     ] {
         let figure = &figures
             .iter()
@@ -318,6 +319,20 @@ fn each_angle_s_points_and_fit_share_a_colour_and_the_pooled_fit_is_drawn() {
         .find(|f| f.name == "fig02b-beverloo")
         .unwrap()
         .figure;
+    // Fig. 8b is Fig. 8a's points to the 2/3 power.
+    let by_name = |n: &str| &figures.iter().find(|f| f.name == n).unwrap().figure;
+    let (a, b) = (
+        by_name("fig08a-rate-eq14"),
+        by_name("fig08b-rate-two-thirds"),
+    );
+    for (sa, sb) in a.series.iter().zip(&b.series) {
+        for (wa, wb) in sa.y.iter().zip(&sb.y) {
+            assert!(
+                (wa.powf(2.0 / 3.0) - wb).abs() <= 1e-12 * wb.abs(),
+                "{wa} {wb}"
+            );
+        }
+    }
     let pooled = beverloo
         .series
         .iter()
