@@ -319,18 +319,22 @@ fn each_angle_s_points_and_fit_share_a_colour_and_the_pooled_fit_is_drawn() {
         .find(|f| f.name == "fig02b-beverloo")
         .unwrap()
         .figure;
-    // Fig. 8b is Fig. 8a's points to the 2/3 power.
+    // Figs. 8b and 15b are Figs. 8a and 15a to the 2/3 power, series for series.
     let by_name = |n: &str| &figures.iter().find(|f| f.name == n).unwrap().figure;
-    let (a, b) = (
-        by_name("fig08a-rate-eq14"),
-        by_name("fig08b-rate-two-thirds"),
-    );
-    for (sa, sb) in a.series.iter().zip(&b.series) {
-        for (wa, wb) in sa.y.iter().zip(&sb.y) {
-            assert!(
-                (wa.powf(2.0 / 3.0) - wb).abs() <= 1e-12 * wb.abs(),
-                "{wa} {wb}"
-            );
+    for (linear, powered) in [
+        ("fig08a-rate-eq14", "fig08b-rate-two-thirds"),
+        ("fig15-rate-eq18", "fig15b-rate-two-thirds"),
+    ] {
+        let (a, b) = (by_name(linear), by_name(powered));
+        assert_eq!(a.series.len(), b.series.len(), "{powered}");
+        for (sa, sb) in a.series.iter().zip(&b.series) {
+            assert_eq!((sa.color, &sa.label), (sb.color, &sb.label), "{powered}");
+            for (wa, wb) in sa.y.iter().zip(&sb.y) {
+                assert!(
+                    (wa.powf(2.0 / 3.0) - wb).abs() <= 1e-12 * wb.abs(),
+                    "{wa} {wb}"
+                );
+            }
         }
     }
     let pooled = beverloo
