@@ -127,9 +127,13 @@ impl ParticleSet {
     pub fn materials(&self) -> &[u16] {
         &self.material
     }
+    /// Behaviour flags of each particle (`FLAG_*`).
+    pub fn flags(&self) -> &[u8] {
+        &self.flags
+    }
     /// The clump each particle belongs to (an index into the simulation's clumps), or
     /// [`NO_CLUMP`].
-    pub fn clumps(&self) -> &[u32] {
+    pub fn clump_indices(&self) -> &[u32] {
         &self.clump
     }
     /// Current index of the particle with this tag (linear search).
@@ -180,27 +184,20 @@ impl ParticleSet {
 
     /// Keeps the particles for which `keep[index]` is true, preserving their order.
     pub(crate) fn retain_mask(&mut self, keep: &[bool]) {
-        fn filter<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
-            let mut k = 0;
-            v.retain(|_| {
-                k += 1;
-                keep[k - 1]
-            });
-        }
-        filter(&mut self.tag, keep);
-        filter(&mut self.position, keep);
-        filter(&mut self.velocity, keep);
-        filter(&mut self.omega, keep);
-        filter(&mut self.force, keep);
-        filter(&mut self.torque, keep);
-        filter(&mut self.radius, keep);
-        filter(&mut self.mass, keep);
-        filter(&mut self.inertia, keep);
-        filter(&mut self.inv_mass, keep);
-        filter(&mut self.inv_inertia, keep);
-        filter(&mut self.material, keep);
-        filter(&mut self.flags, keep);
-        filter(&mut self.clump, keep);
+        retain_by_mask(&mut self.tag, keep);
+        retain_by_mask(&mut self.position, keep);
+        retain_by_mask(&mut self.velocity, keep);
+        retain_by_mask(&mut self.omega, keep);
+        retain_by_mask(&mut self.force, keep);
+        retain_by_mask(&mut self.torque, keep);
+        retain_by_mask(&mut self.radius, keep);
+        retain_by_mask(&mut self.mass, keep);
+        retain_by_mask(&mut self.inertia, keep);
+        retain_by_mask(&mut self.inv_mass, keep);
+        retain_by_mask(&mut self.inv_inertia, keep);
+        retain_by_mask(&mut self.material, keep);
+        retain_by_mask(&mut self.flags, keep);
+        retain_by_mask(&mut self.clump, keep);
     }
 
     /// Reorders every field so that new index k holds old index `order[k]`, in place: each
@@ -227,4 +224,14 @@ impl ParticleSet {
         apply(&mut self.flags, order);
         apply(&mut self.clump, order);
     }
+}
+
+/// Keeps the entries of `v` for which `keep[index]` is true, preserving their order: the one
+/// rule by which the particle arrays and the clumps' arrays drop entries.
+pub(crate) fn retain_by_mask<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut k = 0;
+    v.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
 }

@@ -323,7 +323,6 @@ pub fn plot_svg(
     write_atomic(path, svg.as_bytes())
 }
 
-/// Draws the whole figure on `root`; text sizes follow the image height.
 /// The corner of the plot whose quarter-sized box (35 % of each axis) holds the fewest data
 /// points, in the order upper right, upper left, lower right, lower left among equals: where
 /// the legend hides the least.
@@ -370,6 +369,7 @@ fn legend_corner(
     best.0
 }
 
+/// Draws the whole figure on `root`; text sizes follow the image height.
 fn draw_figure<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     figure: &Figure,

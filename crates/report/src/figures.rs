@@ -41,6 +41,24 @@ fn group_color(g: usize) -> [u8; 3] {
 /// The colour of a pooled fit drawn over the groups.
 const POOLED: [u8; 3] = [0, 0, 0];
 
+/// `figure` of W [g/s] against R with every series' ordinates raised to the 2/3 power (the
+/// paper's Figs. 8b and 15b of its Figs. 8a and 15a), its error bars left out, under `title`.
+fn two_thirds_power(figure: &Figure, title: &str) -> Figure {
+    let mut powered = Figure::new(
+        title,
+        figure.x_axis.clone(),
+        Axis::new("W^(2/3)", "(g/s)^(2/3)"),
+    );
+    for series in &figure.series {
+        powered = powered.with_series(Series {
+            y: series.y.iter().map(|w| w.powf(2.0 / 3.0)).collect(),
+            y_error: None,
+            ..series.clone()
+        });
+    }
+    powered
+}
+
 fn push(out: &mut Vec<ReportFigure>, name: String, caption: String, figure: Figure) {
     if figure.series.iter().any(|s| !s.x.is_empty()) {
         out.push(ReportFigure {
@@ -301,12 +319,6 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
         Axis::new("R", "mm"),
         Axis::new("W", "g/s"),
     );
-    let mut fig8b = Figure::new(
-        "Fig. 8b: discharge rate to the 2/3 power against R, with Eq. 14, per hopper angle",
-        Axis::new("R", "mm"),
-        Axis::new("W^(2/3)", "(g/s)^(2/3)"),
-    );
-    let two_thirds = |w: f64| w.powf(2.0 / 3.0);
     for (group, f) in analysis.angles.iter().enumerate() {
         let (x, y): (Vec<f64>, Vec<f64>) = f
             .points
@@ -320,14 +332,6 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .map(|e| if e.is_finite() { e } else { 0.0 })
             .collect();
         let label = format!("{} α = {}°", f.series, f.hopper_angle_deg);
-        fig8b = fig8b.with_series(
-            Series::points(
-                label.clone(),
-                x.clone(),
-                y.iter().map(|&w| two_thirds(w)).collect(),
-            )
-            .with_color(group_color(group)),
-        );
         fig8a = fig8a.with_series(
             Series::points(label, x.clone(), y)
                 .with_y_error(e)
@@ -339,13 +343,14 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .filter_map(|(r, w)| w.as_ref().ok().map(|w| (*r, w.value * 1e3)))
             .collect();
         if !predicted.is_empty() {
-            let (x, y): (Vec<f64>, Vec<f64>) = predicted.into_iter().unzip();
-            let y23 = y.iter().map(|&w| two_thirds(w)).collect();
-            fig8b =
-                fig8b.with_series(Series::line("", x.clone(), y23).with_color(group_color(group)));
+            let (x, y) = predicted.into_iter().unzip();
             fig8a = fig8a.with_series(Series::line("", x, y).with_color(group_color(group)));
         }
     }
+    let fig8b = two_thirds_power(
+        &fig8a,
+        "Fig. 8b: discharge rate to the 2/3 power against R, with Eq. 14, per hopper angle",
+    );
     push(&mut out, "fig08a-rate-eq14".into(), "Fig. 8a: measured steady discharge rate (replica mean ± standard error) against R; lines are Eq. 14 with the fitted a, b, γ and φ∞ of each angle.".into(), fig8a);
     push(&mut out, "fig08b-rate-two-thirds".into(), "Fig. 8b: the measured steady discharge rate to the 2/3 power against R, which Eq. 14 makes linear in R; lines are Eq. 14 with the fitted a, b, γ and φ∞ of each angle, to the same power.".into(), fig8b);
     let ratios: Vec<_> = analysis
@@ -502,12 +507,6 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
         Axis::new("R", "mm"),
         Axis::new("W", "g/s"),
     );
-    let mut fig15b = Figure::new(
-        "Fig. 15b: discharge rate to the 2/3 power against R, with Eq. 18, per outlet gap",
-        Axis::new("R", "mm"),
-        Axis::new("W^(2/3)", "(g/s)^(2/3)"),
-    );
-    let two_thirds_of = |y: &[f64]| -> Vec<f64> { y.iter().map(|w| w.powf(2.0 / 3.0)).collect() };
     let mut fig16 = Figure::new(
         "Fig. 16: discharge rate over the centred rate against s*, per outlet width",
         Axis::new("s*", "-"),
@@ -533,10 +532,6 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
             .iter()
             .map(|p| (p.point.radius() * 1e3, p.point.discharge_rate.value * 1e3))
             .unzip();
-        fig15b = fig15b.with_series(
-            Series::points(label.clone(), x.clone(), two_thirds_of(&y))
-                .with_color(group_color(group)),
-        );
         fig15 =
             fig15.with_series(Series::points(label.clone(), x, y).with_color(group_color(group)));
         let (x, y): (Vec<f64>, Vec<f64>) = members
@@ -548,9 +543,6 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
                     .map(|w| (p.point.radius() * 1e3, w.value * 1e3))
             })
             .unzip();
-        fig15b = fig15b.with_series(
-            Series::line("", x.clone(), two_thirds_of(&y)).with_color(group_color(group)),
-        );
         fig15 = fig15.with_series(Series::line("", x, y).with_color(group_color(group)));
     }
     let mut widths: Vec<f64> = series_of(ECCENTRIC_SERIES)
@@ -583,6 +575,10 @@ pub fn report_figures(analysis: &StudyAnalysis) -> Vec<ReportFigure> {
         }
     }
     push(&mut out, "fig13-maximum-fraction".into(), "Fig. 13: largest binned outlet area fraction φ_max against R per gap; lines are the Eq. 12 form fitted to s = 0 and to s > 0 separately.".into(), fig13);
+    let fig15b = two_thirds_power(
+        &fig15,
+        "Fig. 15b: discharge rate to the 2/3 power against R, with Eq. 18, per outlet gap",
+    );
     push(&mut out, "fig15-rate-eq18".into(), "Fig. 15a: measured steady discharge rate against R per gap; lines are the corrected Eq. 18 with the pooled Eq. 16–17 fits of each gap and φ_max from the Fig. 13 fit.".into(), fig15);
     push(&mut out, "fig15b-rate-two-thirds".into(), "Fig. 15b: the measured steady discharge rate to the 2/3 power against R per gap, which Eq. 18 makes close to linear in R; lines are the corrected Eq. 18 of Fig. 15a to the same power.".into(), fig15b);
     push(&mut out, "fig16-relative-rate".into(), "Fig. 16: discharge rate divided by W0, the centred flat-bottom rate of the same width, against s*.".into(), fig16);

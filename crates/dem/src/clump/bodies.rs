@@ -24,8 +24,8 @@ use glam::{DMat3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::rotation::{angular_velocity, free_rotation_scaled};
-use super::ClumpBody;
-use crate::particles::{ParticleSet, ParticleTag, NO_CLUMP};
+use super::{ClumpBody, ClumpShape};
+use crate::particles::{retain_by_mask, ParticleSet, ParticleTag, NO_CLUMP};
 use crate::ranges::even_bounds;
 use crate::team::Team;
 
@@ -62,6 +62,11 @@ pub struct ClumpSet {
     /// computes them before they are copied into the particle arrays.
     #[serde(skip)]
     placed: Vec<Placed>,
+    /// The member lists and densities [kg/m³] already made into bodies, with the index of
+    /// their body in `shapes`: a fill adds thousands of clumps of one shape, and a body whose
+    /// members overlap three at a time takes a line integral to make (§11.2).
+    #[serde(skip)]
+    made: Vec<(ClumpShape, u64, u32)>,
 }
 
 /// What a pass needs of a shape, formed once a pass: 1/M [1/kg], 1/I [1/(kg m²)] and
@@ -191,11 +196,11 @@ impl ClumpRange<'_> {
             let x = self.position[c];
             let (mut force, mut torque) = (DVec3::ZERO, DVec3::ZERO);
             let slots = self.starts[self.first + c]..self.starts[self.first + c + 1];
-            for &k in &members[slots.clone()] {
-                let k = k as usize;
-                let contact = p.force[k] - p.mass[k] * gravity;
+            for &m in &members[slots.clone()] {
+                let m = m as usize;
+                let contact = p.force[m] - p.mass[m] * gravity;
                 force += contact;
-                torque += p.torque[k] + (p.position[k] - x).cross(contact);
+                torque += p.torque[m] + (p.position[m] - x).cross(contact);
             }
             force += body.mass * gravity;
             let v = self.velocity[c] + (half * k.inv_mass) * force;
@@ -261,11 +266,23 @@ impl ClumpSet {
         angular_velocity(self.orientation[c], self.momentum[c], b.principal_inertia)
     }
 
-    /// Translational and rotational kinetic energy of clump `c` [J].
-    pub fn kinetic_energy(&self, c: usize) -> f64 {
-        let b = self.body(c);
-        let w = self.angular_velocity(c);
-        0.5 * b.mass * self.velocity[c].length_squared() + 0.5 * w.dot(self.momentum[c])
+    /// The index in `shapes` of the body of `shape` at `density` [kg/m³]: made once for each
+    /// pair, and shared by equal bodies.
+    pub(crate) fn shape_index(&mut self, shape: &ClumpShape, density: f64) -> usize {
+        let bits = density.to_bits();
+        if let Some(&(_, _, k)) = self.made.iter().find(|(s, d, _)| *d == bits && s == shape) {
+            return k as usize;
+        }
+        let body = shape.body(density);
+        let k = match self.shapes.iter().position(|b| *b == body) {
+            Some(k) => k,
+            None => {
+                self.shapes.push(body);
+                self.shapes.len() - 1
+            }
+        };
+        self.made.push((shape.clone(), bits, k as u32));
+        k
     }
 
     /// Finds each clump's members among `p` by their tags (after a list build, a re-sort or
@@ -416,20 +433,14 @@ impl ClumpSet {
                 *c = renumber[*c as usize];
             }
         }
-        fn keep<T>(v: &mut Vec<T>, gone: &[bool]) {
-            let mut k = 0;
-            v.retain(|_| {
-                k += 1;
-                !gone[k - 1]
-            });
-        }
-        keep(&mut self.shape, gone);
-        keep(&mut self.first_tag, gone);
-        keep(&mut self.position, gone);
-        keep(&mut self.velocity, gone);
-        keep(&mut self.orientation, gone);
-        keep(&mut self.momentum, gone);
-        keep(&mut self.force, gone);
-        keep(&mut self.torque, gone);
+        let kept: Vec<bool> = gone.iter().map(|&g| !g).collect();
+        retain_by_mask(&mut self.shape, &kept);
+        retain_by_mask(&mut self.first_tag, &kept);
+        retain_by_mask(&mut self.position, &kept);
+        retain_by_mask(&mut self.velocity, &kept);
+        retain_by_mask(&mut self.orientation, &kept);
+        retain_by_mask(&mut self.momentum, &kept);
+        retain_by_mask(&mut self.force, &kept);
+        retain_by_mask(&mut self.torque, &kept);
     }
 }

@@ -176,23 +176,17 @@ impl Simulation {
             )));
         }
         let density = self.state.materials[material.0 as usize].density;
-        let body = shape.body(density);
+        let s = &mut self.state;
+        let shape_index = s.clumps.shape_index(shape, density);
+        let body = &s.clumps.shapes[shape_index];
         let q = (orientation.normalize() * body.axes).normalize();
         let inertia = body.principal_inertia;
         let momentum = q * (inertia * (q.inverse() * angular_velocity));
         let w = crate::clump::rotation::angular_velocity(q, momentum, inertia);
-        let g = self.state.config.gravity;
-        let s = &mut self.state;
+        let g = s.config.gravity;
+        let weight = body.mass * g;
         let c = s.clumps.len();
-        let shape_index = match s.clumps.shapes.iter().position(|b| *b == body) {
-            Some(k) => k,
-            None => {
-                s.clumps.shapes.push(body.clone());
-                s.clumps.shapes.len() - 1
-            }
-        };
         let p = &mut s.particles;
-        p.reserve_exact(body.members.len());
         let mut first = None;
         for &(offset, radius) in &body.members {
             let arm = q * offset;
@@ -222,7 +216,7 @@ impl Simulation {
         cl.velocity.push(velocity);
         cl.orientation.push(q);
         cl.momentum.push(momentum);
-        cl.force.push(body.mass * g);
+        cl.force.push(weight);
         cl.torque.push(DVec3::ZERO);
         s.needs_rebuild = true;
         self.unprepare();
@@ -408,9 +402,16 @@ impl Simulation {
         self.state.particles.omega[index] = angular_velocity;
     }
 
-    /// Sets the flags of particle `index` (`FLAG_*`).
+    /// Sets the flags of particle `index` (`FLAG_*`). Whether it is a clump's member is the
+    /// clump's to say: [`crate::FLAG_CLUMP_MEMBER`] is kept as its membership has it.
     pub fn set_particle_flags(&mut self, index: usize, flags: u8) {
-        self.state.particles.flags[index] = flags;
+        let p = &mut self.state.particles;
+        let member = if p.clump[index] == crate::particles::NO_CLUMP {
+            0
+        } else {
+            crate::particles::FLAG_CLUMP_MEMBER
+        };
+        p.flags[index] = flags & !crate::particles::FLAG_CLUMP_MEMBER | member;
         // The integrator's shared-body form holds only while no particle has flags.
         self.unprepare();
     }

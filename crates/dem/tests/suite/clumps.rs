@@ -268,7 +268,7 @@ fn removing_one_member_removes_its_clump_whole_and_the_others_go_on() {
     let (clumps, particles) = (sim.clumps().len(), sim.particles().len());
     let members = sim
         .clumps()
-        .body(sim.particles().clumps()[0] as usize)
+        .body(sim.particles().clump_indices()[0] as usize)
         .members
         .len();
     let removed = sim.remove_particles(|k, _| k == 0);
@@ -277,10 +277,31 @@ fn removing_one_member_removes_its_clump_whole_and_the_others_go_on() {
     assert_eq!(sim.particles().len(), particles - members);
     assert!(sim
         .particles()
-        .clumps()
+        .clump_indices()
         .iter()
         .all(|&c| (c as usize) < clumps - 1));
     for _ in 0..200 {
         sim.step().expect("a step");
     }
+}
+
+#[test]
+fn a_member_stays_a_member_whatever_flags_are_set_and_a_free_sphere_cannot_become_one() {
+    // Membership is the clump's: clearing a member's flags keeps FLAG_CLUMP_MEMBER, and
+    // setting it on a free sphere leaves that sphere free (its other flags are set).
+    let (mut sim, id) = simulation(Interaction::fan2023(), DVec3::ZERO, 1);
+    sim.add_clump(
+        &dumbbell(),
+        id,
+        (DVec3::ZERO, DQuat::IDENTITY),
+        (DVec3::ZERO, DVec3::ZERO),
+    )
+    .expect("a dumbbell");
+    sim.add_particle(dem::ParticleInit::at_rest(DVec3::X * 0.05, RADIUS, id))
+        .expect("a sphere");
+    sim.set_particle_flags(0, 0);
+    sim.set_particle_flags(2, dem::FLAG_CLUMP_MEMBER | dem::FLAG_FROZEN);
+    let flags = sim.particles().flags();
+    assert_eq!(flags[0], dem::FLAG_CLUMP_MEMBER);
+    assert_eq!(flags[2], dem::FLAG_FROZEN);
 }

@@ -23,7 +23,7 @@ pub(super) const SITE_SPACING: f64 = 1.01;
 /// up to ±: at most 0.0035 d in all, so no two spheres overlap at the start (gaps ≥ 0.01 d).
 pub(super) const SITE_JITTER: f64 = 0.002;
 /// Verlet skin as a fraction of the largest diameter, as the hopper set-up chooses it.
-pub(super) const SKIN_DIAMETERS: f64 = 0.1;
+const SKIN_DIAMETERS: f64 = 0.1;
 
 /// Which bed: the diameter ratio and the number of spheres asked for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -55,24 +55,18 @@ pub fn bidisperse_bed(bed: BidisperseBed, threads: usize) -> Result<Simulation, 
             "the diameter ratio must be at least 1".into(),
         ));
     }
-    let case = Case::paper_base();
     let ratio = bed.ratio as usize;
     let large = f64::from(bed.ratio) * SMALL_DIAMETER;
-    let mut config = SimulationConfig::new(case.time_step);
-    config.threads = threads;
-    config.skin = SKIN_DIAMETERS * large;
-    let mut sim = Simulation::new(config)?;
-    let material = Material::fan2023();
-    let id = sim.add_material(material, Interaction::fan2023())?;
+    let (mut sim, id, seed) = bed_simulation(threads, large)?;
 
     let blocks = bed.blocks();
     let side = (blocks as f64).cbrt().ceil().max(1.0) as usize;
     let site = SITE_SPACING * SMALL_DIAMETER;
     let block = ratio as f64 * site;
     let width = side as f64 * block;
-    open_box(&mut sim, (width, width), material)?;
+    open_box(&mut sim, (width, width))?;
 
-    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
     // Half of the blocks hold a large sphere, in an order shuffled by Fisher–Yates.
     let mut holds_large: Vec<bool> = (0..blocks).map(|k| k < blocks / 2).collect();
     for k in (1..blocks).rev() {
@@ -106,12 +100,26 @@ pub fn bidisperse_bed(bed: BidisperseBed, threads: usize) -> Result<Simulation, 
     Ok(sim)
 }
 
-/// A floor at z = 0 and four side planes around [0, `wx`] × [0, `wy`] [m]; the top open.
-pub(super) fn open_box(
-    sim: &mut Simulation,
-    (wx, wy): (f64, f64),
-    material: Material,
-) -> Result<(), DemError> {
+/// The beds' simulation before its box and spheres: the paper's Δt on `threads` threads, the
+/// skin 0.1 of the `largest` diameter [m], and Table-1 material, with its id and the paper's
+/// seed for the beds' random draws.
+pub(super) fn bed_simulation(
+    threads: usize,
+    largest: f64,
+) -> Result<(Simulation, dem::MaterialId, u64), DemError> {
+    let case = Case::paper_base();
+    let mut config = SimulationConfig::new(case.time_step);
+    config.threads = threads;
+    config.skin = SKIN_DIAMETERS * largest;
+    let mut sim = Simulation::new(config)?;
+    let id = sim.add_material(Material::fan2023(), Interaction::fan2023())?;
+    Ok((sim, id, case.seed))
+}
+
+/// A floor at z = 0 and four side planes of Table-1 material around [0, `wx`] × [0, `wy`]
+/// [m]; the top open.
+pub(super) fn open_box(sim: &mut Simulation, (wx, wy): (f64, f64)) -> Result<(), DemError> {
+    let material = Material::fan2023();
     let planes = [
         (DVec3::ZERO, DVec3::Z),
         (DVec3::ZERO, DVec3::X),

@@ -5,25 +5,18 @@
 //! two beds differ only in the clumps.
 
 use dem::clump::ClumpShape;
-use dem::{DQuat, DVec3, DemError, Interaction, Material, Simulation, SimulationConfig};
+use dem::{DQuat, DVec3, DemError, Simulation};
 use rand::{Rng, SeedableRng};
 
 use super::bidisperse::{
-    open_box, settled, SITE_JITTER, SITE_SPACING, SKIN_DIAMETERS, SMALL_DIAMETER,
+    bed_simulation, open_box, settled, SITE_JITTER, SITE_SPACING, SMALL_DIAMETER,
 };
 use super::{time_steps, BenchResult};
-use case::Case;
 
 /// The bed of about `beads` member spheres (whole dumbbells) on its lattice, in its box,
 /// before settling: Table-1 material, the skin 0.1 d.
 pub fn dumbbell_bed(beads: usize, threads: usize) -> Result<Simulation, DemError> {
-    let case = Case::paper_base();
-    let mut config = SimulationConfig::new(case.time_step);
-    config.threads = threads;
-    config.skin = SKIN_DIAMETERS * SMALL_DIAMETER;
-    let mut sim = Simulation::new(config)?;
-    let material = Material::fan2023();
-    let id = sim.add_material(material, Interaction::fan2023())?;
+    let (mut sim, id, seed) = bed_simulation(threads, SMALL_DIAMETER)?;
     let r = 0.5 * SMALL_DIAMETER;
     let shape = ClumpShape::new(vec![
         (DVec3::new(-r, 0.0, 0.0), r),
@@ -37,8 +30,8 @@ pub fn dumbbell_bed(beads: usize, threads: usize) -> Result<Simulation, DemError
     let pairs_x = (dumbbells as f64 / (side * side) as f64).ceil().max(1.0) as usize;
     let site = SITE_SPACING * SMALL_DIAMETER;
     let (width_x, width) = ((2 * pairs_x) as f64 * site, side as f64 * site);
-    open_box(&mut sim, (width_x, width), material)?;
-    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
+    open_box(&mut sim, (width_x, width))?;
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
     for k in 0..dumbbells {
         let (a, b, c) = (k % pairs_x, (k / pairs_x) % side, k / (pairs_x * side));
         let centre = DVec3::new((2 * a + 1) as f64, b as f64 + 0.5, c as f64 + 0.5) * site;
@@ -87,7 +80,7 @@ mod tests {
         for i in 0..p.len() {
             for j in i + 1..p.len() {
                 let d = x[i].distance(x[j]);
-                if p.clumps()[i] == p.clumps()[j] {
+                if p.clump_indices()[i] == p.clump_indices()[j] {
                     assert!((d - SMALL_DIAMETER).abs() <= 1e-15, "{i} {j} {d}");
                 } else {
                     assert!(d > SMALL_DIAMETER, "beads {i} and {j} overlap");
