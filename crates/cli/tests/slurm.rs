@@ -139,11 +139,12 @@ fn quick_study_as_an_array_job_gives_the_local_table_and_survives_a_scancel() {
     let cancelled = dir.path().join("cancelled");
     let submit = reduced_quick(
         &cancelled,
-        &["--slurm", "--submit", "--mem", "500M", "--throttle", "1"],
+        &["--slurm", "--submit", "--mem", "500M", "--throttle", "2"],
     );
     assert!(submit.status.success(), "submit: {}", text(&submit));
     let (array_job, report_job) = job_ids(&submit);
-    // With one task at a time, task 0 runs first: cancel it once its case has started.
+    // With two tasks at a time (the node's two CPUs), task 0 is among the first to run:
+    // cancel it once its case has started.
     let first = std::fs::read_to_string(cancelled.join("slurm/tasks-1.txt"))
         .expect("task list")
         .lines()

@@ -47,3 +47,15 @@ def py_run(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("py") / "run"
     return hf.run(hf.Case.load(str(TINY)), out=out, threads=1, progress=False)
+
+
+@pytest.fixture(scope="session")
+def tiny_bed(tmp_path_factory):
+    """The settled bed of the tiny case, saved by one run from Python (`save_bed`); the tests
+    that start runs and studies from it only read it."""
+    import hopperflow as hf
+
+    root = tmp_path_factory.mktemp("bed")
+    bed = root / "bed"
+    hf.run(str(TINY), out=root / "saving", progress=False, pictures=False, save_bed=bed)
+    return bed

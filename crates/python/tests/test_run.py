@@ -287,9 +287,8 @@ def _lattice_csv(path, material="glass"):
     return path
 
 
-def test_runs_from_a_saved_bed_and_from_a_packing_match_the_command_line(cli, tmp_path):
-    bed = tmp_path / "bed"
-    hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
+def test_runs_from_a_saved_bed_and_from_a_packing_match_the_command_line(cli, tiny_bed, tmp_path):
+    bed = tiny_bed
     assert (bed / "bed.bin").is_file()
     # The same bed through a wider outlet, from Python and from the command line: the same
     # summary to the byte (a run from a bed starts from its state, whatever the seed).
@@ -315,7 +314,7 @@ def test_runs_from_a_saved_bed_and_from_a_packing_match_the_command_line(cli, tm
     assert (py.path / "summary.json").read_bytes() == (tmp_path / "cli-packing" / "summary.json").read_bytes()
 
 
-def test_bad_starts_are_refused_before_anything_is_written(tmp_path):
+def test_bad_starts_are_refused_before_anything_is_written(tiny_bed, tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("x,y,z,radius,material\n0.0,0.0015,0.01,0.0015,glass\n0.0,0.0015,0.02,-1,glass\n")
     with pytest.raises(ValueError, match=r"bad\.csv line 3: radius = -1"):
@@ -328,8 +327,7 @@ def test_bad_starts_are_refused_before_anything_is_written(tmp_path):
         hf.run(str(TINY), out=tmp_path / "c", progress=False, from_bed=tmp_path / "nowhere")
     assert not (tmp_path / "c").exists()
 
-    bed = tmp_path / "bed"
-    hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
+    bed = tiny_bed
     # A bed holds its fill: the particle count cannot change under it.
     case = hf.Case.load(str(TINY))
     case["particles.count"] = 200

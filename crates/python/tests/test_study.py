@@ -79,11 +79,10 @@ def test_report_is_built_from_the_saved_results(tiny_study):
     assert all(case_id in text for case_id in tiny_study.cases)
 
 
-def test_a_study_from_one_bed_matches_single_runs_from_it(tmp_path):
+def test_a_study_from_one_bed_matches_single_runs_from_it(tiny_bed, tmp_path):
     from conftest import TINY
 
-    bed = tmp_path / "bed"
-    hf.run(str(TINY), out=tmp_path / "saving", progress=False, pictures=False, save_bed=bed)
+    bed = tiny_bed
     study = hf.study(str(TINY_SWEEP), out=tmp_path / "study", jobs=2, progress=False, from_bed=bed)
     assert study.outcome is not None
     assert study.outcome["ran"] == 3 and study.outcome["failed"] == []

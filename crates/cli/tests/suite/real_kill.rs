@@ -376,6 +376,7 @@ fn tiny_sweep() -> String {
     let base: String = TINY_CASE
         .replace("[geometry]", "[base.geometry]")
         .replace("[particles]", "[base.particles]")
+        .replace("[time]", "[base.time]")
         .replace("[protocol]", "[base.protocol]")
         .replace("[output]", "[base.output]")
         .replace("plots = true", "plots = false")

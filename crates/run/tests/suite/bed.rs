@@ -368,7 +368,7 @@ fn only_the_outlet_discharge_measure_and_output_keys_may_change_under_a_bed() {
         "particles.diameter: 0.003 -> 0.0029",
         "wall.friction: 0.5 -> 0.3",
         "protocol.fill_top: 0.1 -> 0.09",
-        "time.time_step: 0.0000025 -> 0.000002",
+        "time.time_step: 0.0000045 -> 0.000002",
     ] {
         assert!(
             names.iter().any(|n| n == expected),

@@ -97,7 +97,7 @@ fraction = 0.5
 material = "steel"
 
 [time]
-time_step = 2.5e-6
+time_step = 3.4e-6
 
 [protocol]
 settle_kinetic_energy = 1.0e-8
@@ -118,39 +118,39 @@ plots = false
 const GOLDEN_FILES: &[(&str, &str)] = &[
     (
         "case.toml",
-        "4e19b92862de4e19188345a74b9663b654ea215341c0db10ca597b6a2ad5e2e8",
+        "2afaaa9fa79eacc56c90357af6636b9ac03091683d6a7ac344fc99f042963040",
     ),
     (
         "composition.csv",
-        "2487338bf629dd1dd5fb24cf801d5f093aec734165d03bd03f6d2ab7656130f9",
+        "44871b2f8acbf32d32812b4003f46ad71f18eeed3842166e0b2e3a51c54d6fcf",
     ),
     (
         "crossings.csv",
-        "932619e25ccc39c5b4a4dd830acc67eb740b11ec7f7f24a237335347aab9a112",
+        "d8aee2debb390a74885845bf2a7596c828b295f75d3a6fe2ebfbcf6a8abcfc8f",
     ),
     (
         "flow.csv",
-        "5b856b0b1b4bafcfdac1ad8ee0aafa1c2e11a220cd09db9087490727d68c587d",
+        "03655227fd061540988aa95b6da0a7f11ee6e94c360bac1fe59254008633fafa",
     ),
     (
         "profiles.csv",
-        "b6d2cdbc8ebb1d4f215068c36bf35d95f6e541fb2d2ad8245247f66ea26416bd",
+        "e59f90616894076593e4c47b01954aaa471f4b1e2ac6fb5f0d6b41620ca4c704",
     ),
     (
         "remaining.csv",
-        "5c1b46412e0996d40610658991c87cba05c028fc738b27ad00881145d2a05943",
+        "69e235bf887520e8e15c8f4c25882a7693476476bdfbac3c891528dc034a557f",
     ),
     (
         "summary.json",
-        "c9e95668f35a77daac159ed7caed5abc7acd0fd23ab8e03b0df6dca47686b160",
+        "aa028ba31a9cea3621d7d28f1df9cd394f12cb5bb63e126dc8072f0b58eeb6bb",
     ),
     (
         "wall_forces.csv",
-        "9109612b1603e953b4b9245bdf4272183d240c55f602b7a0a308738e54eaeb63",
+        "3df270e7b0e3972632ced49f7f5b0ce6b2bf72e54bfe64951fbe15129d3be13e",
     ),
     (
         "wall_pressure.csv",
-        "c352f0656c6d68cea5caa7a3019c3b994b7b8ff050d69840d070b3e2d504021e",
+        "c1d01ed4421229c7f1453f3a95e93f8745fee704d282fd4484f9727a08d2cc75",
     ),
 ];
 
