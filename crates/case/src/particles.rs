@@ -5,6 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::grain_shape::GrainShape;
+
 /// Elastic material of particles or walls (paper Table 1 for the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MaterialSpec {
@@ -251,6 +253,10 @@ pub struct Component {
     /// Its fraction as given, counted as [`ParticleSpec::fraction_by`] says [-]; 1 for a
     /// case of one component.
     pub fraction: f64,
+    /// The shape of its grains, rigid clumps of spheres whose size is the diameter of the
+    /// sphere of equal volume; `None` for spheres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<GrainShape>,
 }
 
 impl Component {
@@ -328,6 +334,7 @@ impl ParticleSpec {
                 material,
                 material_name: None,
                 fraction: 1.0,
+                shape: None,
             }],
             fraction_by: FractionBasis::Number,
             coarse_graining: None,
@@ -378,6 +385,11 @@ impl ParticleSpec {
                 .fold(f64::INFINITY, f64::min),
             None => self.min_diameter(),
         }
+    }
+
+    /// Whether any component's grains are shaped (rigid clumps of spheres).
+    pub fn has_shapes(&self) -> bool {
+        self.components.iter().any(|c| c.shape.is_some())
     }
 
     /// Whether the particles are a mixture of several components.

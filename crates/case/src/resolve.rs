@@ -104,6 +104,7 @@ pub(crate) fn resolve_case(
     let particles = read_particles(
         &mut root.section("particles", &mut errors),
         named.as_ref(),
+        dir,
         &mut errors,
     );
     // Diameter-based defaults and checks fall back to the paper's 3 mm when the particle
@@ -208,6 +209,41 @@ pub(crate) fn resolve_case(
         time_step.as_ref(),
         &mut errors,
     );
+    if let Some((p, _)) = &particles {
+        if p.has_shapes() {
+            let location = root.location().clone();
+            let mut refuse = |key: &str, message: &str| {
+                errors.push(ConfigError::new(
+                    ErrorKind::Conflict,
+                    location.clone(),
+                    key.to_string(),
+                    None,
+                    message.to_string(),
+                ))
+            };
+            if matches!(geometry, Some(Geometry::Slab(_))) {
+                refuse(
+                    "geometry.kind",
+                    "shaped grains (particles.shape) need a 3D container: \"cylinder\", \"box\", \
+                     \"mesh\", \"heap\" or \"draw_down\"; the quasi-2D slab is one sphere thick",
+                );
+            }
+            if p.coarse_graining.is_some() {
+                refuse(
+                    "particles.coarse_graining",
+                    "coarse-grained parcels are spheres; give either particles.shape or \
+                     particles.coarse_graining, not both",
+                );
+            }
+            if fields.is_some() {
+                refuse(
+                    "output.fields",
+                    "the coarse-grained fields are computed for spheres only; remove \
+                     [output.fields] from a case of shaped grains",
+                );
+            }
+        }
+    }
     root.finish(TOP_KEYS, &mut errors);
 
     let largest_diameter = d_max_source.map(str::to_string);

@@ -167,7 +167,7 @@ fn is_wall_name(name: &str) -> bool {
 }
 
 /// The file's path from the case file's folder, made absolute without touching the disk.
-fn resolve_path(dir: Option<&Path>, file: &str) -> std::io::Result<PathBuf> {
+pub(crate) fn resolve_path(dir: Option<&Path>, file: &str) -> std::io::Result<PathBuf> {
     match dir {
         Some(dir) => std::path::absolute(dir.join(file)),
         None => std::path::absolute(file),

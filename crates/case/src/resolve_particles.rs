@@ -8,8 +8,11 @@ use super::limits::{MAX_COARSE_GRAINING, MAX_PARTICLE_COUNT};
 use super::particles::{
     parcel_count, Component, FractionBasis, MaterialSpec, ParticleSpec, SizeDistribution,
 };
+use std::path::Path;
+
 use super::reader::{Located, Section};
 use super::resolve_materials::NamedMaterials;
+use super::resolve_shape::read_shape;
 use super::sources::{source, MaterialSources, ParticleSources};
 
 /// Reads a material table (density, shear modulus, Poisson's ratio).
@@ -155,6 +158,7 @@ struct ReadComponent {
 pub(crate) fn read_particles(
     section: &mut Section<'_>,
     named: Option<&NamedMaterials>,
+    dir: Option<&Path>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<(ParticleSpec, ParticleSources)> {
     let paper = ParticleSpec::paper();
@@ -209,7 +213,20 @@ pub(crate) fn read_particles(
                 ok = false;
             }
         }
-        read_components(section, material.as_ref(), named, errors)
+        if let Some(entry) = section.entry("shape") {
+            errors.push(ConfigError::new(
+                ErrorKind::Conflict,
+                entry.key_location.clone(),
+                section.key("shape"),
+                None,
+                format!(
+                    "a mixture gives each component its own shape: put it in the {} entries",
+                    section.key("components")
+                ),
+            ));
+            ok = false;
+        }
+        read_components(section, material.as_ref(), named, dir, errors)
     } else {
         if let Some(entry) = section.entry("fraction_by") {
             errors.push(ConfigError::new(
@@ -225,6 +242,7 @@ pub(crate) fn read_particles(
             ok = false;
         }
         let size = read_size(section, Some(3.0e-3), errors);
+        let shape = read_shape(section, dir, errors);
         if material.is_none() && named.is_some() && !section.has("material") {
             errors.push(ConfigError::new(
                 ErrorKind::Missing,
@@ -237,8 +255,8 @@ pub(crate) fn read_particles(
                 ),
             ));
         }
-        match (size, material) {
-            (Some(sizes), Some((material, sources, name))) => Some((
+        match (size, material, shape) {
+            (Some(sizes), Some((material, sources, name)), Ok(shape)) => Some((
                 vec![ReadComponent {
                     component: Component {
                         name: "c1".to_string(),
@@ -246,6 +264,7 @@ pub(crate) fn read_particles(
                         material,
                         material_name: name,
                         fraction: 1.0,
+                        shape,
                     },
                     sizes,
                     material: sources,
@@ -264,6 +283,7 @@ pub(crate) fn read_particles(
             "components",
             "fraction_by",
             "coarse_graining",
+            "shape",
         ],
         errors,
     );
@@ -374,6 +394,7 @@ fn read_components(
     section: &mut Section<'_>,
     shared: Option<&MaterialChoice>,
     named: Option<&NamedMaterials>,
+    dir: Option<&Path>,
     errors: &mut Vec<ConfigError>,
 ) -> Option<(Vec<ReadComponent>, FractionBasis)> {
     let fraction_by = section.choice(
@@ -433,6 +454,7 @@ fn read_components(
             None => format!("c{}", i + 1),
         };
         let size = read_size(&mut table, None, errors);
+        let shape = read_shape(&mut table, dir, errors);
         let material = if table.has("material") {
             table
                 .string("material", errors)
@@ -469,6 +491,7 @@ fn read_components(
                 "size_distribution",
                 "material",
                 "fraction",
+                "shape",
             ],
             errors,
         );
@@ -481,8 +504,8 @@ fn read_components(
             ok = false;
         }
         fractions.push(fraction.clone());
-        match (size, material) {
-            (Some(sizes), Some((material, sources, material_name))) => {
+        match (size, material, shape) {
+            (Some(sizes), Some((material, sources, material_name)), Ok(shape)) => {
                 read.push(ReadComponent {
                     component: Component {
                         name: name_value,
@@ -490,6 +513,7 @@ fn read_components(
                         material,
                         material_name,
                         fraction: fraction.value,
+                        shape,
                     },
                     sizes,
                     material: sources,

@@ -10,6 +10,7 @@ use super::case::{
 };
 use super::error::rounded;
 use super::geometry::Geometry;
+use super::grain_shape::{GrainShape, ShapeGiven};
 use super::mesh::MeshOutlet;
 use super::particles::{FractionBasis, MaterialSpec, SizeDistribution};
 use super::wall_surface::WallSurface;
@@ -163,6 +164,52 @@ fn size_lines(out: &mut Lines, size: &SizeDistribution, table: &str) {
             out.key("diameters", floats(diameters), "[m]");
             out.key("fractions", floats(fractions), "number fractions [-]");
         }
+    }
+}
+
+/// A grain shape as the inline table the case file gives it: its kind and the keys of
+/// that kind, every value as resolved (a rod's default bead count written out, an STL file's
+/// absolute path and digest).
+fn shape_text(shape: &GrainShape) -> String {
+    match &shape.given {
+        ShapeGiven::Rod {
+            aspect_ratio,
+            beads,
+        } => format!(
+            "{{ kind = \"rod\", aspect_ratio = {}, beads = {beads} }}",
+            float(*aspect_ratio)
+        ),
+        ShapeGiven::Spheres { spheres } => {
+            let members: Vec<String> = spheres
+                .iter()
+                .map(|m| {
+                    format!(
+                        "{{ centre = {}, radius = {} }}",
+                        floats(&m[..3]),
+                        float(m[3])
+                    )
+                })
+                .collect();
+            format!("{{ kind = \"spheres\", spheres = [{}] }}", members.join(", "))
+        }
+        ShapeGiven::Stl {
+            file,
+            sha256,
+            cells,
+            shortfall,
+        } => format!(
+            "{{ kind = \"stl\", file = {}, sha256 = \"{sha256}\", cells = {cells}, shortfall = {} }}",
+            string(&file.to_string_lossy()),
+            float(*shortfall)
+        ),
+    }
+}
+
+/// `shape = { … }` of a component whose grains are shaped.
+fn shape_line(out: &mut Lines, shape: &Option<GrainShape>) {
+    if let Some(shape) = shape {
+        let note = format!("{}; its size the equal-volume diameter", shape.describe());
+        out.key("shape", shape_text(shape), &note);
     }
 }
 
@@ -336,6 +383,7 @@ impl Case {
                 if let Some(name) = &one.material_name {
                     out.word("material", name, "");
                 }
+                shape_line(&mut out, &one.shape);
                 size_lines(&mut out, grain_size(0), "particles");
                 if one.material_name.is_none() {
                     out.table("[particles.material]");
@@ -361,6 +409,7 @@ impl Case {
                     }
                     let note = format!("by {basis} [-]; {} by number", rounded(n));
                     out.float("fraction", c.fraction, &note);
+                    shape_line(&mut out, &c.shape);
                     size_lines(&mut out, grain_size(k), "particles.components");
                 }
             }

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::clump::ClumpSet;
 use crate::contacts::{ContactSource, Contacts};
 use crate::forces::loads::WallLoad;
 use crate::particles::{ParticleSet, ParticleTag, FLAG_HELD};
@@ -18,6 +19,9 @@ use crate::wall::{Wall, WallId};
 #[derive(Debug, Clone, Copy)]
 pub struct Watched<'a> {
     particles: &'a ParticleSet,
+    /// The rigid clumps, whose members are among `particles`; their velocities are at the
+    /// full step (a clump takes its whole second kick in its step).
+    clumps: &'a ClumpSet,
     time: f64,
     /// The walls by id (`None` where one was removed) and their loads in the step.
     walls: &'a [Option<Wall>],
@@ -34,7 +38,7 @@ pub struct Watched<'a> {
 
 impl<'a> Watched<'a> {
     pub(crate) fn new(
-        particles: &'a ParticleSet,
+        (particles, clumps): (&'a ParticleSet, &'a ClumpSet),
         time: f64,
         walls: (&'a [Option<Wall>], &'a [WallLoad], &'a [WallLoad]),
         pending: Option<(f64, Option<(f64, f64)>)>,
@@ -42,6 +46,7 @@ impl<'a> Watched<'a> {
     ) -> Self {
         Self {
             particles,
+            clumps,
             time,
             walls: walls.0,
             wall_loads: walls.1,
@@ -93,6 +98,19 @@ impl<'a> Watched<'a> {
     /// True when there are none.
     pub fn is_empty(&self) -> bool {
         self.particles.is_empty()
+    }
+
+    /// The rigid clumps: centres of mass, velocities at the full step, orientations and
+    /// bodies. Their members are among the particles this view shows, each flagged by
+    /// [`Watched::clump_indices`].
+    pub fn clumps(&self) -> &'a ClumpSet {
+        self.clumps
+    }
+
+    /// Each particle's clump, an index into [`Watched::clumps`], or
+    /// [`crate::NO_CLUMP`] for a free sphere.
+    pub fn clump_indices(&self) -> &'a [u32] {
+        self.particles.clump_indices()
     }
 
     /// Stable tags.

@@ -76,6 +76,7 @@
 mod ascii;
 mod binary;
 mod check;
+mod closed;
 mod detect;
 mod error;
 mod mesh;
@@ -86,6 +87,7 @@ mod transform;
 mod write;
 
 pub use check::DEGENERACY_RATIO;
+pub use closed::{check_closed, enclosed_volume, NotClosed};
 pub use error::{BinarySizeNote, Location, StlError};
 pub use mesh::{Format, Mesh, Triangle};
 pub use read::{parse, read};

@@ -10,5 +10,6 @@ mod cohesion;
 mod fuzz;
 mod kinds;
 mod materials;
+mod shapes;
 mod shipped;
 mod sweep;

@@ -63,10 +63,17 @@ pub struct ClumpSet {
     #[serde(skip)]
     placed: Vec<Placed>,
     /// The member lists and densities [kg/m³] already made into bodies, with the index of
-    /// their body in `shapes`: a fill adds thousands of clumps of one shape, and a body whose
+    /// their body in `unit`: a fill adds thousands of clumps of one shape, and a body whose
     /// members overlap three at a time takes a line integral to make (§11.2).
     #[serde(skip)]
     made: Vec<(ClumpShape, u64, u32)>,
+    /// The bodies of `made`, at the members' own size.
+    #[serde(skip)]
+    unit: Vec<ClumpBody>,
+    /// For a body of `unit` and a scale factor (its bits), the index of the scaled body in
+    /// `shapes`: a fill of a size distribution scales one shape to each grain's size.
+    #[serde(skip)]
+    sized: std::collections::HashMap<(u32, u64), u32>,
 }
 
 /// What a pass needs of a shape, formed once a pass: 1/M [1/kg], 1/I [1/(kg m²)] and
@@ -245,6 +252,12 @@ impl ClumpSet {
         &self.velocity
     }
 
+    /// The tag of each clump's first member (member k has tag `first + k`): the clump's
+    /// name in outputs that count bodies.
+    pub fn first_tags(&self) -> &[ParticleTag] {
+        &self.first_tag
+    }
+
     /// Orientations (principal frame to world frame).
     pub fn orientations(&self) -> &[DQuat] {
         &self.orientation
@@ -266,14 +279,25 @@ impl ClumpSet {
         angular_velocity(self.orientation[c], self.momentum[c], b.principal_inertia)
     }
 
-    /// The index in `shapes` of the body of `shape` at `density` [kg/m³]: made once for each
-    /// pair, and shared by equal bodies.
-    pub(crate) fn shape_index(&mut self, shape: &ClumpShape, density: f64) -> usize {
+    /// The index in `shapes` of the body of `shape` at `density` [kg/m³] scaled by `scale`
+    /// ([`ClumpBody::scaled`]): the body of the members made once for each shape and density,
+    /// each scale of it once, and equal bodies shared.
+    pub(crate) fn shape_index(&mut self, shape: &ClumpShape, density: f64, scale: f64) -> usize {
         let bits = density.to_bits();
-        if let Some(&(_, _, k)) = self.made.iter().find(|(s, d, _)| *d == bits && s == shape) {
+        let unit = match self.made.iter().find(|(s, d, _)| *d == bits && s == shape) {
+            Some(&(_, _, k)) => k,
+            None => {
+                self.unit.push(shape.body(density));
+                let k = (self.unit.len() - 1) as u32;
+                self.made.push((shape.clone(), bits, k));
+                k
+            }
+        };
+        if let Some(&k) = self.sized.get(&(unit, scale.to_bits())) {
             return k as usize;
         }
-        let body = shape.body(density);
+        let body = self.unit[unit as usize].scaled(scale);
+        // After a resume the caches are empty while `shapes` holds the bodies made before.
         let k = match self.shapes.iter().position(|b| *b == body) {
             Some(k) => k,
             None => {
@@ -281,7 +305,7 @@ impl ClumpSet {
                 self.shapes.len() - 1
             }
         };
-        self.made.push((shape.clone(), bits, k as u32));
+        self.sized.insert((unit, scale.to_bits()), k as u32);
         k
     }
 

@@ -160,10 +160,28 @@ impl Simulation {
         &mut self,
         shape: &ClumpShape,
         material: MaterialId,
+        placement: (DVec3, DQuat),
+        motion: (DVec3, DVec3),
+    ) -> Result<usize, DemError> {
+        self.add_scaled_clump((shape, 1.0), material, placement, motion)
+    }
+
+    /// [`Simulation::add_clump`] of `shape` scaled by `scale` (> 0) about its members' frame
+    /// ([`crate::clump::ClumpBody::scaled`]): a grain of a size distribution, made from one
+    /// body per shape instead of integrating each grain's union anew.
+    pub fn add_scaled_clump(
+        &mut self,
+        (shape, scale): (&ClumpShape, f64),
+        material: MaterialId,
         (position, orientation): (DVec3, DQuat),
         (velocity, angular_velocity): (DVec3, DVec3),
     ) -> Result<usize, DemError> {
         check_material_id(material, self.state.materials.len())?;
+        if !(scale > 0.0 && scale.is_finite()) {
+            return Err(DemError::InvalidInput(format!(
+                "a clump's scale must be finite and greater than 0: {scale}"
+            )));
+        }
         if !(position.is_finite()
             && orientation.is_finite()
             && velocity.is_finite()
@@ -177,7 +195,7 @@ impl Simulation {
         }
         let density = self.state.materials[material.0 as usize].density;
         let s = &mut self.state;
-        let shape_index = s.clumps.shape_index(shape, density);
+        let shape_index = s.clumps.shape_index(shape, density, scale);
         let body = &s.clumps.shapes[shape_index];
         let q = (orientation.normalize() * body.axes).normalize();
         let inertia = body.principal_inertia;
@@ -223,8 +241,30 @@ impl Simulation {
         Ok(c)
     }
 
-    /// Removes every particle for which `remove(index, particles)` is true and returns them.
-    /// A clump goes whole: when one of its members is to go, all of them go, and the clump.
+    /// Removes every body whose centre satisfies `remove` (a free sphere's centre, a clump's
+    /// centre of mass) and returns them, one entry per body as
+    /// [`Simulation::remove_particles`] gives them. What leaves a silo is counted by where a
+    /// grain's mass is, whatever its shape.
+    pub fn remove_bodies(&mut self, mut remove: impl FnMut(DVec3) -> bool) -> Vec<RemovedParticle> {
+        let gone: Vec<bool> = self
+            .state
+            .clumps
+            .position
+            .iter()
+            .map(|&x| remove(x))
+            .collect();
+        self.remove_particles(|k, p| match p.clump[k] {
+            crate::particles::NO_CLUMP => remove(p.position[k]),
+            c => gone[c as usize],
+        })
+    }
+
+    /// Removes every particle for which `remove(index, particles)` is true and returns the
+    /// bodies removed. A clump goes whole: when one of its members is to go, all of them go,
+    /// and the clump. The list holds one entry per body, in the particles' order: a free
+    /// sphere as it was, a clump where its first member was, as its first member's tag,
+    /// its centre of mass, its velocity and its whole mass (its members carry the clump's
+    /// mass for their contact laws, so a sum over members would count it once a member).
     pub fn remove_particles(
         &mut self,
         mut remove: impl FnMut(usize, &ParticleSet) -> bool,
@@ -245,13 +285,25 @@ impl Simulation {
                 keep[k] = false;
             }
         }
+        let clumps = &self.state.clumps;
         let removed = (0..p.len())
             .filter(|&k| !keep[k])
-            .map(|k| RemovedParticle {
-                tag: p.tag[k],
-                position: p.position[k],
-                velocity: p.velocity[k],
-                mass: p.mass[k],
+            .filter_map(|k| match p.clump[k] {
+                crate::particles::NO_CLUMP => Some(RemovedParticle {
+                    tag: p.tag[k],
+                    position: p.position[k],
+                    velocity: p.velocity[k],
+                    mass: p.mass[k],
+                }),
+                c => {
+                    let c = c as usize;
+                    (p.tag[k] == clumps.first_tag[c]).then(|| RemovedParticle {
+                        tag: clumps.first_tag[c],
+                        position: clumps.position[c],
+                        velocity: clumps.velocity[c],
+                        mass: clumps.body(c).mass,
+                    })
+                }
             })
             .collect();
         // The survivors' contact memory follows them across the change of indices: new

@@ -97,7 +97,7 @@ impl Simulation {
     pub(super) fn watched_with(&self, pending: bool) -> Watched<'_> {
         let half = 0.5 * self.state.config.time_step;
         Watched::new(
-            &self.state.particles,
+            (&self.state.particles, &self.state.clumps),
             self.state.time,
             (
                 &self.state.walls,

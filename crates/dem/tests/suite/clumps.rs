@@ -271,8 +271,19 @@ fn removing_one_member_removes_its_clump_whole_and_the_others_go_on() {
         .body(sim.particles().clump_indices()[0] as usize)
         .members
         .len();
+    let c = sim.particles().clump_indices()[0] as usize;
+    let (tag, mass, centre) = (
+        sim.clumps().first_tags()[c],
+        sim.clumps().body(c).mass,
+        sim.clumps().positions()[c],
+    );
     let removed = sim.remove_particles(|k, _| k == 0);
-    assert_eq!(removed.len(), members);
+    // One entry for the body: its first member's tag, its centre of mass, its mass once.
+    assert_eq!(removed.len(), 1);
+    assert_eq!(
+        (removed[0].tag, removed[0].mass, removed[0].position),
+        (tag, mass, centre)
+    );
     assert_eq!(sim.clumps().len(), clumps - 1);
     assert_eq!(sim.particles().len(), particles - members);
     assert!(sim
@@ -304,4 +315,62 @@ fn a_member_stays_a_member_whatever_flags_are_set_and_a_free_sphere_cannot_becom
     let flags = sim.particles().flags();
     assert_eq!(flags[0], dem::FLAG_CLUMP_MEMBER);
     assert_eq!(flags[2], dem::FLAG_FROZEN);
+}
+
+#[test]
+fn bodies_are_removed_by_their_centre_of_mass_and_counted_once() {
+    // A dumbbell standing on end across the plane z = 0 (one member below, its centre of
+    // mass above) stays when bodies below z = 0 are removed; a free sphere below goes; a
+    // second dumbbell wholly below goes once, as one body with its whole mass. Scaled by 2,
+    // a clump has 8 times the mass of the unscaled one.
+    let (mut sim, id) = simulation(Interaction::fan2023(), DVec3::ZERO, 1);
+    let up = DQuat::from_rotation_y(std::f64::consts::FRAC_PI_2);
+    let across = sim
+        .add_clump(
+            &dumbbell(),
+            id,
+            (DVec3::new(0.0, 0.0, 0.1 * RADIUS), up),
+            (DVec3::ZERO, DVec3::ZERO),
+        )
+        .expect("a clump");
+    let below = sim
+        .add_scaled_clump(
+            (&dumbbell(), 2.0),
+            id,
+            (DVec3::new(0.01, 0.0, -0.01), DQuat::IDENTITY),
+            (DVec3::ZERO, DVec3::ZERO),
+        )
+        .expect("a scaled clump");
+    let sphere = sim
+        .add_particle(dem::ParticleInit {
+            position: DVec3::new(-0.01, 0.0, -0.005),
+            velocity: DVec3::ZERO,
+            angular_velocity: DVec3::ZERO,
+            radius: RADIUS,
+            material: id,
+            flags: 0,
+        })
+        .expect("a sphere");
+    let members_z: Vec<f64> = sim.particles().positions()[..2]
+        .iter()
+        .map(|x| x.z)
+        .collect();
+    assert!(
+        members_z[0] < 0.0 || members_z[1] < 0.0,
+        "a member of the first reaches below: {members_z:?}"
+    );
+    let masses = (
+        sim.clumps().body(across).mass,
+        sim.clumps().body(below).mass,
+    );
+    assert!((masses.1 / masses.0 - 8.0).abs() < 1e-12, "{masses:?}");
+    let tag_below = sim.clumps().first_tags()[below];
+    let removed = sim.remove_bodies(|centre| centre.z < 0.0);
+    let mut got: Vec<(u64, f64)> = removed.iter().map(|r| (r.tag, r.mass)).collect();
+    got.sort_by_key(|r| r.0);
+    assert_eq!(got.len(), 2, "the scaled clump and the sphere: {got:?}");
+    assert_eq!(got[0], (tag_below, masses.1));
+    assert_eq!(got[1].0, sphere);
+    assert_eq!(sim.clumps().len(), 1);
+    assert_eq!(sim.particles().len(), 2);
 }
