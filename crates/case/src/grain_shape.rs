@@ -70,6 +70,9 @@ pub struct GrainShape {
     /// The farthest reach of a unit grain from its centre of mass: max |c − x_cm| + r over
     /// the members [in equal-volume diameters].
     pub unit_reach: f64,
+    /// The unit grain's centre of mass in the frame of `unit_members` [equal-volume
+    /// diameters].
+    pub unit_centre: [f64; 3],
     /// For an STL grain, the union's volume over the body's [-] (1 − the shortfall measured
     /// exactly); 1 for the other kinds, whose members are the shape.
     pub filled_fraction: f64,
@@ -99,6 +102,7 @@ impl GrainShape {
             given,
             unit_members: unit,
             unit_reach,
+            unit_centre: centre.to_array(),
             filled_fraction,
         }
     }

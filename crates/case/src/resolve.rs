@@ -224,8 +224,16 @@ pub(crate) fn resolve_case(
             if matches!(geometry, Some(Geometry::Slab(_))) {
                 refuse(
                     "geometry.kind",
-                    "shaped grains (particles.shape) need a 3D container: \"cylinder\", \"box\", \
-                     \"mesh\", \"heap\" or \"draw_down\"; the quasi-2D slab is one sphere thick",
+                    "shaped grains (particles.shape) need a 3D silo: \"cylinder\", \"box\" or \
+                     \"mesh\"; the quasi-2D slab is one sphere thick",
+                );
+            }
+            if matches!(geometry, Some(Geometry::Heap(_) | Geometry::DrawDown(_))) {
+                refuse(
+                    "geometry.kind",
+                    "the heap and draw-down tests measure their slopes from spheres; shaped \
+                     grains (particles.shape) run in the silos \"cylinder\", \"box\" and \
+                     \"mesh\"",
                 );
             }
             if p.coarse_graining.is_some() {

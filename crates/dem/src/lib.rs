@@ -11,6 +11,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
 #![warn(missing_docs)]
 
+mod body_view;
 mod capacity;
 pub mod clump;
 pub mod contact;
@@ -32,6 +33,7 @@ mod timing;
 pub mod wall;
 mod watch;
 
+pub use body_view::Bodies;
 pub use contact::liquid_bridge::LARGEST_VOLUME_RATIO as LARGEST_BRIDGE_VOLUME_RATIO;
 pub use contact::{Cohesion, ContactLaws, RollingLaw, TangentialLaw};
 pub use contacts::{Contacts, PairContact, WallContact, SLIP_MARGIN};

@@ -38,13 +38,20 @@ pub struct ParticleFields<'a> {
     /// `particles.components` (written as the `Int32` array `component`); `None` for a case of
     /// one component.
     pub components: Option<&'a [u8]>,
+    /// Each sphere's grain where grains are rigid clumps of spheres: the id of the grain's
+    /// first member, the sphere's own id for a free sphere (written as the `Int64` array
+    /// `body`, so that ParaView can colour, threshold or count by grain); `None` for a
+    /// case of spheres only.
+    pub bodies: Option<&'a [u64]>,
 }
 
 /// Writes the particles as a `.vtu` of `VTK_VERTEX` cells at simulation time `time` [s].
 ///
 /// Point data: `id` (Int64), `radius` [m], `velocity` [m/s] (3 components),
-/// `angular_velocity` [rad/s] (3 components), `speed` = |velocity| [m/s] and, for a mixture,
-/// `component` (Int32, an index into `particles.components`). The time is also
+/// `angular_velocity` [rad/s] (3 components), `speed` = |velocity| [m/s], for a mixture
+/// `component` (Int32, an index into `particles.components`) and, for grains that are clumps
+/// of spheres, `body` (Int64, the grain each sphere belongs to). A clump is drawn as its
+/// member spheres (ParaView's Glyph filter scaled by `radius`), which is its actual shape. The time is also
 /// stored as the `TimeValue` field, which ParaView shows when the file is opened alone.
 pub fn write_particles_vtu(
     path: impl AsRef<Path>,
@@ -62,6 +69,7 @@ pub fn write_particles_vtu(
             "components",
             particles.components.map_or(count, <[u8]>::len),
         ),
+        ("bodies", particles.bodies.map_or(count, <[u64]>::len)),
     ];
     if let Some((name, length)) = lengths.iter().find(|(_, length)| *length != count) {
         return Err(OutputError::invalid(
@@ -96,6 +104,10 @@ pub fn write_particles_vtu(
     if let Some(components) = particles.components {
         let values = components.iter().map(|c| c.to_string());
         data_array(&mut xml, "Int32", "component", 1, values);
+    }
+    if let Some(bodies) = particles.bodies {
+        let values = bodies.iter().map(|b| b.to_string());
+        data_array(&mut xml, "Int64", "body", 1, values);
     }
     float_array(
         &mut xml,

@@ -228,6 +228,18 @@ impl Pictures {
                     .map(|&t| by_tag.get(t as usize).copied().unwrap_or(u8::MAX))
                     .collect()
             });
+            // Each sphere's grain, where grains are clumps.
+            let clumps = sim.clumps();
+            let bodies: Option<Vec<u64>> = (!clumps.is_empty()).then(|| {
+                p.tags()
+                    .iter()
+                    .zip(p.clump_indices())
+                    .map(|(&tag, &c)| match c {
+                        dem::NO_CLUMP => tag,
+                        c => clumps.first_tags()[c as usize],
+                    })
+                    .collect()
+            });
             let fields = ParticleFields {
                 ids: p.tags(),
                 positions: &positions,
@@ -235,6 +247,7 @@ impl Pictures {
                 velocities: &velocities,
                 angular_velocities: &omegas,
                 components: components.as_deref(),
+                bodies: bodies.as_deref(),
             };
             write_particles_vtu(self.dir.join(&name), &fields, t)?;
             self.pvd.push(t, 0, self.dir.join(&name))?;

@@ -732,7 +732,14 @@ impl CaseRun {
         };
         if draws.is_mixture() {
             for &(tag, component) in &placed {
-                state.record_component(tag, component);
+                // A clump's members have the tags after its first's.
+                let members = self.case.particles.components[component as usize]
+                    .shape
+                    .as_ref()
+                    .map_or(1, |s| s.members() as u64);
+                for member in tag..tag + members {
+                    state.record_component(member, component);
+                }
             }
         }
         Ok(placed.len())
@@ -740,7 +747,8 @@ impl CaseRun {
 
     fn mean_kinetic_energy(&self) -> f64 {
         let e = self.sim.energy();
-        (e.translational + e.rotational) / self.sim.particles().len().max(1) as f64
+        // Per grain: a clump's energy is its body's, counted once.
+        (e.translational + e.rotational) / self.sim.watched().body_count().max(1) as f64
     }
 
     /// Takes `chunk` steps and reads the walls' loads after them (`wall_forces`).
@@ -772,7 +780,11 @@ impl CaseRun {
             self.state.settled = calm;
             self.state.settled_kinetic_energy = ke;
             self.state.bulk = self.measure_bulk().ok();
-            self.state.fill_mass = self.sim.particles().masses().iter().sum();
+            self.state.fill_mass = if self.sim.clumps().is_empty() {
+                self.sim.particles().masses().iter().sum()
+            } else {
+                self.sim.watched().bodies(|_| true).masses.iter().sum()
+            };
             if self.keep_bed {
                 // The bed: everything a run from it needs to discharge as this one will.
                 self.bed = Some(Box::new(self.checkpoint().to_owned()));
@@ -891,9 +903,7 @@ impl CaseRun {
         self.run_recording_loads(chunk)?;
         self.state.remaining.observe(&self.sim.watched());
         let depth = self.case.protocol.deletion_depth;
-        let removed = self
-            .sim
-            .remove_particles(|k, p| p.positions()[k].z < -depth);
+        let removed = self.sim.remove_bodies(|x| x.z < -depth);
         self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
         Ok(())
     }
@@ -949,20 +959,23 @@ impl CaseRun {
     }
 
     fn measure_bulk(&self) -> Result<BulkMeasurement, RunError> {
-        let p = self.sim.particles();
-        let centres = || -> Vec<[f64; 3]> { p.positions().iter().map(|x| x.to_array()).collect() };
+        // Grains: a clump as the sphere of its volume at its centre of mass (its members
+        // overlap, so their volumes would count the overlaps twice).
+        let bodies = self.sim.watched().bodies(|_| true);
+        let p = &bodies;
+        let centres = || -> Vec<[f64; 3]> { p.positions.iter().map(|x| x.to_array()).collect() };
         let d = self.case.particles.mean_diameter();
         let g = match &self.case.geometry {
             Geometry::Slab(g) => g,
             Geometry::Cylinder(silo) => {
-                return Ok(silo_bulk(&centres(), p.radii(), silo.radius, d, |h| {
+                return Ok(silo_bulk(&centres(), &p.radii, silo.radius, d, |h| {
                     silo.volume_below(h)
                 })?);
             }
             Geometry::Heap(test) => {
                 return Ok(silo_bulk(
                     &centres(),
-                    p.radii(),
+                    &p.radii,
                     test.cylinder_radius,
                     d,
                     |h| test.volume_below(h),
@@ -975,7 +988,7 @@ impl CaseRun {
                 let (hw, hb) = (0.5 * silo.width - d, 0.5 * silo.depth - d);
                 return Ok(bed_bulk(
                     &centres(),
-                    p.radii(),
+                    &p.radii,
                     |x, y| x.abs() < hw && y.abs() < hb,
                     d,
                     |h| silo.volume_below(h),
@@ -1185,9 +1198,7 @@ impl CaseRun {
         }
         // Delete particles well below the outlet (docs/physics.md §5: about 5 d).
         let depth = self.case.protocol.deletion_depth;
-        let removed = self
-            .sim
-            .remove_particles(|k, p| p.positions()[k].z < -depth);
+        let removed = self.sim.remove_bodies(|x| x.z < -depth);
         self.state.discharged_mass += removed.iter().map(|r| r.mass).sum::<f64>();
         Ok(last_crossing)
     }
@@ -1229,10 +1240,10 @@ impl CaseRun {
     /// centres more than r/2 inside the opening must be held up by neighbours.
     fn orifice_blocked(&self) -> bool {
         let o = outlet_geometry(&self.case);
-        let p = self.sim.particles();
+        let p = self.sim.watched().bodies(|_| true);
         (0..p.len()).any(|k| {
-            let x = p.positions()[k];
-            let r = p.radii()[k];
+            let x = p.positions[k];
+            let r = p.radii[k];
             let inside = |reach: f64| reach < o.half_width - 0.5 * r;
             let over = match o.shape {
                 OutletShape::Slot => inside((x.x - o.centre).abs()),
@@ -1268,7 +1279,22 @@ impl OwnedSnapshot {
 
     /// The particles whose position satisfies `keep`, with each one's mass from the engine
     /// when `masses` (particles of several materials, whose masses no one density gives).
+    ///
+    /// Where there are clumps, the probes see grains ([`Watched::bodies`]): each clump once,
+    /// at its centre of mass, with its velocity, its whole mass and the radius of the sphere
+    /// of its volume, so that a grain crosses the outlet, is counted and weighed once
+    /// whatever its shape (docs/physics.md §11.8).
     pub fn of_with_masses(p: &Watched<'_>, keep: impl Fn(DVec3) -> bool, masses: bool) -> Self {
+        if !p.clumps().is_empty() {
+            let b = p.bodies(keep);
+            return OwnedSnapshot {
+                ids: b.tags,
+                positions: b.positions.iter().map(|x| x.to_array()).collect(),
+                velocities: b.velocities.iter().map(|x| x.to_array()).collect(),
+                radii: b.radii,
+                masses: Some(b.masses),
+            };
+        }
         let mut f = OwnedSnapshot {
             ids: Vec::new(),
             positions: Vec::new(),

@@ -53,11 +53,18 @@ impl RemainingRecorder {
             return;
         }
         let (mut count, mut mass) = (0u64, 0.0);
-        for k in 0..seen.len() {
-            if seen.positions()[k].z > 0.0 {
-                count += 1;
-                mass += seen.masses()[k];
+        if seen.clumps().is_empty() {
+            for k in 0..seen.len() {
+                if seen.positions()[k].z > 0.0 {
+                    count += 1;
+                    mass += seen.masses()[k];
+                }
             }
+        } else {
+            // Grains by their centre of mass, a clump's mass once.
+            let above = seen.bodies(|x| x.z > 0.0);
+            count = above.len() as u64;
+            mass = above.masses.iter().sum();
         }
         self.rows.push((since, count, mass));
         // The next sample is the first multiple of the interval after this look.

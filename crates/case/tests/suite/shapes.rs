@@ -234,7 +234,7 @@ fn bad_shapes_are_refused_naming_the_key_the_value_and_the_range() {
         "version = 1\n[particles]\ncount = 300\nshape = { kind = \"rod\", aspect_ratio = 2.0 }\n";
     let refused = parse(slab, None).expect_err("a slab of rods");
     assert!(
-        refused.contains("geometry.kind") && refused.contains("3D container"),
+        refused.contains("geometry.kind") && refused.contains("3D silo"),
         "{refused}"
     );
     let refused = parse(

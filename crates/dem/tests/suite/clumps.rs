@@ -364,6 +364,13 @@ fn bodies_are_removed_by_their_centre_of_mass_and_counted_once() {
         sim.clumps().body(below).mass,
     );
     assert!((masses.1 / masses.0 - 8.0).abs() < 1e-12, "{masses:?}");
+    // The grains' view: three bodies, each clump once with its whole mass and the radius of
+    // its volume (a dumbbell of touching balls has twice one ball's volume: 2^(1/3) r).
+    let bodies = sim.watched().bodies(|_| true);
+    assert_eq!((bodies.len(), sim.watched().body_count()), (3, 3));
+    assert_eq!(bodies.masses[1..], [masses.0, masses.1]);
+    assert!((bodies.radii[1] / (2f64.cbrt() * RADIUS) - 1.0).abs() < 1e-12);
+    assert!((bodies.radii[2] / bodies.radii[1] - 2.0).abs() < 1e-12);
     let tag_below = sim.clumps().first_tags()[below];
     let removed = sim.remove_bodies(|centre| centre.z < 0.0);
     let mut got: Vec<(u64, f64)> = removed.iter().map(|r| (r.tag, r.mass)).collect();

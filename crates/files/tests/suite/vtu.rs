@@ -108,6 +108,7 @@ impl Sample {
             velocities: &self.velocities,
             angular_velocities: &self.angular_velocities,
             components: None,
+            bodies: None,
         }
     }
 }
@@ -180,6 +181,7 @@ fn empty_particle_set_gives_an_empty_but_valid_grid() {
         velocities: &[],
         angular_velocities: &[],
         components: None,
+        bodies: None,
     };
     write_particles_vtu(&path, &fields, 2.0).expect("write");
     let xml = std::fs::read_to_string(&path).expect("read back");

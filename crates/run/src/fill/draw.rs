@@ -2,7 +2,8 @@
 //! case's mixture, then its radius from that component's size distribution (docs/physics.md
 //! §1.2, §10.8).
 
-use dem::MaterialId;
+use dem::clump::ClumpShape;
+use dem::{DVec3, MaterialId};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
@@ -36,7 +37,12 @@ pub struct ParticleDraws {
     materials: Vec<MaterialId>,
     /// Σ_{j ≤ i} n_j for each component i [-].
     cumulative: Vec<f64>,
+    /// Each component's grain shape, where it has one: the clump of unit equal-volume
+    /// diameter, its reach from the centre of mass and that centre in the members' frame
+    /// [equal-volume diameters].
+    shapes: Vec<Option<(ClumpShape, f64, DVec3)>>,
     max_radius: f64,
+    max_reach: f64,
 }
 
 impl ParticleDraws {
@@ -51,6 +57,25 @@ impl ParticleDraws {
                 total
             })
             .collect();
+        let shapes: Vec<Option<(ClumpShape, f64, DVec3)>> = particles
+            .components
+            .iter()
+            .map(|c| {
+                c.shape
+                    .as_ref()
+                    .map(|s| (s.unit_clump(), s.unit_reach, DVec3::from(s.unit_centre)))
+            })
+            .collect();
+        // A grain reaches at most its shape's reach times its largest diameter from its
+        // centre; a sphere, half its diameter.
+        let max_reach = particles
+            .components
+            .iter()
+            .zip(&shapes)
+            .map(|(c, shape)| {
+                c.size.max_diameter() * shape.as_ref().map_or(0.5, |(_, reach, _)| *reach)
+            })
+            .fold(0.0, f64::max);
         Self {
             sizes: particles
                 .components
@@ -59,8 +84,22 @@ impl ParticleDraws {
                 .collect(),
             materials: materials.to_vec(),
             cumulative,
+            shapes,
             max_radius: 0.5 * particles.max_diameter(),
+            max_reach,
         }
+    }
+
+    /// The farthest any drawn grain reaches from its centre (of mass) [m]: the largest
+    /// radius for spheres, more for elongated shapes.
+    pub fn max_reach(&self) -> f64 {
+        self.max_reach
+    }
+
+    /// The shape of component `component`'s grains (unit equal-volume diameter), its reach
+    /// and its centre of mass [equal-volume diameters]; `None` for spheres.
+    pub fn shape(&self, component: u8) -> Option<&(ClumpShape, f64, DVec3)> {
+        self.shapes.get(component as usize).and_then(Option::as_ref)
     }
 
     /// Whether there are several components.

@@ -132,11 +132,13 @@ pub fn insert_silo_batch(
     let ([x0, x1], [y0, y1], [z0, z1]) = region.draw_ranges();
     // A band inside the region's z range is drawn from as it is (a silo's band always is).
     let band = (band.0.max(z0), band.1.min(z1));
-    let max_radius = draws.max_radius();
-    let mut placed = Cells::new(2.0 * max_radius + GAP);
+    // The farthest a grain reaches from its centre: the largest radius for spheres, more
+    // for elongated clumps, whose members are recorded one by one.
+    let reach = draws.max_reach();
+    let mut placed = Cells::new(2.0 * reach + GAP);
     let p = sim.particles();
     for (x, r) in p.positions().iter().zip(p.radii()) {
-        if x.z + r > band.0 - 2.0 * max_radius && x.z - r < band.1 + 2.0 * max_radius {
+        if x.z + r > band.0 - 2.0 * reach && x.z - r < band.1 + 2.0 * reach {
             placed.add(*x, *r);
         }
     }

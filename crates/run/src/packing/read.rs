@@ -247,6 +247,15 @@ impl Packing {
     /// Checks the packing against `case` again (what [`read_packing`] checked): a run
     /// refuses a packing of another case.
     pub fn check(&self, case: &Case) -> Result<(), PackingError> {
+        if case.particles.has_shapes() {
+            let mut problems = Problems::default();
+            problems.push(
+                PackingPlace::File,
+                "a packing file gives spheres, and the case's grains are shaped \
+                 (particles.shape): start it from its own fill or from a bed it saved",
+            );
+            return Err(problems.into_error(&self.source));
+        }
         // Each particle labelled as it was read: by its component's name (a mixture) or the
         // one material name (a CSV of one component).
         let names = &case.particles.components;

@@ -16,6 +16,7 @@ mod mixture;
 mod packing;
 mod physics;
 mod resume;
+mod shapes;
 mod silo;
 mod stop;
 mod timing;

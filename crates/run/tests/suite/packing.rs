@@ -72,6 +72,7 @@ fn write_vtu(path: &Path, positions: &[[f64; 3]], radii: &[f64], components: Opt
             velocities: &zeros,
             angular_velocities: &zeros,
             components,
+            bodies: None,
         },
         0.0,
     )
