@@ -87,7 +87,7 @@ pub use results::{read_results_table, write_results_table, CaseStatus, ResultRow
 pub use start::{describe_start, StartKind, StartRecord};
 pub use study_file_error::StudyFileError;
 pub use summary::{
-    ArchSummary, AvalancheSummary, CaseSummary, CoarseGrainingSummary, DrawDownSummary,
-    FieldsSummary, JanssenSummary, ProfileRow, RadialFit, ReposeSummary, StopReason,
-    TailFitSummary, WidthChange,
+    ArchSummary, AvalancheSummary, AxesStatistics, CaseSummary, CoarseGrainingSummary,
+    DrawDownSummary, FieldsSummary, JanssenSummary, OrientationSummary, ProfileRow, RadialFit,
+    ReposeSummary, StopReason, TailFitSummary, WidthChange,
 };

@@ -194,6 +194,35 @@ pub struct CaseSummary {
     /// grains' as they are.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coarse_graining: Option<CoarseGrainingSummary>,
+    /// The orientation of shaped grains' long axes in the settled bed and at the outlet
+    /// (`particles.shape`, `orientations.csv`, docs/physics.md §11.8); absent for spheres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orientation: Option<OrientationSummary>,
+}
+
+/// Orientation statistics of a set of grains' long axes (docs/physics.md §11.5): the
+/// alignment with the vertical ⟨P₂(u·ẑ)⟩ = ⟨(3 (u·ẑ)² − 1)/2⟩ (1 all vertical, 0 random,
+/// −1/2 all horizontal) and the nematic order S with its director.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AxesStatistics {
+    /// Grains counted [-].
+    pub grains: usize,
+    /// ⟨P₂(u·ẑ)⟩ [-], in [−1/2, 1].
+    pub vertical_alignment: f64,
+    /// S [-], the order tensor's largest eigenvalue, in [0, 1].
+    pub nematic_order: f64,
+    /// The director (unit, sign arbitrary).
+    pub director: [f64; 3],
+}
+
+/// The long axes of shaped grains: in the settled bed at the opening, and as each grain
+/// crossed the orifice plane (counted once, as W counts it); `None` where there were none.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct OrientationSummary {
+    /// The settled bed at the opening.
+    pub bed: Option<AxesStatistics>,
+    /// The grains crossing the orifice inside the outlet.
+    pub outlet: Option<AxesStatistics>,
 }
 
 /// The grains behind coarse-grained parcels (docs/physics.md §2.8).

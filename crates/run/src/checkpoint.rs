@@ -33,9 +33,9 @@ use super::unclog::UnclogRecord;
 use files::StartRecord;
 use files::{AtomicFile, OutputError};
 
-/// The first eight bytes of every checkpoint: a name and the layout's version (10: each
-/// particle says which rigid clump it belongs to, and the state holds the clumps).
-pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x0a";
+/// The first eight bytes of every checkpoint: a name and the layout's version (11: the
+/// run's record holds the long axes of shaped grains, recorded in the bed and at the outlet).
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x0b";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;
 /// Bytes of the trailing SHA-256.

@@ -10,6 +10,7 @@ mod container;
 pub mod cost;
 mod fields;
 mod fill;
+mod orientations;
 mod outputs;
 mod packing;
 mod pile_outputs;

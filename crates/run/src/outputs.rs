@@ -695,6 +695,18 @@ pub fn finish(
         }
         _ => None,
     };
+    // Shaped grains: the settled bed's long axes, grain by grain.
+    let orientation = match &state.orientation {
+        Some(o) => {
+            write_csv_table(
+                out_dir.join("orientations.csv"),
+                &super::orientations::ORIENTATION_COLUMNS,
+                &o.bed_rows(),
+            )?;
+            Some(o.summary())
+        }
+        None => None,
+    };
     if pictures {
         if let (Some(p), Some(silo), Some(b)) = (&state.pressure, case.geometry.cylinder(), bulk) {
             let zones = p.settled_cylinder(b.bed_height);
@@ -761,6 +773,7 @@ pub fn finish(
         fields,
         avalanches,
         coarse_graining: coarse_graining_summary(case, state.discharged_mass),
+        orientation,
     })
 }
 

@@ -23,6 +23,7 @@ use measure::{
 };
 
 use super::fields::FieldsRecorder;
+use super::orientations::OrientationRecorder;
 use super::remaining::RemainingRecorder;
 use super::unclog::{pulse_force, AtClog, UnclogRecord};
 use super::wall_forces::WallForceRecorder;
@@ -199,6 +200,9 @@ pub struct RunRecord {
     pub(crate) wall_forces: WallForceRecorder,
     /// The particles left in the container against time (`remaining.csv`).
     pub(crate) remaining: RemainingRecorder,
+    /// The long axes of shaped grains in the bed and at the outlet (`orientations.csv`;
+    /// `None` for spheres).
+    pub(crate) orientation: Option<OrientationRecorder>,
     /// Wall pressure against height of a silo (`wall_pressure.csv`; `None` for a slab).
     pub(crate) pressure: Option<WallPressureRecorder>,
     /// Coarse-grained fields (`[output.fields]`; `None` without). Not in checkpoints, so
@@ -457,6 +461,10 @@ impl CaseRun {
             fill_mass: 0.0,
             wall_forces,
             remaining: RemainingRecorder::new(case.measure.rate_bin_width),
+            orientation: case
+                .particles
+                .has_shapes()
+                .then(OrientationRecorder::default),
             pressure,
             fields: FieldsRecorder::new(case)?,
             unclog: case.protocol.unclog.map(|_| UnclogRecord::default()),
@@ -861,6 +869,9 @@ impl CaseRun {
             // The bed at rest, its gate still under it.
             fields.observe_settled(&self.sim.watched())?;
         }
+        if let Some(o) = &mut self.state.orientation {
+            o.record_bed(&self.sim.watched());
+        }
         self.sim.remove_wall(self.state.walls.gate())?;
         self.state.remaining.open(t);
         if let Some(p) = &mut self.state.pressure {
@@ -1167,8 +1178,13 @@ impl CaseRun {
             state.wall_forces.observe(seen, first + taken);
             let t = seen.time();
             let frame = OwnedSnapshot::of_with_masses(seen, |x| x.z.abs() < band, masses);
-            if state.crossing.observe(&frame.view(t, density))? > 0 {
+            let found = state.crossing.observe(&frame.view(t, density))?;
+            if found > 0 {
                 last_crossing = t;
+                if let Some(o) = &mut state.orientation {
+                    let events = &state.crossing.record().events;
+                    o.record_crossings(&events[events.len() - found..], seen);
+                }
             }
             state.remaining.observe(seen);
             if let Some(fields) = &mut state.fields {

@@ -256,6 +256,7 @@ fn common_summary(
         fields: None,
         avalanches: None,
         coarse_graining: None,
+        orientation: None,
     }
 }
 
