@@ -113,6 +113,16 @@ impl GrainShape {
         unit_clump(&self.unit_members)
     }
 
+    /// The smallest member's diameter over the grain's equal-volume diameter [-] (a rod of
+    /// aspect ratio 3 has beads 0.63 of it across).
+    pub fn smallest_member_diameter(&self) -> f64 {
+        2.0 * self
+            .unit_members
+            .iter()
+            .map(|m| m[3])
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Number of member spheres.
     pub fn members(&self) -> usize {
         self.unit_members.len()

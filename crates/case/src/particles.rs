@@ -265,9 +265,16 @@ impl Component {
         self.material.density * std::f64::consts::PI / 6.0 * self.size.moment(3)
     }
 
-    /// Rayleigh time of its smallest particle [s] (physics spec §6.1).
+    /// Rayleigh time of its smallest sphere [s] (physics spec §6.1): of its smallest
+    /// particle, or of the smallest member of its smallest shaped grain, which is what
+    /// the contact laws meet.
     pub fn rayleigh_time(&self) -> f64 {
-        self.material.rayleigh_time(0.5 * self.size.min_diameter())
+        let member = self
+            .shape
+            .as_ref()
+            .map_or(1.0, GrainShape::smallest_member_diameter);
+        self.material
+            .rayleigh_time(0.5 * self.size.min_diameter() * member)
     }
 }
 

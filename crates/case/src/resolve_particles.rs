@@ -333,7 +333,17 @@ pub(crate) fn read_particles(
         .expect("at least one component");
     let sources = ParticleSources {
         material: shortest.material.clone(),
-        smallest_diameter: parcel(&shortest.sizes.1),
+        smallest_diameter: match &shortest.component.shape {
+            // The smallest sphere the contact laws meet is a member of a shaped grain.
+            Some(shape) => format!(
+                "{} × {} (the smallest member's diameter over the grain's equal-volume \
+                 diameter, {})",
+                parcel(&shortest.sizes.1),
+                rounded(shape.smallest_member_diameter()),
+                shape.describe()
+            ),
+            None => parcel(&shortest.sizes.1),
+        },
         largest_diameter: parcel(&largest.sizes.2),
     };
     Some((spec, sources))

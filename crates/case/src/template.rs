@@ -188,6 +188,7 @@ hopper_angle_deg = 90.0  # α [°], bottom plates from the vertical, in (0, 90];
 count = 3000             # N, number of particles; they must fit below H (area fraction ≤ 0.885)
 diameter = 0.003         # d [m], monodisperse diameter
 # coarse_graining = 1.0 # κ [-] in [1, 20]: parcels of κ d, each for κ³ grains (docs/physics.md §2.8)
+# shape = { kind = "rod", aspect_ratio = 2.0 } # grains as rigid clumps of spheres, in 3D silos only: "rod" (aspect_ratio, beads), "spheres" (spheres = [{ centre, radius }]) or "stl" (file, cells, shortfall); `diameter` is then the equal-volume diameter (docs/physics.md §11.7)
 # Instead of `diameter`, a size distribution (number-weighted), one of:
 # [particles.size_distribution]
 # kind = "uniform"       # min [m], max [m]
@@ -281,6 +282,7 @@ mesh_segments = 96       # segments around the axis of meshed walls and of the o
 count = 20000            # N; they must fit below H at volume fraction 0.64
 diameter = 0.004         # d [m], or a [particles.size_distribution] as in `hopperflow init`
 # coarse_graining = 1.0 # κ [-] in [1, 20]: parcels of κ d, each for κ³ grains (docs/physics.md §2.8)
+# shape = { kind = "rod", aspect_ratio = 2.0 } # grains as rigid clumps of spheres: "rod" (aspect_ratio, beads), "spheres" (spheres = [{ centre, radius }]) or "stl" (file, cells, shortfall); `diameter` is then the equal-volume diameter (docs/physics.md §11.7)
 # A mixture instead of `diameter`: [[particles.components]], each with a diameter, a
 # material and a fraction, and particles.fraction_by = "number" or "mass"; named materials
 # and their pairs in [materials.NAME] and [[pairs]]. `hopperflow init` lists the keys, and

@@ -167,11 +167,11 @@ fn every_template_of_hopperflow_init_is_a_valid_case_with_its_files() {
 const TEMPLATE_SHA256: [(&str, &str); 6] = [
     (
         "slab",
-        "1dd0ea765d22da3eb6b5c4b50673c033b5603f2eb10a4c212a69984c8cf008c5",
+        "ae045793caf51a61675162e8471eb816b980b6a713cd149ce067733a313c35e0",
     ),
     (
         "cylinder",
-        "497d5d7c73abbd43b4ff7343a010f68de70d56570f65b018f36afa5df144bac0",
+        "ee80c73eaa24016d2785867f090539261666eeea623613f89dea52f683925bc0",
     ),
     (
         "box",
