@@ -11,7 +11,10 @@
 use std::collections::HashSet;
 use std::path::PathBuf;
 
-use dem::{DVec3, DemError, Interaction, MaterialId, ParticleInit, Wall, WallId, WallMaterial};
+use dem::clump::ClumpShape;
+use dem::{
+    DQuat, DVec3, DemError, Interaction, MaterialId, ParticleInit, Wall, WallId, WallMaterial,
+};
 use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -393,17 +396,120 @@ impl Simulation {
             .len()
     }
 
-    /// Removes every particle whose centre is below height `z` [m]; returns their ids.
+    /// Removes every grain whose centre is below height `z` [m] (a clump by its centre of
+    /// mass, whole); returns their ids (a clump's is its first member's).
     fn remove_below(&mut self, z: f64) -> PyResult<Vec<u64>> {
         if z.is_nan() {
             return Err(PyValueError::new_err("z = nan: must be a number [m]"));
         }
         Ok(self
             .sim
-            .remove_particles(|k, p| p.positions()[k].z < z)
+            .remove_bodies(|x| x.z < z)
             .iter()
             .map(|r| r.tag)
             .collect())
+    }
+
+    /// Adds a rigid clump (docs/physics.md §11) of mixture component `component`'s material:
+    /// `members` are its spheres as (x, y, z, r) rows [m] in the clump's own frame; the body
+    /// is turned by the unit quaternion `orientation` (x, y, z, w; default none) and its
+    /// centre of mass put at `position` [m], moving at `velocity` [m/s] and spinning at
+    /// `angular_velocity` [rad/s]. Returns the clump's id, its first member's (members have
+    /// the ids after it).
+    #[pyo3(signature = (members, position, orientation = None, velocity = None, angular_velocity = None, component = 0))]
+    fn add_clump(
+        &mut self,
+        members: Vec<[f64; 4]>,
+        position: [f64; 3],
+        orientation: Option<[f64; 4]>,
+        velocity: Option<[f64; 3]>,
+        angular_velocity: Option<[f64; 3]>,
+        component: i64,
+    ) -> PyResult<u64> {
+        let component = self.component(component)?;
+        let shape = ClumpShape::new(
+            members
+                .iter()
+                .map(|m| (DVec3::new(m[0], m[1], m[2]), m[3]))
+                .collect(),
+        )
+        .map_err(|e| PyValueError::new_err(format!("members: {e}")))?;
+        let q = match orientation {
+            Some([x, y, z, w]) => {
+                let q = DQuat::from_xyzw(x, y, z, w);
+                if !(q.is_finite() && (q.length() - 1.0).abs() < 1e-6) {
+                    return Err(PyValueError::new_err(format!(
+                        "orientation = [{x}, {y}, {z}, {w}]: must be a unit quaternion \
+                         (x, y, z, w), |q| = 1 to 1e-6"
+                    )));
+                }
+                q
+            }
+            None => DQuat::IDENTITY,
+        };
+        let x = vec3("position", position)?;
+        let v = vec3("velocity", velocity.unwrap_or([0.0; 3]))?;
+        let w = vec3("angular_velocity", angular_velocity.unwrap_or([0.0; 3]))?;
+        let material = self.materials[usize::from(component)];
+        let c = self
+            .sim
+            .add_clump(&shape, material, (x, q), (v, w))
+            .map_err(|e| engine_error(&e))?;
+        let first = self.sim.clumps().first_tags()[c];
+        if self.materials.len() > 1 {
+            let last = (first + members.len() as u64) as usize;
+            if self.components.len() < last {
+                self.components.resize(last, u8::MAX);
+            }
+            self.components[first as usize..last].fill(component);
+        }
+        Ok(first)
+    }
+
+    /// The rigid clumps, as a dict of read-only arrays, M rows: `ids` (each clump's first
+    /// member's id), `positions` (centres of mass, M×3 [m]), `velocities` (M×3 [m/s]),
+    /// `angular_velocities` (M×3 [rad/s]), `orientations` (unit quaternions x, y, z, w, M×4,
+    /// from the principal frame to the world), `axes` (the long axis, the principal axis of
+    /// least inertia, M×3, unit), `masses` (M [kg]) and `members` (M, spheres each).
+    #[getter]
+    fn clumps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.sim.clumps();
+        let out = PyDict::new(py);
+        let ids: Vec<u8> = c.first_tags().iter().flat_map(|t| t.to_ne_bytes()).collect();
+        out.set_item("ids", array(py, ids, "uint64", 0)?)?;
+        out.set_item("positions", array(py, vec3_bytes(c.positions()), "float64", 3)?)?;
+        out.set_item("velocities", array(py, vec3_bytes(c.velocities()), "float64", 3)?)?;
+        let omegas: Vec<DVec3> = (0..c.len()).map(|k| c.angular_velocity(k)).collect();
+        out.set_item("angular_velocities", array(py, vec3_bytes(&omegas), "float64", 3)?)?;
+        let quats = f64_bytes(c.orientations().iter().flat_map(|q| q.to_array()));
+        out.set_item("orientations", array(py, quats, "float64", 4)?)?;
+        let axes: Vec<DVec3> = c.orientations().iter().map(|q| *q * DVec3::X).collect();
+        out.set_item("axes", array(py, vec3_bytes(&axes), "float64", 3)?)?;
+        let masses = f64_bytes((0..c.len()).map(|k| c.body(k).mass));
+        out.set_item("masses", array(py, masses, "float64", 0)?)?;
+        let members: Vec<u8> = (0..c.len())
+            .flat_map(|k| (c.body(k).members.len() as u64).to_ne_bytes())
+            .collect();
+        out.set_item("members", array(py, members, "uint64", 0)?)?;
+        Ok(out)
+    }
+
+    /// Each particle's clump, N: an index into the rows of `clumps`, or −1 for a free
+    /// sphere.
+    #[getter]
+    fn clump_indices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let bytes = self
+            .sim
+            .particles()
+            .clump_indices()
+            .iter()
+            .flat_map(|&c| match c {
+                dem::NO_CLUMP => -1i64,
+                c => i64::from(c),
+            }
+            .to_ne_bytes())
+            .collect();
+        array(py, bytes, "int64", 0)
     }
 
     /// Adds an infinite plane wall of the container walls' material; returns its id.
