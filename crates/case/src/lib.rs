@@ -23,6 +23,7 @@ mod grain_shape;
 mod heap;
 mod limits;
 mod mesh;
+mod named_file;
 mod overrides;
 mod particles;
 mod reader;

@@ -7,14 +7,13 @@
 //! text that has no file) and kept absolute, so that the resolved case names the same file
 //! wherever it is read from.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-
-use sha2::{Digest, Sha256};
 
 use super::error::{number, rounded, ConfigError, ErrorKind, Location};
 use super::limits::outlet_too_small;
 use super::mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
+use super::named_file::{read_named_file, NamedFile};
 use super::reader::{Located, Section};
 
 /// Keys of a mesh container's `[geometry]`.
@@ -166,14 +165,6 @@ fn is_wall_name(name: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
 }
 
-/// The file's path from the case file's folder, made absolute without touching the disk.
-pub(crate) fn resolve_path(dir: Option<&Path>, file: &str) -> std::io::Result<PathBuf> {
-    match dir {
-        Some(dir) => std::path::absolute(dir.join(file)),
-        None => std::path::absolute(file),
-    }
-}
-
 /// Reads one `[[geometry.walls]]` table and its STL file; `names` holds the names taken so
 /// far with their keys.
 fn read_wall(
@@ -273,54 +264,14 @@ fn read_wall(
     }
     names.push((name_value.clone(), name_key));
 
-    if file.value.is_empty() {
-        errors.push(file.error(ErrorKind::Invalid, "must name an STL file"));
-        return None;
-    }
-    let path = match resolve_path(dir, &file.value) {
-        Ok(path) => path,
-        Err(e) => {
-            errors.push(file.error(ErrorKind::Io, format!("cannot make the path absolute: {e}")));
-            return None;
-        }
-    };
-    let Some(path_text) = path.to_str().map(str::to_string) else {
-        errors.push(file.error(
-            ErrorKind::Invalid,
-            format!(
-                "the absolute path {} is not valid UTF-8, so the resolved case could not name it",
-                path.display()
-            ),
-        ));
-        return None;
-    };
-    let bytes = match std::fs::read(&path) {
-        Ok(bytes) => bytes,
-        Err(e) => {
-            errors.push(file.error(
-                ErrorKind::Io,
-                format!("cannot read the STL file: {path_text}: {e}"),
-            ));
-            return None;
-        }
-    };
-    let digest: String = Sha256::digest(&bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
-    if let Some(sha) = &sha {
-        if !sha.value.eq_ignore_ascii_case(&digest) {
-            errors.push(sha.error(
-                ErrorKind::Invalid,
-                format!(
-                    "{path_text} has the SHA-256 {digest}: the file changed since this case \
-                     named it; remove {} to accept the file as it is",
-                    sha.key
-                ),
-            ));
-            ok = false;
-        }
-    }
+    let (named, pinned) = read_named_file(&file, sha.as_ref(), dir, "STL file", errors)?;
+    let NamedFile {
+        path,
+        path_text,
+        bytes,
+        digest,
+    } = named;
+    ok &= pinned;
     if !ok {
         return None;
     }

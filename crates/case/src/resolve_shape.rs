@@ -9,15 +9,14 @@ use std::path::Path;
 
 use dem::clump::{fill_mesh, ClumpShape, MAX_ROD_BEADS};
 use dem::DVec3;
-use sha2::{Digest, Sha256};
 
 use super::error::{number, ConfigError, ErrorKind};
 use super::grain_shape::{
     default_beads, GrainShape, ShapeGiven, DEFAULT_FILL_CELLS, DEFAULT_FILL_SHORTFALL,
     FILL_CELLS_RANGE, FILL_SHORTFALL_RANGE, MAX_ASPECT_RATIO, MAX_SHAPE_SPHERES,
 };
+use super::named_file::{read_named_file, NamedFile};
 use super::reader::Section;
-use super::resolve_mesh::resolve_path;
 
 /// Keys of a shape table.
 const SHAPE_KEYS: &[&str] = &[
@@ -323,45 +322,14 @@ fn read_stl(
         }
         return None;
     };
-    if file.value.is_empty() {
-        errors.push(file.error(ErrorKind::Invalid, "must name an STL file"));
-        return None;
-    }
-    let path = match resolve_path(dir, &file.value) {
-        Ok(path) => path,
-        Err(e) => {
-            errors.push(file.error(ErrorKind::Io, format!("cannot make the path absolute: {e}")));
-            return None;
-        }
-    };
-    let path_text = path.display().to_string();
-    let bytes = match std::fs::read(&path) {
-        Ok(bytes) => bytes,
-        Err(e) => {
-            errors.push(file.error(
-                ErrorKind::Io,
-                format!("cannot read the STL file: {path_text}: {e}"),
-            ));
-            return None;
-        }
-    };
-    let digest: String = Sha256::digest(&bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
-    if let Some(sha) = &sha {
-        if !sha.value.eq_ignore_ascii_case(&digest) {
-            errors.push(sha.error(
-                ErrorKind::Invalid,
-                format!(
-                    "{path_text} has the SHA-256 {digest}: the file changed since this case \
-                     named it; remove {} to accept the file as it is",
-                    sha.key
-                ),
-            ));
-            ok = false;
-        }
-    }
+    let (named, pinned) = read_named_file(&file, sha.as_ref(), dir, "STL file", errors)?;
+    let NamedFile {
+        path,
+        path_text,
+        bytes,
+        digest,
+    } = named;
+    ok &= pinned;
     if !ok {
         return None;
     }

@@ -475,12 +475,25 @@ impl Simulation {
     fn clumps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = self.sim.clumps();
         let out = PyDict::new(py);
-        let ids: Vec<u8> = c.first_tags().iter().flat_map(|t| t.to_ne_bytes()).collect();
+        let ids: Vec<u8> = c
+            .first_tags()
+            .iter()
+            .flat_map(|t| t.to_ne_bytes())
+            .collect();
         out.set_item("ids", array(py, ids, "uint64", 0)?)?;
-        out.set_item("positions", array(py, vec3_bytes(c.positions()), "float64", 3)?)?;
-        out.set_item("velocities", array(py, vec3_bytes(c.velocities()), "float64", 3)?)?;
+        out.set_item(
+            "positions",
+            array(py, vec3_bytes(c.positions()), "float64", 3)?,
+        )?;
+        out.set_item(
+            "velocities",
+            array(py, vec3_bytes(c.velocities()), "float64", 3)?,
+        )?;
         let omegas: Vec<DVec3> = (0..c.len()).map(|k| c.angular_velocity(k)).collect();
-        out.set_item("angular_velocities", array(py, vec3_bytes(&omegas), "float64", 3)?)?;
+        out.set_item(
+            "angular_velocities",
+            array(py, vec3_bytes(&omegas), "float64", 3)?,
+        )?;
         let quats = f64_bytes(c.orientations().iter().flat_map(|q| q.to_array()));
         out.set_item("orientations", array(py, quats, "float64", 4)?)?;
         let axes: Vec<DVec3> = c.orientations().iter().map(|q| *q * DVec3::X).collect();
@@ -503,11 +516,13 @@ impl Simulation {
             .particles()
             .clump_indices()
             .iter()
-            .flat_map(|&c| match c {
-                dem::NO_CLUMP => -1i64,
-                c => i64::from(c),
-            }
-            .to_ne_bytes())
+            .flat_map(|&c| {
+                match c {
+                    dem::NO_CLUMP => -1i64,
+                    c => i64::from(c),
+                }
+                .to_ne_bytes()
+            })
             .collect();
         array(py, bytes, "int64", 0)
     }
