@@ -531,6 +531,18 @@ impl<'a> Section<'a> {
         }
     }
 
+    /// The error of a required `key` missing from this section, with `message` saying
+    /// what it must hold.
+    pub fn missing(&self, key: &str, message: impl Into<String>) -> ConfigError {
+        ConfigError::new(
+            ErrorKind::Missing,
+            self.location().clone(),
+            self.key(key),
+            None,
+            message,
+        )
+    }
+
     /// Reports every key of this section that nobody asked for.
     pub fn finish(&self, allowed: &[&str], errors: &mut Vec<ConfigError>) {
         let Some(table) = self.table else {

@@ -747,11 +747,5 @@ fn required(
 }
 
 fn missing(section: &Section<'_>, key: &str, message: &str) -> ConfigError {
-    ConfigError::new(
-        ErrorKind::Missing,
-        section.location().clone(),
-        section.key(key),
-        None,
-        message,
-    )
+    section.missing(key, message)
 }

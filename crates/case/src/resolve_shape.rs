@@ -72,13 +72,7 @@ pub(crate) fn read_shape(
         },
         None => {
             if !table.has("kind") {
-                errors.push(ConfigError::new(
-                    ErrorKind::Missing,
-                    table.location().clone(),
-                    table.key("kind"),
-                    None,
-                    "required: \"rod\", \"spheres\" or \"stl\"",
-                ));
+                errors.push(table.missing("kind", "required: \"rod\", \"spheres\" or \"stl\""));
             }
             return Err(());
         }
@@ -120,11 +114,8 @@ pub(crate) fn read_shape(
 fn read_rod(table: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Option<GrainShape> {
     let Some(aspect) = table.float("aspect_ratio", "", errors) else {
         if !table.has("aspect_ratio") {
-            errors.push(ConfigError::new(
-                ErrorKind::Missing,
-                table.location().clone(),
-                table.key("aspect_ratio"),
-                None,
+            errors.push(table.missing(
+                "aspect_ratio",
                 format!(
                     "required for a rod: its length over its width, in [1, {MAX_ASPECT_RATIO}]"
                 ),
@@ -182,11 +173,8 @@ fn read_spheres(table: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Optio
     let location = table.location().clone();
     let Some(entries) = table.tables("spheres", errors) else {
         if !table.has("spheres") {
-            errors.push(ConfigError::new(
-                ErrorKind::Missing,
-                location,
-                table.key("spheres"),
-                None,
+            errors.push(table.missing(
+                "spheres",
                 "required for kind = \"spheres\": the member spheres, e.g. spheres = [{ centre \
                  = [0.0, 0.0, 0.0], radius = 1.0 }, { centre = [1.0, 0.0, 0.0], radius = 1.0 }] \
                  in any unit of length (the grain is scaled to the component's diameter)",
@@ -211,11 +199,8 @@ fn read_spheres(table: &mut Section<'_>, errors: &mut Vec<ConfigError>) -> Optio
         let radius = entry.float("radius", "", errors);
         for key in ["centre", "radius"] {
             if !entry.has(key) {
-                errors.push(ConfigError::new(
-                    ErrorKind::Missing,
-                    entry.location().clone(),
-                    entry.key(key),
-                    None,
+                errors.push(entry.missing(
+                    key,
                     "required: each member sphere has a centre [x, y, z] and a radius > 0",
                 ));
                 ok = false;
@@ -311,11 +296,8 @@ fn read_stl(
     }
     let Some(file) = file else {
         if !table.has("file") {
-            errors.push(ConfigError::new(
-                ErrorKind::Missing,
-                table.location().clone(),
-                table.key("file"),
-                None,
+            errors.push(table.missing(
+                "file",
                 "required for kind = \"stl\": a closed STL surface of the grain (any unit of \
                  length; a relative path is taken from the case file's folder)",
             ));
