@@ -13,7 +13,7 @@ use std::sync::Arc;
 use super::error::{number, rounded, ConfigError, ErrorKind, Location};
 use super::limits::outlet_too_small;
 use super::mesh::{box_meets_triangle, MeshGeometry, MeshOutlet, MeshWall, MAX_MESH_WALLS};
-use super::named_file::{read_named_file, NamedFile};
+use super::named_file::read_named_file;
 use super::reader::{Located, Section};
 
 /// Keys of a mesh container's `[geometry]`.
@@ -265,13 +265,8 @@ fn read_wall(
     names.push((name_value.clone(), name_key));
 
     let (named, pinned) = read_named_file(&file, sha.as_ref(), dir, "STL file", errors)?;
-    let NamedFile {
-        path,
-        path_text,
-        bytes,
-        digest,
-    } = named;
     ok &= pinned;
+    let path_text = &named.path_text;
     if !ok {
         return None;
     }
@@ -289,7 +284,7 @@ fn read_wall(
             return None;
         }
     };
-    let mesh = match stl::parse(&bytes, &path_text, &transform) {
+    let mesh = match stl::parse(&named.bytes, path_text, &transform) {
         Ok(mesh) => mesh,
         Err(e) => {
             errors.push(file.error(ErrorKind::Invalid, format!("not a usable STL wall: {e}")));
@@ -320,8 +315,8 @@ fn read_wall(
     }
     Some(MeshWall {
         name: name_value,
-        file: path,
-        sha256: digest,
+        file: named.path,
+        sha256: named.digest,
         scale: scale.value,
         rotate_axis: rotate,
         rotate_deg: angle.value,

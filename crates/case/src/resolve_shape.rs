@@ -15,7 +15,7 @@ use super::grain_shape::{
     default_beads, GrainShape, ShapeGiven, DEFAULT_FILL_CELLS, DEFAULT_FILL_SHORTFALL,
     FILL_CELLS_RANGE, FILL_SHORTFALL_RANGE, MAX_ASPECT_RATIO, MAX_SHAPE_SPHERES,
 };
-use super::named_file::{read_named_file, NamedFile};
+use super::named_file::read_named_file;
 use super::reader::Section;
 
 /// Keys of a shape table.
@@ -305,17 +305,12 @@ fn read_stl(
         return None;
     };
     let (named, pinned) = read_named_file(&file, sha.as_ref(), dir, "STL file", errors)?;
-    let NamedFile {
-        path,
-        path_text,
-        bytes,
-        digest,
-    } = named;
     ok &= pinned;
+    let path_text = &named.path_text;
     if !ok {
         return None;
     }
-    let mesh = match stl::parse(&bytes, &path_text, &stl::Transform::identity()) {
+    let mesh = match stl::parse(&named.bytes, path_text, &stl::Transform::identity()) {
         Ok(mesh) => mesh,
         Err(e) => {
             errors.push(file.error(ErrorKind::Invalid, format!("not a usable STL grain: {e}")));
@@ -347,8 +342,8 @@ fn read_stl(
     };
     Some(GrainShape::from_members(
         ShapeGiven::Stl {
-            file: path,
-            sha256: digest,
+            file: named.path,
+            sha256: named.digest,
             cells: cells.value as usize,
             shortfall: shortfall.value,
         },

@@ -48,20 +48,13 @@ impl OrientationRecorder {
     }
 
     /// Records the long axes of the grains among `events` (the crossings just found) that
-    /// crossed inside the outlet, looked up among the grains `seen` now.
+    /// crossed inside the outlet, looked up among the clumps `seen` now by their first tag.
     pub(crate) fn record_crossings(&mut self, events: &[CrossingEvent], seen: &Watched<'_>) {
-        let inside: Vec<u64> = events
-            .iter()
-            .filter(|e| e.inside_outlet)
-            .map(|e| e.id)
-            .collect();
-        if inside.is_empty() {
-            return;
-        }
-        let axes = clump_axes(seen);
-        for id in inside {
-            if let Some((_, _, u)) = axes.iter().find(|(tag, _, _)| *tag == id) {
-                self.outlet.push(u.to_array());
+        let clumps = seen.clumps();
+        for e in events.iter().filter(|e| e.inside_outlet) {
+            if let Some(c) = clumps.first_tags().iter().position(|&tag| tag == e.id) {
+                self.outlet
+                    .push((clumps.orientations()[c] * DVec3::X).to_array());
             }
         }
     }

@@ -788,11 +788,8 @@ impl CaseRun {
             self.state.settled = calm;
             self.state.settled_kinetic_energy = ke;
             self.state.bulk = self.measure_bulk().ok();
-            self.state.fill_mass = if self.sim.clumps().is_empty() {
-                self.sim.particles().masses().iter().sum()
-            } else {
-                self.sim.watched().bodies(|_| true).masses.iter().sum()
-            };
+            // Grains, a clump's mass once (for spheres the particles' masses in order).
+            self.state.fill_mass = self.sim.watched().bodies(|_| true).masses.iter().sum();
             if self.keep_bed {
                 // The bed: everything a run from it needs to discharge as this one will.
                 self.bed = Some(Box::new(self.checkpoint().to_owned()));

@@ -52,20 +52,9 @@ impl RemainingRecorder {
         if since + 1e-12 < self.samples as f64 * self.interval {
             return;
         }
-        let (mut count, mut mass) = (0u64, 0.0);
-        if seen.clumps().is_empty() {
-            for k in 0..seen.len() {
-                if seen.positions()[k].z > 0.0 {
-                    count += 1;
-                    mass += seen.masses()[k];
-                }
-            }
-        } else {
-            // Grains by their centre of mass, a clump's mass once.
-            let above = seen.bodies(|x| x.z > 0.0);
-            count = above.len() as u64;
-            mass = above.masses.iter().sum();
-        }
+        // Grains by their centre (of mass), a clump's mass once.
+        let above = seen.bodies(|x| x.z > 0.0);
+        let (count, mass) = (above.len() as u64, above.masses.iter().sum::<f64>());
         self.rows.push((since, count, mass));
         // The next sample is the first multiple of the interval after this look.
         self.samples = (since / self.interval + 1e-9).floor() as u64 + 1;

@@ -63,16 +63,12 @@ pub(super) fn insert_batch<R: Rng>(
                 continue;
             };
             let q = uniform_rotation(rng);
-            let members: Vec<(DVec3, f64)> = shape
-                .members()
-                .iter()
-                .map(|&(m, rm)| (m, rm * diameter))
-                .collect();
             // Members about the body's centre of mass, as the engine will place them.
             let centre = *unit_centre * diameter;
-            let world: Vec<(DVec3, f64)> = members
+            let world: Vec<(DVec3, f64)> = shape
+                .members()
                 .iter()
-                .map(|&(m, rm)| (c + q * (m * diameter - centre), rm))
+                .map(|&(m, rm)| (c + q * (m * diameter - centre), rm * diameter))
                 .collect();
             if !world.iter().all(|&(x, rm)| placed.is_free(x, rm)) {
                 continue;

@@ -41,7 +41,6 @@ pub struct ParticleDraws {
     /// diameter, its reach from the centre of mass and that centre in the members' frame
     /// [equal-volume diameters].
     shapes: Vec<Option<(ClumpShape, f64, DVec3)>>,
-    max_radius: f64,
     max_reach: f64,
 }
 
@@ -85,7 +84,6 @@ impl ParticleDraws {
             materials: materials.to_vec(),
             cumulative,
             shapes,
-            max_radius: 0.5 * particles.max_diameter(),
             max_reach,
         }
     }
@@ -105,11 +103,6 @@ impl ParticleDraws {
     /// Whether there are several components.
     pub fn is_mixture(&self) -> bool {
         self.sizes.len() > 1
-    }
-
-    /// The largest radius a draw can give [m].
-    pub fn max_radius(&self) -> f64 {
-        self.max_radius
     }
 
     /// Draws one particle. One component draws only its radius, with exactly the random
