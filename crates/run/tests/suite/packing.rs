@@ -730,7 +730,7 @@ fn mixture_packing() -> Vec<(f64, f64, f64, f64, &'static str)> {
     let silo_radius: f64 = 0.016;
     // The cone meets the cylinder at z = R − D/2 = 8 mm; the layers start above it.
     let mut z = 0.0085;
-    for (radius, label, layers) in [(0.002_f64, "big", 3), (0.001_f64, "fine", 4)] {
+    for (radius, label, layers) in [(0.002_f64, "big", 2), (0.001_f64, "fine", 2)] {
         let spacing = 2.0 * radius + 1.0e-4;
         z += radius;
         for _ in 0..layers {
