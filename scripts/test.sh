@@ -13,13 +13,42 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# The Python tests' virtual environment is made while Cargo builds: it waits mostly on the
-# network and the disk. Its output is shown once it is ready.
+# What runs beside the build (it waits mostly on the network and the disk) and what the
+# command must undo whatever happens: the Python tests' virtual environment, and the one-node
+# Slurm cluster (its packages installed where missing, its daemons started). Each one's
+# output is shown once it is needed. At the end, whatever happened: a preparation still
+# running stopped, the daemons' logs shown if something failed, the cluster stopped (a
+# failed stop fails the command) and its folder removed.
+prepare=""
+cluster=""
+starting=""
+finish() {
+    local status=$?
+    if [ -n "$prepare" ]; then
+        kill "$prepare" 2>/dev/null || true
+    fi
+    if [ -n "$cluster" ]; then
+        if [ -n "$starting" ]; then
+            wait "$starting" 2>/dev/null || true
+        fi
+        if [ "$status" != 0 ]; then
+            tail -n 40 "$cluster"/log/*.log >&2 2>/dev/null || true
+        fi
+        scripts/slurm-cluster.sh stop "$cluster" || status=1
+        rm -rf "$cluster"
+    fi
+    exit "$status"
+}
+trap finish EXIT
+mkdir -p target
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" != 1 ]; then
-    mkdir -p target
     scripts/test-python.sh --prepare >target/python-prepare.log 2>&1 &
     prepare=$!
-    trap 'kill "$prepare" 2>/dev/null || true' EXIT
+fi
+if [ "${HOPPERFLOW_SKIP_SLURM:-0}" != 1 ]; then
+    cluster=$(mktemp -d -t hopperflow-slurm.XXXXXX)
+    scripts/slurm-cluster.sh start "$cluster" >target/slurm-start.log 2>&1 &
+    starting=$!
 fi
 
 # A build from nothing, as on a clean clone, is about a tenth faster without incremental
@@ -49,7 +78,7 @@ if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
 else
     prepared=0
     wait "$prepare" || prepared=$?
-    trap - EXIT
+    prepare=""
     cat target/python-prepare.log
     if [ "$prepared" != 0 ]; then
         echo "error: the Python tests' virtual environment could not be made" >&2
@@ -62,18 +91,12 @@ if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
     echo "Slurm tests skipped (HOPPERFLOW_SKIP_SLURM=1)"
     exit 0
 fi
-cluster=$(mktemp -d -t hopperflow-slurm.XXXXXX)
-# Whatever happened: the daemons' logs if something failed, then the cluster stopped (a
-# failed stop fails the command) and its folder removed.
-finish() {
-    local status=$?
-    if [ "$status" != 0 ]; then
-        tail -n 40 "$cluster"/log/*.log >&2 2>/dev/null || true
-    fi
-    scripts/slurm-cluster.sh stop "$cluster" || status=1
-    rm -rf "$cluster"
-    exit "$status"
-}
-trap finish EXIT
-scripts/slurm-cluster.sh start "$cluster"
+started=0
+wait "$starting" || started=$?
+starting=""
+cat target/slurm-start.log
+if [ "$started" != 0 ]; then
+    echo "error: the Slurm tests' cluster could not be started" >&2
+    exit "$started"
+fi
 SLURM_CONF="$cluster/slurm.conf" cargo test --workspace --test slurm --locked -- --ignored
