@@ -83,11 +83,6 @@ impl StagedPath {
         ))
     }
 
-    /// The temporary path that receives the content.
-    pub(crate) fn temporary(&self) -> &Path {
-        &self.temporary
-    }
-
     /// Flushes the temporary file to disk and renames it onto the target.
     pub(crate) fn commit(mut self) -> Result<(), OutputError> {
         let file = File::open(&self.temporary).map_err(|e| OutputError::io(&self.target, e))?;

@@ -1,11 +1,10 @@
 //! An in-memory RGB image and its atomic PNG encoding.
 //!
 //! Plots and frames are first drawn into memory, where tests and callers can read pixels,
-//! then copied into plotters' file backend, which encodes the PNG.
+//! then encoded as PNG by the `png` crate (plotters draws into the buffer only: its file
+//! backend would bring a whole image library, JPEG and BMP included, for one encoder).
 
 use std::path::Path;
-
-use plotters::backend::{BitMapBackend, DrawingBackend};
 
 use super::atomic::StagedPath;
 use super::OutputError;
@@ -66,24 +65,20 @@ impl RgbImage {
         &mut self.pixels
     }
 
-    /// Encodes the image as PNG at `path` atomically.
+    /// Encodes the image as PNG at `path` atomically: 8-bit RGB, the encoder's default
+    /// compression and filter.
     pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), OutputError> {
         let path = path.as_ref();
-        // The encoder chooses the format from the extension, so the temporary name ends in
-        // `.png` whatever the target is called.
         let (staged, file) = StagedPath::reserve(path, "png")?;
-        drop(file);
-        {
-            let mut backend = BitMapBackend::new(staged.temporary(), (self.width, self.height));
-            backend
-                .blit_bitmap((0, 0), (self.width, self.height), &self.pixels)
-                .map_err(|e| OutputError::drawing(path, e))?;
-            backend
-                .present()
-                .map_err(|e| OutputError::drawing(path, e))?;
-            // The backend is dropped here, before the staged path can be renamed or removed;
-            // an unsaved backend would otherwise write the file again on drop.
-        }
+        let encoded = (|| {
+            let mut encoder = png::Encoder::new(file, self.width, self.height);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            let mut writer = encoder.write_header()?;
+            writer.write_image_data(&self.pixels)?;
+            writer.finish()
+        })();
+        encoded.map_err(|e| OutputError::drawing(path, e))?;
         staged.commit()
     }
 }
