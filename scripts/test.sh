@@ -40,6 +40,17 @@ finish() {
     exit "$status"
 }
 trap finish EXIT
+# Waits for the preparation of process $1, shows its log $2, and fails with message $3 and
+# the preparation's status if it failed.
+await() {
+    local status=0
+    wait "$1" || status=$?
+    cat "$2"
+    if [ "$status" != 0 ]; then
+        echo "error: $3" >&2
+        exit "$status"
+    fi
+}
 mkdir -p target
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" != 1 ]; then
     scripts/test-python.sh --prepare >target/python-prepare.log 2>&1 &
@@ -76,14 +87,8 @@ export HOPPERFLOW_CLI="$PWD/target/debug/hopperflow"
 if [ "${HOPPERFLOW_SKIP_PYTHON:-0}" = 1 ]; then
     echo "Python tests skipped (HOPPERFLOW_SKIP_PYTHON=1)"
 else
-    prepared=0
-    wait "$prepare" || prepared=$?
+    await "$prepare" target/python-prepare.log "the Python tests' virtual environment could not be made"
     prepare=""
-    cat target/python-prepare.log
-    if [ "$prepared" != 0 ]; then
-        echo "error: the Python tests' virtual environment could not be made" >&2
-        exit "$prepared"
-    fi
     scripts/test-python.sh --prepared
 fi
 
@@ -91,12 +96,6 @@ if [ "${HOPPERFLOW_SKIP_SLURM:-0}" = 1 ]; then
     echo "Slurm tests skipped (HOPPERFLOW_SKIP_SLURM=1)"
     exit 0
 fi
-started=0
-wait "$starting" || started=$?
+await "$starting" target/slurm-start.log "the Slurm tests' cluster could not be started"
 starting=""
-cat target/slurm-start.log
-if [ "$started" != 0 ]; then
-    echo "error: the Slurm tests' cluster could not be started" >&2
-    exit "$started"
-fi
 SLURM_CONF="$cluster/slurm.conf" cargo test --workspace --test slurm --locked -- --ignored
