@@ -59,6 +59,32 @@ pub fn exponential_size_tail(sizes: &[f64], s_min: f64) -> AnalysisResult<TailFi
     })
 }
 
+/// The mean of exponentially distributed avalanche sizes from the avalanches a clog ended
+/// (`ended`) and those cut short before any clog (`cut`: by the container draining or the
+/// time limit), which are right-censored: each is only known to be at least its size. For an
+/// exponential law the maximum-likelihood mean is then the total of all sizes, cut ones
+/// included, over the number of clog-ended ones, with the asymptotic standard error
+/// mean/√n from the Fisher information of n uncensored events (Lawless, *Statistical Models
+/// and Methods for Lifetime Data*, 2nd ed., Wiley 2003, the exponential model under
+/// censoring). Leaving the cut avalanches out biases the mean low: the long avalanches are
+/// the ones a drained silo or a time limit cuts. Sizes must be finite and ≥ 0; needs one
+/// clog-ended avalanche.
+pub fn censored_exponential_mean(ended: &[f64], cut: &[f64]) -> AnalysisResult<Estimate> {
+    const CONTEXT: &str = "mean avalanche size with the cut-short avalanches";
+    ensure_finite(CONTEXT, ended)?;
+    ensure_finite(CONTEXT, cut)?;
+    ensure_at_least(CONTEXT, 1, ended.len())?;
+    if ended.iter().chain(cut).any(|&s| s < 0.0) {
+        return Err(AnalysisError::InvalidArgument {
+            context: CONTEXT,
+            reason: "a size is negative".into(),
+        });
+    }
+    let n = ended.len() as f64;
+    let mean = ended.iter().chain(cut).sum::<f64>() / n;
+    Ok(Estimate::new(mean, mean / n.sqrt()))
+}
+
 /// The power-law tail P(t) ∝ t^(−α) for t ≥ `t_min` of positive samples (the time lapses
 /// between consecutive grains, Zuriguel et al., Sci. Rep. 4, 7324, 2014), by maximum
 /// likelihood for the continuous law: α̂ = 1 + n / Σ ln(t_i/t_min), standard error
@@ -339,6 +365,43 @@ mod tests {
         // discreteness, which is a few percent at s_c = 50.
         let continuum = scale / (4000f64).sqrt();
         assert!((e.standard_error / continuum - 1.0).abs() < 0.05, "{e:?}");
+    }
+
+    #[test]
+    fn cut_short_avalanches_are_counted_as_censored_sizes() {
+        // Runs of a grain budget of 150 each, emptied by avalanches of exponential sizes of
+        // mean 50: the avalanche that meets the budget is cut there, as a silo that drains
+        // cuts its last one. 800 runs give about 1600 clog-ended avalanches.
+        let truth = 50.0_f64;
+        let mut rng = seeded_rng(23);
+        let (mut ended, mut cut) = (Vec::new(), Vec::new());
+        for _ in 0..800 {
+            let mut left = 150.0_f64;
+            loop {
+                let u: f64 = rng.gen_range(f64::EPSILON..1.0);
+                let size = -truth * u.ln();
+                if size >= left {
+                    cut.push(left);
+                    break;
+                }
+                ended.push(size);
+                left -= size;
+            }
+        }
+        let e = censored_exponential_mean(&ended, &cut).expect("an estimate");
+        // Asymptotically normal with the error it reports (about 1.3 here): 3 standard
+        // errors fail a correct estimator in 0.3 % of seeds.
+        assert!((e.value - truth).abs() < 3.0 * e.standard_error, "{e:?}");
+        // The clog-ended sizes alone are biased low by far more than that error: the cut
+        // avalanches are the long ones.
+        let naive = ended.iter().sum::<f64>() / ended.len() as f64;
+        assert!(
+            naive < truth - 5.0 * e.standard_error,
+            "naive {naive}, {e:?}"
+        );
+        // No clog-ended avalanche: nothing to estimate, an error rather than a panic.
+        assert!(censored_exponential_mean(&[], &[10.0]).is_err());
+        assert!(censored_exponential_mean(&[1.0], &[-1.0]).is_err());
     }
 
     #[test]

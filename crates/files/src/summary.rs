@@ -9,6 +9,11 @@ fn nan_if_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Err
     Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::NAN))
 }
 
+/// NaN, the value of a quantity a summary does not hold.
+fn nan() -> f64 {
+    f64::NAN
+}
+
 /// [`nan_if_null`] for a pair.
 fn nan_pair_if_null<'de, D: Deserializer<'de>>(deserializer: D) -> Result<[f64; 2], D::Error> {
     let pair = <[Option<f64>; 2]>::deserialize(deserializer)?;
@@ -256,6 +261,15 @@ pub struct AvalancheSummary {
     /// The standard error of ⟨s⟩, σ_s/√n [grains] (NaN below two avalanches).
     #[serde(deserialize_with = "nan_if_null")]
     pub mean_size_error: f64,
+    /// ⟨s⟩ with the avalanches cut short before a clog (by the container draining or the
+    /// time limit) counted as right-censored exponential sizes: all sizes over the clogs
+    /// (docs/physics.md §7.14) [grains]; NaN without a clog, and in summaries written
+    /// before it was reported.
+    #[serde(default = "nan", deserialize_with = "nan_if_null")]
+    pub mean_size_censored: f64,
+    /// Its standard error, itself over √n [grains].
+    #[serde(default = "nan", deserialize_with = "nan_if_null")]
+    pub mean_size_censored_error: f64,
     /// Their mean mass [kg].
     #[serde(deserialize_with = "nan_if_null")]
     pub mean_mass: f64,

@@ -342,6 +342,8 @@ mod tests {
                 count,
                 mean_size: mean,
                 mean_size_error: error,
+                mean_size_censored: f64::NAN,
+                mean_size_censored_error: f64::NAN,
                 mean_mass: f64::NAN,
                 mean_duration: f64::NAN,
                 mean_arrest: f64::NAN,

@@ -8,7 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use analysis::clogging::{exponential_size_tail, power_law_tail, TailFit};
+use analysis::clogging::{
+    censored_exponential_mean, exponential_size_tail, power_law_tail, TailFit,
+};
 use case::{Case, UnclogSpec};
 use dem::{DVec3, ForceRegion, RegionForce};
 use files::{AvalancheSummary, Cell, StopReason, TailFitSummary};
@@ -322,6 +324,12 @@ pub fn avalanche_summary(
                 error: f.parameter.standard_error,
             })
     };
+    let cut: Vec<f64> = avalanches
+        .iter()
+        .filter(|a| a.ended_by.is_none())
+        .map(|a| a.size as f64)
+        .collect();
+    let censored = censored_exponential_mean(&sizes, &cut).ok();
     let size_tail = tail(exponential_size_tail(&sizes, median(&sizes)));
     let lapse_tail = tail(power_law_tail(lapses, 10.0 * median(lapses)));
     let pulses: usize = record.clogs.iter().map(|c| c.pulses as usize).sum();
@@ -340,6 +348,8 @@ pub fn avalanche_summary(
         count: n,
         mean_size,
         mean_size_error,
+        mean_size_censored: censored.map_or(f64::NAN, |e| e.value),
+        mean_size_censored_error: censored.map_or(f64::NAN, |e| e.standard_error),
         mean_mass: mean(&|a| a.mass),
         mean_duration: mean(&|a| a.end - a.start),
         mean_arrest: mean(&|a| a.arrest_before),
@@ -479,6 +489,9 @@ mod tests {
         assert!((s.mean_size - 4.0).abs() < 1e-12);
         // The sample standard deviation of 2, 4, 6 is 2, over √3.
         assert!((s.mean_size_error - 2.0 / 3f64.sqrt()).abs() < 1e-12);
+        // With the cut avalanche as a censored size: (2 + 4 + 6 + 100)/3, error that over √3.
+        assert!((s.mean_size_censored - 112.0 / 3.0).abs() < 1e-12);
+        assert!((s.mean_size_censored_error - 112.0 / 3.0 / 3f64.sqrt()).abs() < 1e-12);
         // Three clogs, a pulse each: the first two restarted the flow, the third's did too
         // (the 100 grains after it); none failed.
         assert_eq!((s.pulses, s.failed_pulses), (3, 0));
