@@ -41,8 +41,13 @@ pub struct ClogRow {
     pub runs: usize,
     /// Avalanches ended by a clog, over the runs [-].
     pub avalanches: usize,
-    /// ⟨s⟩ [grains] over every avalanche of the runs, with its standard error.
+    /// ⟨s⟩ [grains] over the clog-ended avalanches of the runs, with its standard error.
     pub mean_size: Estimate,
+    /// ⟨s⟩ [grains] with the avalanches cut short by a drained silo or the time limit
+    /// counted as right-censored exponential sizes (docs/physics.md §7.14): every size of
+    /// the runs over their clogs, its error itself over √n; `None` where a run's summary does
+    /// not report it.
+    pub mean_size_censored: Option<Estimate>,
     /// The decay size s_c [grains] of the size distribution's exponential tail, the runs'
     /// fits averaged with inverse-variance weights; `None` where no run had one.
     pub size_tail: Option<Estimate>,
@@ -100,9 +105,27 @@ fn weighted(values: impl Iterator<Item = (f64, f64)>) -> Option<Estimate> {
     (sw > 0.0).then(|| Estimate::new(swx / sw, sw.sqrt().recip()))
 }
 
-/// Pools the replicas of each D/d and fits each series: ⟨s⟩ over all avalanches of the runs
-/// (each run's mean weighted by its count), its error from the runs' errors carried to that
-/// weighted mean.
+/// The censored mean of pooled runs: each run's censored mean times its clogs is the sum of
+/// all its sizes, so the pooled estimate is their total over all the clogs, with the
+/// exponential law's error, itself over √n. `None` unless every run reports it.
+fn pooled_censored(runs: &[&AvalancheSummary]) -> Option<Estimate> {
+    let n: usize = runs.iter().map(|a| a.count).sum();
+    if n == 0 || runs.iter().any(|a| !a.mean_size_censored.is_finite()) {
+        return None;
+    }
+    let total: f64 = runs
+        .iter()
+        .map(|a| a.count as f64 * a.mean_size_censored)
+        .sum();
+    let mean = total / n as f64;
+    Some(Estimate::new(mean, mean / (n as f64).sqrt()))
+}
+
+/// Pools the replicas of each D/d and fits each series. Two means are pooled: over the
+/// clog-ended avalanches (each run's mean weighted by its count, its error from the runs'
+/// errors carried to that weighted mean) and with the cut-short avalanches as censored sizes.
+/// The fits take the censored mean where every run reports it (a finite silo that drains in a
+/// long avalanche biases the clog-ended mean low), the clog-ended one otherwise.
 pub fn analyse_clogging(cases: &[ClogCase]) -> Vec<ClogGroup> {
     let mut groups: BTreeMap<(String, bool), Vec<&ClogCase>> = BTreeMap::new();
     for c in cases {
@@ -151,6 +174,7 @@ pub fn analyse_clogging(cases: &[ClogCase]) -> Vec<ClogGroup> {
                     runs: same.len(),
                     avalanches: n,
                     mean_size,
+                    mean_size_censored: pooled_censored(&runs),
                     size_tail: weighted(
                         runs.iter()
                             .filter_map(|a| a.size_tail.map(|t| (t.value, t.error))),
@@ -163,11 +187,12 @@ pub fn analyse_clogging(cases: &[ClogCase]) -> Vec<ClogGroup> {
             }
             let points: Vec<MeanSizePoint> = rows
                 .iter()
-                .filter(|r| r.mean_size.value > 0.0 && r.mean_size.standard_error > 0.0)
-                .filter(|r| r.avalanches >= MIN_AVALANCHES)
-                .map(|r| MeanSizePoint {
+                .map(|r| (r, r.mean_size_censored.unwrap_or(r.mean_size)))
+                .filter(|(_, m)| m.value > 0.0 && m.standard_error > 0.0)
+                .filter(|(r, _)| r.avalanches >= MIN_AVALANCHES)
+                .map(|(r, m)| MeanSizePoint {
                     outlet: r.outlet,
-                    mean_size: r.mean_size,
+                    mean_size: m,
                 })
                 .collect();
             let fits = compare_mean_size_fits(&points, if three_d { 2.0 } else { 1.0 });
@@ -215,7 +240,7 @@ pub fn clogging_blocks(groups: &[ClogGroup]) -> Vec<Block> {
         2,
         "Clogging: avalanche sizes against D/d".into(),
     ));
-    blocks.push(Block::Paragraph("Runs that break their arches ([protocol.unclog], docs/physics.md §5.11) cut their outlet crossings into avalanches at the clogs (avalanches.csv); only avalanches ended by a clog count. ⟨s⟩: the mean size in grains over every avalanche of the replicas, with its standard error. s_c: the decay size of the exponential tail P(s) ∝ exp(−s/s_c) above each run's median size (geometric maximum likelihood); α: the exponent of the time lapses between consecutive grains, P(t) ∝ t^(−α) above ten times each run's median lapse (continuous maximum likelihood); both averaged over the replicas with inverse-variance weights. Fits on ln⟨s⟩ weighted by σ_s/⟨s⟩: the critical divergence ⟨s⟩ = A (R_c − R)^(−γ) and the exponential ⟨s⟩ = B exp(C R^k), R = D/d; errors scaled by √(χ²/ν). ΔAIC = AIC(divergence) − AIC(exponential), AIC = χ² + 2p: below −2 favours the divergence, above 2 the exponential. Outlets with fewer than 5 avalanches are listed but left out of the fits; a divergence fit that ends on a bound of R_c or γ is reported as none found.".into()));
+    blocks.push(Block::Paragraph("Runs that break their arches ([protocol.unclog], docs/physics.md §5.11) cut their outlet crossings into avalanches at the clogs (avalanches.csv); ⟨s⟩: the mean size in grains over the avalanches a clog ended, with its standard error; ⟨s⟩ censored: the exponential law's maximum-likelihood mean with the avalanches cut short by a drained silo or the time limit counted as censored sizes (all sizes over the clogs, error itself over √n; docs/physics.md §7.14), which the fits take where every replica reports it. s_c: the decay size of the exponential tail P(s) ∝ exp(−s/s_c) above each run's median size (geometric maximum likelihood); α: the exponent of the time lapses between consecutive grains, P(t) ∝ t^(−α) above ten times each run's median lapse (continuous maximum likelihood); both averaged over the replicas with inverse-variance weights. Fits on ln⟨s⟩ weighted by σ_s/⟨s⟩: the critical divergence ⟨s⟩ = A (R_c − R)^(−γ) and the exponential ⟨s⟩ = B exp(C R^k), R = D/d; errors scaled by √(χ²/ν). ΔAIC = AIC(divergence) − AIC(exponential), AIC = χ² + 2p: below −2 favours the divergence, above 2 the exponential. Outlets with fewer than 5 avalanches are listed but left out of the fits; a divergence fit that ends on a bound of R_c or γ is reported as none found.".into()));
     for g in groups {
         let dim = if g.three_d { "3D" } else { "quasi-2D slab" };
         blocks.push(Block::Heading(3, format!("Series {} ({dim})", g.series)));
@@ -228,6 +253,7 @@ pub fn clogging_blocks(groups: &[ClogGroup]) -> Vec<Block> {
                     r.runs.to_string(),
                     r.avalanches.to_string(),
                     shown(Some(r.mean_size), 1),
+                    shown(r.mean_size_censored, 1),
                     shown(r.size_tail, 1),
                     shown(r.lapse_tail, 2),
                 ]
@@ -239,6 +265,7 @@ pub fn clogging_blocks(groups: &[ClogGroup]) -> Vec<Block> {
                 "runs".into(),
                 "avalanches".into(),
                 "⟨s⟩ [grains]".into(),
+                "⟨s⟩ censored [grains]".into(),
                 "s_c [grains]".into(),
                 "α".into(),
             ],
@@ -389,5 +416,45 @@ mod tests {
             "{text}"
         );
         assert!(clogging_blocks(&[]).is_empty());
+    }
+
+    #[test]
+    fn censored_means_pool_over_all_clogs_and_enter_the_fits() {
+        // Each case's clog-ended mean is half its censored mean, as when long avalanches
+        // drain the silo; the censored means follow exp(R) exactly, so the exponential fit
+        // recovers B = 1 from them and would give B = 1/2 from the clog-ended ones.
+        let censored = |outlet: f64, count: usize, mean: f64| {
+            let mut c = case("s", outlet, count, 0.5 * mean, 0.05 * mean);
+            c.avalanches.mean_size_censored = mean;
+            c.avalanches.mean_size_censored_error = mean / (count as f64).sqrt();
+            c
+        };
+        let e2 = 2f64.exp();
+        let cases = vec![
+            censored(2.0, 4, 0.5 * e2),
+            censored(2.0, 12, 7.0 / 6.0 * e2),
+            censored(3.0, 16, 3f64.exp()),
+            censored(4.0, 16, 4f64.exp()),
+            censored(5.0, 16, 5f64.exp()),
+        ];
+        let groups = analyse_clogging(&cases);
+        let first = groups[0].rows[0]
+            .mean_size_censored
+            .expect("every run reports it");
+        // Pooled over the 16 clogs: (4 · e²/2 + 12 · 7e²/6)/16 = e², error e²/4; exact to
+        // rounding.
+        assert!((first.value - e2).abs() < 1e-12 * e2, "{first:?}");
+        assert!((first.standard_error - e2 / 4.0).abs() < 1e-12 * e2);
+        let fit = groups[0].fits.exponential.as_ref().expect("fitted");
+        // Points on B exp(C R) with B = 1, C = 1: the fit is exact to its solver's tolerance;
+        // 0.05 tells B = 1 from the clog-ended B = 0.5 by far.
+        assert!((fit.parameters[0].value - 1.0).abs() < 0.05, "{fit:?}");
+        assert!((fit.parameters[1].value - 1.0).abs() < 0.05, "{fit:?}");
+        // A run without the censored mean (an older summary) leaves its row without one.
+        let mut old = cases.clone();
+        old[0].avalanches.mean_size_censored = f64::NAN;
+        assert!(analyse_clogging(&old)[0].rows[0]
+            .mean_size_censored
+            .is_none());
     }
 }
