@@ -399,6 +399,17 @@ impl ParticleSpec {
         self.components.iter().any(|c| c.shape.is_some())
     }
 
+    /// Spheres per grain on average [-]: 1 for spheres, a shaped grain's members, weighted by
+    /// the components' number fractions. What a run's cost and memory scale with beside its
+    /// grain count.
+    pub fn mean_spheres_per_grain(&self) -> f64 {
+        self.number_fractions()
+            .iter()
+            .zip(&self.components)
+            .map(|(n, c)| n * c.shape.as_ref().map_or(1, GrainShape::members) as f64)
+            .sum()
+    }
+
     /// Whether the particles are a mixture of several components.
     pub fn is_mixture(&self) -> bool {
         self.components.len() > 1

@@ -67,6 +67,16 @@ pub fn estimate_lines(e: &CostEstimate, physical: Option<f64>) -> Vec<String> {
         e.particle_steps.total(),
     ));
     lines.push(match &e.speed {
+        Some(speed) if speed.grains != speed.spheres => format!(
+            "  {:<10}{:.1} ns per grain-step (its members together), timed on a dense block \
+             of {} of the case's grains, {} spheres ({} steps, {:.2} s)",
+            "speed",
+            speed.ns_per_particle_step,
+            speed.grains,
+            speed.spheres,
+            speed.steps,
+            speed.seconds
+        ),
         Some(speed) => format!(
             "  {:<10}{:.1} ns per particle-step, timed on a dense block of {} of the case's \
              spheres ({} steps, {:.2} s)",

@@ -116,7 +116,11 @@ impl CostEstimate {
                 discharge: seconds(particle_steps.discharge),
             },
             likely: likely::likely_cost(case, particles, simulated, filled, ns),
-            peak_memory: peak_memory(particles, baseline),
+            // Memory is held per sphere: a shaped grain's members each.
+            peak_memory: peak_memory(
+                (particles as f64 * case.particles.mean_spheres_per_grain()).ceil() as usize,
+                baseline,
+            ),
             first_batch,
             speed,
             ns_per_particle_step: ns,
@@ -208,8 +212,11 @@ fn protocol_parts(case: &Case, start: &Start) -> Result<ProtocolParts, RunError>
             (case.particles.count, phase, first)
         }
         Start::Packing(packing) => (packing.particles().len(), Phase::Settle { since: 0.0 }, 0),
+        // A bed counts its spheres, a shaped grain's members each; the estimate counts
+        // grains.
         Start::Bed(bed) => (
-            bed.header().particles,
+            (bed.header().particles as f64 / case.particles.mean_spheres_per_grain()).round()
+                as usize,
             Phase::Discharge {
                 opened: 0.0,
                 last_crossing: 0.0,
@@ -250,6 +257,7 @@ mod tests {
     fn speed(ns: f64) -> MeasuredSpeed {
         MeasuredSpeed {
             spheres: 2000,
+            grains: 2000,
             steps: 1000,
             threads: 1,
             ns_per_particle_step: ns,

@@ -5,12 +5,16 @@
 //! apart, closed tightly by six planes of the first wall's material: every inner sphere
 //! touches its six neighbours, about as many contacts as a settled bed holds (4-6) and more
 //! than a flowing one (2.5-3). The components' materials are drawn by their number fractions.
+//! Shaped grains stand in the lattice as they were given, unrotated, 0.995 of their largest
+//! extent along each axis apart, so that each touches its neighbours there (a rod side by
+//! side with four and end to end with two); the speed is then given per grain and step, all
+//! its members together, which is what the run's grain count is multiplied by.
 //! The container's own walls, the probes and the outputs are left out: the run's probes and
 //! pictures add to the time measured here (docs/performance.md).
 
 use std::time::Instant;
 
-use dem::{DVec3, ParticleInit, Wall};
+use dem::{DQuat, DVec3, ParticleInit, Wall};
 use rand::SeedableRng;
 use serde::Serialize;
 
@@ -35,13 +39,16 @@ const WARM_UP_STEPS: u64 = 10;
 /// What the short timed run measured.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MeasuredSpeed {
-    /// Spheres in the block [-].
+    /// Spheres in the block, the members of its shaped grains counted one by one [-].
     pub spheres: usize,
+    /// Grains in the block: spheres, and shaped grains as one each [-].
+    pub grains: usize,
     /// Steps timed [-].
     pub steps: u64,
     /// Worker threads of the engine [-].
     pub threads: usize,
-    /// Wall time per particle and step [ns].
+    /// Wall time per grain and step [ns]: per sphere for spheres, per grain with all its
+    /// members for shaped grains.
     pub ns_per_particle_step: f64,
     /// Contacts per sphere in the block (particle–particle counted for both partners, plus
     /// walls) [-].
@@ -50,9 +57,24 @@ pub struct MeasuredSpeed {
     pub seconds: f64,
 }
 
-/// Times the dense block of `case`'s spheres ([module docs](self)) for `particles` spheres
-/// of the run on `threads` worker threads: min(`particles`, 2000 per thread, 50 000) spheres
-/// over about 2·10⁶ particle-steps (20 to 1000 steps).
+/// Half the largest extent [m] along each axis of a grain of `draws`' largest diameter `d`:
+/// d/2 for spheres, for a shaped grain unrotated the farthest any member reaches from its
+/// centre of mass along that axis.
+fn half_extent(draws: &ParticleDraws, components: usize, d: f64) -> DVec3 {
+    (0..components).fold(DVec3::ZERO, |half, c| {
+        let Some((shape, _, centre)) = draws.shape(c as u8) else {
+            return half.max(DVec3::splat(0.5 * d));
+        };
+        shape.members().iter().fold(half, |half, &(m, r)| {
+            half.max(((m - *centre).abs() + DVec3::splat(r)) * d)
+        })
+    })
+}
+
+/// Times the dense block of `case`'s grains ([module docs](self)) for `particles` grains of
+/// the run on `threads` worker threads: as many grains as hold min(`particles` × the spheres
+/// per grain, 2000 spheres per thread, 50 000) spheres, over about 2·10⁶ sphere-steps (20 to
+/// 1000 steps).
 pub fn measure_speed(
     case: &Case,
     particles: usize,
@@ -60,9 +82,11 @@ pub fn measure_speed(
 ) -> Result<MeasuredSpeed, RunError> {
     let started = Instant::now();
     let threads = threads.max(1);
-    let count = particles
-        .min(SPHERES_PER_THREAD * threads)
-        .clamp(1, MAX_SPHERES);
+    let per_grain = case.particles.mean_spheres_per_grain().max(1.0);
+    let spheres = (particles as f64 * per_grain)
+        .min((SPHERES_PER_THREAD * threads) as f64)
+        .min(MAX_SPHERES as f64);
+    let count = ((spheres / per_grain).round() as usize).max(1);
     let (mut sim, walls, materials) = case_simulation_by_component(case, threads)?;
     // The container's walls give way to the block's box, of the first wall's material.
     let mut template = None;
@@ -71,13 +95,14 @@ pub fn measure_speed(
         template.get_or_insert(wall);
     }
     let d = case.particles.max_diameter();
-    let spacing = SPACING * d;
+    let draws = ParticleDraws::new(&case.particles, &materials);
+    let spacing = 2.0 * SPACING * half_extent(&draws, case.particles.components.len(), d);
     let side = (count as f64).cbrt().ceil().max(1.0) as usize;
     let layers = count.div_ceil(side * side);
     let edge = [
-        side as f64 * spacing,
-        side as f64 * spacing,
-        layers as f64 * spacing,
+        side as f64 * spacing.x,
+        side as f64 * spacing.y,
+        layers as f64 * spacing.z,
     ];
     if let Some(template) = template {
         for (axis, &length) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().zip(&edge) {
@@ -88,28 +113,44 @@ pub fn measure_speed(
             }
         }
     }
-    let draws = ParticleDraws::new(&case.particles, &materials);
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(case.seed);
+    let mut grains = 0;
     'fill: for z in 0..layers {
         for y in 0..side {
             for x in 0..side {
-                if sim.particles().len() == count {
+                if grains == count {
                     break 'fill;
                 }
+                grains += 1;
                 let site = (DVec3::new(x as f64, y as f64, z as f64) + DVec3::splat(0.5)) * spacing;
-                let material = draws.draw(&mut rng).material;
-                sim.add_particle(ParticleInit::at_rest(site, 0.5 * d, material))?;
+                let drawn = draws.draw(&mut rng);
+                match draws.shape(drawn.component) {
+                    // A grain of the largest diameter, its centre of mass on the site.
+                    Some((shape, _, _)) => {
+                        sim.add_scaled_clump(
+                            (shape, d),
+                            drawn.material,
+                            (site, DQuat::IDENTITY),
+                            (DVec3::ZERO, DVec3::ZERO),
+                        )?;
+                    }
+                    None => {
+                        sim.add_particle(ParticleInit::at_rest(site, 0.5 * d, drawn.material))?;
+                    }
+                }
             }
         }
     }
     sim.run(WARM_UP_STEPS)?;
-    let steps = (TIMED_PARTICLE_STEPS / count as f64).clamp(20.0, 1000.0) as u64;
+    let steps = (TIMED_PARTICLE_STEPS / sim.particles().len() as f64).clamp(20.0, 1000.0) as u64;
     let timed = time_steps(&mut sim, steps, "cost", threads)?;
+    let spheres = sim.particles().len();
     Ok(MeasuredSpeed {
-        spheres: count,
+        spheres,
+        grains,
         steps,
         threads,
-        ns_per_particle_step: timed.ns_per_particle_step,
+        ns_per_particle_step: timed.ns_per_particle_step * spheres as f64 / grains as f64,
         contacts_per_particle: timed.contacts_per_particle,
         seconds: started.elapsed().as_secs_f64(),
     })

@@ -148,3 +148,39 @@ fn a_run_of_rods_keeps_its_bits_on_two_threads_and_across_a_resume() {
         assert!(a == b, "{file} differs between one thread and two resumed");
     }
 }
+
+#[test]
+fn the_cost_block_times_whole_rods_and_counts_their_members_in_memory() {
+    // Rods of aspect ratio 2 have three beads: the timed block holds whole grains, its speed
+    // is per grain (three spheres' work), and memory is reckoned per sphere.
+    let case = rods(300, 1.5, "");
+    let speed = run::cost::measure_speed(&case, 300, 1).expect("a timed block of rods");
+    assert_eq!(
+        speed.grains, 300,
+        "the block holds the run's grains, fewer than the cap"
+    );
+    assert_eq!(speed.spheres, 3 * speed.grains, "three beads a grain");
+    // Unrotated rods 0.995 of their extent apart touch their neighbours end to end and side
+    // by side: 4.5 contacts a bead at the start (walls counted), loosening to about 2.8 over
+    // the timed steps as the overlaps push the block to its walls, as many as a flowing bed
+    // holds. A block spaced by the grains' equal-volume diameter, wider than the rods, has
+    // under one.
+    assert!(speed.contacts_per_particle > 2.0, "{speed:?}");
+    let mut spheres = case.clone();
+    spheres.particles.components[0].shape = None;
+    let rods_estimate =
+        run::cost::CostEstimate::from_parts(&case, 300, Default::default(), Some(speed), (0, 0.0));
+    let spheres_estimate = run::cost::CostEstimate::from_parts(
+        &spheres,
+        300,
+        Default::default(),
+        Some(speed),
+        (0, 0.0),
+    );
+    // The memory of 900 spheres against 300, at BYTES_PER_SPHERE each (exact arithmetic).
+    let extra = rods_estimate.peak_memory - spheres_estimate.peak_memory;
+    assert!(
+        (extra - 600.0 * run::cost::BYTES_PER_SPHERE).abs() < 1e-6 * extra,
+        "{extra} bytes"
+    );
+}
