@@ -228,14 +228,6 @@ pub(crate) fn resolve_case(
                      \"mesh\"; the quasi-2D slab is one sphere thick",
                 );
             }
-            if matches!(geometry, Some(Geometry::Heap(_) | Geometry::DrawDown(_))) {
-                refuse(
-                    "geometry.kind",
-                    "the heap and draw-down tests measure their slopes from spheres; shaped \
-                     grains (particles.shape) run in the silos \"cylinder\", \"box\" and \
-                     \"mesh\"",
-                );
-            }
             if p.coarse_graining.is_some() {
                 refuse(
                     "particles.coarse_graining",

@@ -24,11 +24,20 @@ pub(crate) const HEAP_SURFACE_COLUMNS: [&str; 5] = ["sector", "r_m", "top_m", "f
 pub(crate) const SHELF_SURFACE_COLUMNS: [&str; 7] =
     ["shelf", "strip", "x_m", "u_m", "top_m", "fit_m", "fitted"];
 
-/// The particles' centres [m] and radii [m] in the run's last state.
-fn last_state(run: &CaseRun) -> (Vec<[f64; 3]>, Vec<f64>, Vec<f64>) {
+/// The spheres' centres [m] and radii [m] in the run's last state, a shaped grain's members
+/// each: the surface the slopes are fitted to is the envelope of every sphere.
+fn last_spheres(run: &CaseRun) -> (Vec<[f64; 3]>, Vec<f64>) {
     let p = run.simulation().particles();
     let positions = p.positions().iter().map(|x| x.to_array()).collect();
-    (positions, p.radii().to_vec(), p.masses().to_vec())
+    (positions, p.radii().to_vec())
+}
+
+/// The grains' centres of mass [m] and masses [kg] in the run's last state: a shaped grain
+/// once, with its whole mass (its members each carry it for the contact laws).
+fn last_grains(run: &CaseRun) -> (Vec<[f64; 3]>, Vec<f64>) {
+    let grains = run.simulation().watched().bodies(|_| true);
+    let positions = grains.positions.iter().map(|x| x.to_array()).collect();
+    (positions, grains.masses)
 }
 
 /// A surface bin's row tail: top, the line `line(u)` of `fit` there, and whether it was
@@ -52,7 +61,7 @@ pub(crate) fn heap_outputs(
     test: &HeapGeometry,
     out_dir: &Path,
 ) -> Result<ReposeSummary, RunError> {
-    let (positions, radii, _) = last_state(run);
+    let (positions, radii) = last_spheres(run);
     let binning = HeapBinning {
         axis: [0.0, 0.0],
         bin_width: run.case.particles.mean_diameter(),
@@ -75,7 +84,8 @@ pub(crate) fn heap_outputs(
         &HEAP_SURFACE_COLUMNS,
         &rows,
     )?;
-    let on_plate = positions
+    let on_plate = last_grains(run)
+        .0
         .iter()
         .filter(|p| p[2] >= 0.0 && p[0].hypot(p[1]) <= test.plate_radius)
         .count();
@@ -97,7 +107,7 @@ pub(crate) fn draw_down_outputs(
     test: &DrawDownGeometry,
     out_dir: &Path,
 ) -> Result<DrawDownSummary, RunError> {
-    let (positions, radii, masses) = last_state(run);
+    let (positions, radii) = last_spheres(run);
     let binning = ShelfBinning {
         width: test.width(),
         depth: test.depth(),
@@ -133,7 +143,8 @@ pub(crate) fn draw_down_outputs(
     )?;
     // What stays in the box: the grains above its floor (those still falling through the
     // slot are on their way out).
-    let residual_mass = positions
+    let (centres, masses) = last_grains(run);
+    let residual_mass = centres
         .iter()
         .zip(&masses)
         .filter(|(p, _)| p[2] >= 0.0)
