@@ -5,13 +5,20 @@
 //! it is set, at the positions the forces are evaluated at, on top of the weights; it knows
 //! nothing of what the force stands for (an air jet through an orifice, a blower, a field).
 //!
+//! A clump's members share the force of its equal-volume sphere, π r_v² τ with r_v =
+//! (3V/4π)^(1/3) for the union's volume V, member k taking the part r_k²/Σ r_j² of it: a
+//! grain wholly inside receives the force of a sphere of its volume whatever its shape, so
+//! grains of equal volume are pushed alike (their members' cross-sections overlap, and would
+//! count the overlaps twice), and a grain partly inside is pushed where its members are.
+//!
 //! The force is not part of [`crate::SimulationState`]: a caller that checkpoints a run with
 //! one set records it itself and sets it again on the restored simulation.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::particles::{ParticleSet, FLAG_FROZEN};
+use crate::clump::{ClumpBody, ClumpSet};
+use crate::particles::{ParticleSet, FLAG_FROZEN, NO_CLUMP};
 
 /// Where a [`RegionForce`] acts: the particles whose centres lie inside.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -117,16 +124,30 @@ impl RegionForce {
         (std::f64::consts::PI * radius * radius) * self.traction
     }
 
-    /// Adds the force to each free particle inside the region, in index order; returns how
-    /// many it acted on.
-    pub(crate) fn apply(&self, p: &mut ParticleSet) -> usize {
+    /// Adds the force to each free particle inside the region, in index order, a clump's
+    /// members their shares of the grain's ([module docs](self)); returns how many it acted
+    /// on.
+    pub(crate) fn apply(&self, p: &mut ParticleSet, clumps: &ClumpSet) -> usize {
         let mut acted = 0;
         for k in 0..p.len() {
             if p.flags[k] & FLAG_FROZEN == 0 && self.region.contains(p.position[k]) {
-                p.force[k] += self.force_on(p.radius[k]);
+                let force = self.force_on(p.radius[k]);
+                p.force[k] += match p.clump[k] {
+                    NO_CLUMP => force,
+                    c => member_share(clumps.body(c as usize)) * force,
+                };
                 acted += 1;
             }
         }
         acted
     }
+}
+
+/// The part of its own cross-section's force that each member of `body` receives:
+/// r_v²/Σ r_j², r_v the radius of the sphere of the body's volume, so that the members' forces
+/// add up to the equal-volume sphere's [-].
+pub(crate) fn member_share(body: &ClumpBody) -> f64 {
+    let equal = (0.75 * body.volume / std::f64::consts::PI).cbrt();
+    let squares: f64 = body.members.iter().map(|&(_, r)| r * r).sum();
+    equal * equal / squares
 }

@@ -185,7 +185,7 @@ impl Simulation {
         // The external force of a region, onto the weights the drift left (docs/physics.md
         // §6.4); without one the step is the same arithmetic as ever.
         if let Some(force) = &self.region_force {
-            force.apply(&mut self.state.particles);
+            force.apply(&mut self.state.particles, &self.state.clumps);
         }
 
         // Forces at the drifted positions with half-step velocities, summed onto the weights

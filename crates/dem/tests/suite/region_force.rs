@@ -113,3 +113,54 @@ fn bad_region_forces_are_refused_and_change_nothing() {
         assert!(sim.region_force().is_none());
     }
 }
+
+/// A rod of aspect ratio 3 (five overlapping beads) wholly inside the region receives the
+/// force of the sphere of its volume, not the sum of its beads' cross-sections (about twice
+/// as much, counting their overlaps): with a traction of three of its equal-volume sphere's
+/// weights it rises at 2 g, like a sphere of that volume, and, lying level and symmetric
+/// about its centre, keeps its orientation.
+#[test]
+fn a_clump_inside_receives_the_force_of_its_equal_volume_sphere() {
+    let mut sim = Simulation::new(SimulationConfig::new(2.5e-6)).expect("valid configuration");
+    let id = sim
+        .add_material(Material::fan2023(), Interaction::fan2023())
+        .expect("valid material");
+    let rod = dem::clump::ClumpShape::rod(3.0, 5, 2.0 * RADIUS).expect("a rod");
+    sim.add_clump(
+        &rod,
+        id,
+        (DVec3::ZERO, dem::DQuat::IDENTITY),
+        (DVec3::ZERO, DVec3::ZERO),
+    )
+    .expect("valid clump");
+    let body = rod.body(Material::fan2023().density);
+    let equal = (0.75 * body.volume / std::f64::consts::PI).cbrt();
+    // The rod has the volume of the sphere of diameter 2 RADIUS (the shape's scaling).
+    assert!((equal / RADIUS - 1.0).abs() < 1e-9, "r_v = {equal}");
+    let squares: f64 = body.members.iter().map(|&(_, r)| r * r).sum();
+    assert!(
+        squares > 1.5 * equal * equal,
+        "the beads' cross-sections overlap"
+    );
+    let traction = 3.0 * body.mass * 9.81 / (std::f64::consts::PI * equal * equal);
+    sim.set_region_force(Some(RegionForce {
+        region: ForceRegion::Box {
+            min: DVec3::splat(-0.01),
+            max: DVec3::splat(0.01),
+        },
+        traction: DVec3::new(0.0, 0.0, traction),
+    }))
+    .expect("a valid force");
+    sim.run(1).expect("free flight");
+    let v0 = sim.clumps().velocities()[0].z;
+    let q0 = sim.clumps().orientations()[0];
+    let steps = 400;
+    sim.run(steps).expect("free flight");
+    let t = steps as f64 * 2.5e-6;
+    // Constant acceleration: exact to the rounding of 400 additions, as for the sphere.
+    let (dv, up) = (sim.clumps().velocities()[0].z - v0, 2.0 * 9.81 * t);
+    assert!((dv - up).abs() < 1e-9 * up, "{dv} vs {up}");
+    // The beads' shares are symmetric about the centre: no torque beyond rounding.
+    let turned = sim.clumps().orientations()[0].angle_between(q0);
+    assert!(turned < 1e-9, "turned by {turned} rad");
+}
