@@ -324,7 +324,8 @@ pub struct ReposeSummary {
     /// The heap's height: its highest particle top above the plate [m].
     #[serde(deserialize_with = "nan_if_null")]
     pub height: f64,
-    /// Where the fitted flanks meet the plate, averaged over the sectors [m].
+    /// Where the fitted flanks meet the plate, averaged over the sectors whose line meets it
+    /// near their grains; NaN (null) where none does (docs/physics.md §7.10) [m].
     #[serde(deserialize_with = "nan_if_null")]
     pub base_radius: f64,
     /// Azimuthal sectors fitted (of `sectors_total`).

@@ -53,7 +53,10 @@ pub struct HeapAngle {
     pub angle_error_deg: f64,
     /// The heap's height: its highest particle top above the plate [m].
     pub height: f64,
-    /// Where the fitted flanks meet the plate, h₀/tan θ, averaged over the sectors [m].
+    /// Where the fitted flanks meet the plate, h₀/tan θ, averaged over the sectors whose line
+    /// meets it within their grains (θ > 0 and no farther out than their outermost bin and
+    /// two bin widths: the bin's half width and the staircase of a packing's surface) [m]; NaN where none does: a flank flattened to a layer extrapolates
+    /// its toe without bound.
     pub base_radius: f64,
     /// Sectors whose flank was fitted.
     pub fitted_sectors: usize,
@@ -110,13 +113,19 @@ pub fn heap_angle(
         .collect();
     let fits: Vec<FlankFit> = sectors.iter().filter_map(|s| s.fit).collect();
     let (angle_deg, angle_error_deg) = mean_angle(&fits);
-    let base_radius = if fits.is_empty() {
+    let toes: Vec<f64> = sectors
+        .iter()
+        .filter_map(|s| {
+            let f = s.fit?;
+            let toe = f.intercept / f.angle_deg.to_radians().tan();
+            let outermost = s.surface.last()?.position + 2.0 * binning.bin_width;
+            (f.angle_deg > 0.0 && toe.is_finite() && toe <= outermost).then_some(toe)
+        })
+        .collect();
+    let base_radius = if toes.is_empty() {
         f64::NAN
     } else {
-        fits.iter()
-            .map(|f| f.intercept / f.angle_deg.to_radians().tan())
-            .sum::<f64>()
-            / fits.len() as f64
+        toes.iter().sum::<f64>() / toes.len() as f64
     };
     Ok(HeapAngle {
         angle_deg,

@@ -93,6 +93,27 @@ fn a_heap_of_thirty_degrees_is_measured_at_thirty() {
     assert!((strays.angle_deg - heap.angle_deg).abs() < 1e-12);
 }
 
+/// Spheres that spread into one layer over the plate, with a second layer at the centre,
+/// have no toe: the flanks fitted to the layer lie nearly flat, and their lines meet the
+/// plate far beyond any grain (or never), so the base radius is reported as none rather
+/// than as that distance.
+#[test]
+fn a_heap_spread_into_a_layer_has_no_base_radius() {
+    let (positions, radii) = lattice_pile([-0.04, -0.04, 0.5 * D], [0.04, 0.04, 1.5 * D], 5, |p| {
+        let r = p[0].hypot(p[1]);
+        r <= 0.04 && (p[2] < D || r < 0.01)
+    });
+    let binning = HeapBinning {
+        axis: [0.0, 0.0],
+        bin_width: D,
+        sectors: HEAP_SECTORS,
+    };
+    let heap = heap_angle(&positions, &radii, &binning).unwrap();
+    assert!(heap.fitted_sectors > 0, "{heap:?}");
+    assert!(heap.angle_deg.abs() < 5.0, "{heap:?}");
+    assert!(heap.base_radius.is_nan(), "base {}", heap.base_radius);
+}
+
 /// A heap steeper on one side (25° for x < 0, 40° for x > 0) is measured between the two
 /// with an error that shows the difference: the sectors disagree, and the scatter over them,
 /// about 7.5°/√8 ≈ 2.7°, dominates the error.
