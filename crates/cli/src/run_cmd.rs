@@ -43,6 +43,10 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Skip the plots and the VTU snapshots (faster; the tables and summary.json are written
+    /// as ever, and `hopperflow report` does not need the pictures).
+    #[arg(long)]
+    no_pictures: bool,
     /// Save the settled bed into DIR when the gate opens (bed.bin, the engine's whole state,
     /// and case.toml), for later runs with --from-bed. Refused when DIR holds a bed already,
     /// unless --restart (which replaces it) or --resume of the run that saved it.
@@ -348,7 +352,7 @@ pub fn run(args: RunArgs) -> i32 {
         // A plain run reaches here only with an empty folder; --restart starts over.
         resume: !args.restart,
         progress: Some(progress),
-        pictures: true,
+        pictures: !args.no_pictures,
         chunk_limit: None,
         stop: Some(crate::signals::stop_flag()),
         save_bed: args.save_bed.clone(),

@@ -220,3 +220,47 @@ fn a_bad_packing_is_refused_with_exit_2_naming_file_line_and_value() {
     ]);
     assert_refused(&output, &out, "two starts", &["cannot be used with"]);
 }
+
+/// `--no-pictures` leaves out the plots and the VTU snapshots that the case asks for and
+/// writes the tables and the summary as ever.
+#[test]
+fn a_run_without_pictures_writes_its_tables_and_no_images() {
+    let root = tempfile::tempdir().expect("temporary directory");
+    let case = root.path().join("tiny.toml");
+    let text = tiny_case()
+        .replace("vtu_interval = 0.0", "vtu_interval = 0.01")
+        .replace("plots = false", "plots = true");
+    std::fs::write(&case, text).expect("case written");
+    let out = root.path().join("run");
+    let output = hopperflow(&[
+        "run",
+        utf8(&case),
+        "--out",
+        utf8(&out),
+        "--quiet",
+        "--no-pictures",
+    ]);
+    assert_success(&output, "a run without pictures");
+    for table in ["summary.json", "crossings.csv", "remaining.csv"] {
+        assert!(out.join(table).is_file(), "{table} missing");
+    }
+    let pictures: Vec<String> = walk(&out)
+        .into_iter()
+        .filter(|p| p.ends_with(".png") || p.ends_with(".svg") || p.ends_with(".vtu"))
+        .collect();
+    assert!(pictures.is_empty(), "pictures written: {pictures:?}");
+}
+
+/// Every file under `dir`, as paths.
+fn walk(dir: &Path) -> Vec<String> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).expect("readable folder").flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            files.extend(walk(&path));
+        } else {
+            files.push(path.display().to_string());
+        }
+    }
+    files
+}
