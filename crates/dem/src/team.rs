@@ -116,7 +116,7 @@ pub(crate) fn spin_while(waiting: impl Fn() -> bool, limit: Option<Duration>) {
     let mut spins = 0u32;
     while waiting() {
         spins = spins.wrapping_add(1);
-        if spins % 256 == 0 {
+        if spins.is_multiple_of(256) {
             if limit.is_some_and(|limit| start.elapsed() > limit) {
                 return;
             }

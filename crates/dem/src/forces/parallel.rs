@@ -108,7 +108,7 @@ impl Handoffs {
         &self,
         (q, bounds, span): (usize, &[usize], usize),
         (pi, pj): (&[u32], &[u32]),
-        (base, history): (usize, (&[DVec3], &[DVec3], &[u8])),
+        (base, history): (usize, PairHistory<'_>),
     ) {
         let ranges = bounds.len() - 1;
         let hi = bounds[q + 1];
@@ -421,13 +421,21 @@ impl PairSink for OwnSink<'_, '_> {
     }
 }
 
+/// A range's pair histories as handed off: the tangential springs ξ [m], the rolling
+/// histories [m] and the live flags of its pairs, in list order.
+type PairHistory<'a> = (&'a [DVec3], &'a [DVec3], &'a [u8]);
+
+/// How the ranges share crossing pairs: the hand-off lists, the ranges' body bounds and the
+/// farthest any pair's j lies past its i.
+type RangeSharing<'a> = (&'a Handoffs, &'a [usize], usize);
+
 /// Body range `q`: its hand-off of crossing pairs to the later ranges, its incoming and own
 /// pairs, its wall contacts, then its surface contacts when it has a stretch of them
 /// (`surface`: the wall list's particles, each wall's element count and the scratch), onto
 /// the weights and zero torques its force arrays start with.
 fn range_pass(
     input: &KernelInput,
-    (ids, (handoffs, bounds, span)): ((&[u32], &[u32]), (&Handoffs, &[usize], usize)),
+    (ids, (handoffs, bounds, span)): ((&[u32], &[u32]), RangeSharing<'_>),
     probes: &[WallProbe],
     (q, task): (usize, RangeTask),
     scratch: &mut RangeScratch,
