@@ -115,7 +115,22 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         data.rows.len(), count(CaseStatus::Complete), count(CaseStatus::Clogged), count(CaseStatus::Failed)
     )));
 
-    if analysis.has_slabs {
+    // A study whose every case breaks its arches measures clogging: its rates hold the arrests
+    // and the pulses, so the steady-flow sections (the paper's items, Beverloo, the profiles)
+    // would fit what they do not describe.
+    let clogging =
+        super::clogging::analyse_clogging(&super::clogging::load_clogging(root, &data.rows));
+    let finished = data
+        .rows
+        .iter()
+        .filter(|r| r.status != CaseStatus::Failed)
+        .count();
+    let clogging_cases: usize = clogging.iter().flat_map(|g| &g.rows).map(|r| r.runs).sum();
+    let steady_flow = !(finished > 0 && clogging_cases == finished);
+    if !steady_flow {
+        doc.push(Block::Paragraph("Every case breaks its arches ([protocol.unclog]) and goes on between clogs: its discharge rate holds the arrests and the pulses, so the steady-flow sections (the paper's items, the Beverloo fits, the outlet profiles and their figures) are left out; the clogging section below is this study's result.".into()));
+    }
+    if analysis.has_slabs && steady_flow {
         doc.push(Block::Heading(2, "Comparison with the paper".into()));
         doc.push(Block::Paragraph(format!(
         "Items of the acceptance list (physics spec §9 B3). The angle items use series '{}', the eccentric item series '{}'. 'not measured' means the study has too few cases for the fit (the reason is given).",
@@ -163,13 +178,15 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         doc.push(Block::Heading(2, "Eq. 18 and W/W0".into()));
         doc.push(tables::eccentric_rate_table(&analysis));
     }
-    if !analysis.has_slabs {
+    if !analysis.has_slabs && steady_flow {
         doc.push(Block::Heading(2, "Comparison".into()));
         doc.push(Block::Paragraph("The paper's items (Fan et al. 2023) apply to the slab hopper; this study holds no slab case, so none of them is listed. The items below are those of silos with circular orifices.".into()));
         doc.push(tables::comparison_table(&items));
     }
-    for block in silo_blocks(&analysis.silo) {
-        doc.push(block);
+    if steady_flow {
+        for block in silo_blocks(&analysis.silo) {
+            doc.push(block);
+        }
     }
     // Cohesion: written only when some case's file names a cohesion law.
     let cohesion = analyse_cohesion(&load_cohesion(root, &data.rows));
@@ -177,8 +194,6 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         doc.push(block);
     }
     // Clogging: written only when some case broke its arches ([protocol.unclog]).
-    let clogging =
-        super::clogging::analyse_clogging(&super::clogging::load_clogging(root, &data.rows));
     for block in super::clogging::clogging_blocks(&clogging) {
         doc.push(block);
     }
@@ -195,7 +210,7 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
     doc.push(Block::Heading(2, "Figures".into()));
     let mut figure_files = Vec::new();
     // The figures are the paper's (Figs. 2, 5, 8, 11): they need slab cases.
-    let mut figures = if analysis.has_slabs {
+    let mut figures = if analysis.has_slabs && steady_flow {
         report_figures(&analysis)
     } else {
         Vec::new()

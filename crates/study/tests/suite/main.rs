@@ -8,6 +8,7 @@ mod run_dir;
 
 mod guard;
 mod report_build;
+mod report_clogging;
 mod report_cohesion;
 mod study_resume;
 mod study_runner;
