@@ -24,6 +24,7 @@ pub mod geometry3d;
 pub mod janssen;
 pub mod orientation;
 pub mod profile;
+pub mod residence;
 pub mod selfsimilar;
 pub mod series;
 

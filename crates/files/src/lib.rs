@@ -89,5 +89,5 @@ pub use study_file_error::StudyFileError;
 pub use summary::{
     ArchSummary, AvalancheSummary, AxesStatistics, CaseSummary, CoarseGrainingSummary,
     DrawDownSummary, FieldsSummary, JanssenSummary, OrientationSummary, ProfileRow, RadialFit,
-    ReposeSummary, StopReason, TailFitSummary, WidthChange,
+    ReposeSummary, ResidenceSummary, StopReason, TailFitSummary, WidthChange,
 };

@@ -203,6 +203,30 @@ pub struct CaseSummary {
     /// (`particles.shape`, `orientations.csv`, docs/physics.md §11.8); absent for spheres.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orientation: Option<OrientationSummary>,
+    /// How long the grains stayed after the opening (`residence.csv`, docs/physics.md
+    /// §7.15); absent for a run that never opened or that no grain left.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residence: Option<ResidenceSummary>,
+}
+
+/// The residence times of the grains that left, from the opening to their crossing of the
+/// outlet (docs/physics.md §7.15).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ResidenceSummary {
+    /// Grains in the bed at the opening [-].
+    pub grains: usize,
+    /// Grains that left through the outlet [-].
+    pub left: usize,
+    /// Mean residence time [s].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub mean: f64,
+    /// Residence times at 10 %, 50 % and 90 % of the grains that left [s].
+    pub quantiles: [f64; 3],
+    /// Spearman's rank correlation of the grains' heights at the opening with their
+    /// residence times [-]: 1 first-in-first-out, near 0 or below for a core that carries
+    /// the top down first; NaN (null) below three grains.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub fifo_index: f64,
 }
 
 /// Orientation statistics of a set of grains' long axes (docs/physics.md §11.5): the

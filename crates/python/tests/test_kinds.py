@@ -20,6 +20,7 @@ RUN_FILES = {
     "case.toml",
     "flow.csv",
     "crossings.csv",
+    "residence.csv",
     "profiles.csv",
     "remaining.csv",
     "wall_forces.csv",
@@ -62,6 +63,13 @@ def test_a_run_from_python_writes_the_command_lines_bytes(cli, tmp_path, name, e
     remaining = np.asarray(py.remaining["particles"])
     assert remaining[0] == py.case["particles.count"]
     assert np.all(np.diff(remaining) <= 0) and remaining[-1] < remaining[0]
+    # Every grain of the bed has a row; those that left have their residence times, each
+    # within the discharge (the last crossing after the opening bounds them all).
+    residence = np.asarray(py.residence["residence_s"], dtype=float)
+    left = residence[np.isfinite(residence)]
+    assert len(residence) == py.summary["residence"]["grains"]
+    assert len(left) == py.summary["residence"]["left"] > 20
+    assert np.all(left > 0)
     if "wall_pressure.csv" in extra:
         # The settled bed presses on the cylinder's wall.
         pressure = py.wall_pressure

@@ -28,9 +28,9 @@ use super::protocol::RunState;
 use case::{Case, Geometry};
 use files::{remove_stale_temporaries, write_atomic, OutputError};
 
-/// The first eight bytes of every `bed.bin`: a name and the layout's version (4: the run's
-/// record holds the long axes of shaped grains).
-pub const BED_MAGIC: [u8; 8] = *b"HFBED\x00\x00\x04";
+/// The first eight bytes of every `bed.bin`: a name and the layout's version (5: the run's
+/// record holds the bed at the opening, for the residence times).
+pub const BED_MAGIC: [u8; 8] = *b"HFBED\x00\x00\x05";
 
 /// Keys that may differ between a bed's case and the case that reuses it, besides every key
 /// of `[measure]` and `[output]`: the outlet's size and position, and the rules that act

@@ -33,9 +33,9 @@ use super::unclog::UnclogRecord;
 use files::StartRecord;
 use files::{AtomicFile, OutputError};
 
-/// The first eight bytes of every checkpoint: a name and the layout's version (11: the
-/// run's record holds the long axes of shaped grains, recorded in the bed and at the outlet).
-pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x0b";
+/// The first eight bytes of every checkpoint: a name and the layout's version (12: the
+/// run's record holds the bed at the opening, for the residence times).
+pub const MAGIC: [u8; 8] = *b"HFCKPT\x00\x0c";
 /// Bytes before the body: the magic and the body's length.
 const PREFIX: usize = 16;
 /// Bytes of the trailing SHA-256.

@@ -16,6 +16,7 @@ mod packing;
 mod pile_outputs;
 mod protocol;
 mod remaining;
+mod residence;
 mod simulation;
 mod start;
 mod time_spent;

@@ -459,6 +459,19 @@ pub fn finish(
 
     write_crossings(&out_dir.join("crossings.csv"), record, run)?;
 
+    // residence.csv: each grain of the bed at the opening and how long it stayed.
+    let residence = if state.opening.is_empty() {
+        None
+    } else {
+        let (rows, summary) = state.opening.table(record, opened);
+        write_csv_table(
+            out_dir.join("residence.csv"),
+            &super::residence::RESIDENCE_COLUMNS,
+            &rows,
+        )?;
+        summary
+    };
+
     // composition.csv: a mixture's outflow by component, on the bins of flow.csv.
     if case.particles.is_mixture() {
         let names: Vec<String> = case
@@ -774,6 +787,7 @@ pub fn finish(
         avalanches,
         coarse_graining: coarse_graining_summary(case, state.discharged_mass),
         orientation,
+        residence,
     })
 }
 

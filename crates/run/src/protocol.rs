@@ -25,6 +25,7 @@ use measure::{
 use super::fields::FieldsRecorder;
 use super::orientations::OrientationRecorder;
 use super::remaining::RemainingRecorder;
+use super::residence::OpeningRecord;
 use super::unclog::{pulse_force, AtClog, UnclogRecord};
 use super::wall_forces::WallForceRecorder;
 use super::wall_pressure::WallPressureRecorder;
@@ -203,6 +204,9 @@ pub struct RunRecord {
     /// The long axes of shaped grains in the bed and at the outlet (`orientations.csv`;
     /// `None` for spheres).
     pub(crate) orientation: Option<OrientationRecorder>,
+    /// The grains of the bed at the opening, for their residence times (`residence.csv`);
+    /// empty until a gate opens.
+    pub(crate) opening: OpeningRecord,
     /// Wall pressure against height of a silo (`wall_pressure.csv`; `None` for a slab).
     pub(crate) pressure: Option<WallPressureRecorder>,
     /// Coarse-grained fields (`[output.fields]`; `None` without). Not in checkpoints, so
@@ -465,6 +469,7 @@ impl CaseRun {
                 .particles
                 .has_shapes()
                 .then(OrientationRecorder::default),
+            opening: OpeningRecord::default(),
             pressure,
             fields: FieldsRecorder::new(case)?,
             unclog: case.protocol.unclog.map(|_| UnclogRecord::default()),
@@ -869,6 +874,7 @@ impl CaseRun {
         if let Some(o) = &mut self.state.orientation {
             o.record_bed(&self.sim.watched());
         }
+        self.state.opening.record(&self.sim.watched());
         self.sim.remove_wall(self.state.walls.gate())?;
         self.state.remaining.open(t);
         if let Some(p) = &mut self.state.pressure {

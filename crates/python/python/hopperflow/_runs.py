@@ -102,6 +102,11 @@ class Run:
         """avalanches.csv: a run that breaks its arches, by avalanche: size in grains and mass, start, end, duration, the arrest before it, and the arch that ended it."""
         return self.table(RUN_TABLES["avalanches"])
 
+    @property
+    def residence(self) -> Table:
+        """residence.csv: each grain of the bed at the opening, its centre then [m] and its residence time from the opening to its exit [s] (NaN for a grain that stayed)."""
+        return self.table(RUN_TABLES["residence"])
+
     def figure(self, name: str = "flow_rate.png") -> Path:
         """The path of a figure of the run (flow_rate.png, velocity_profile.png, ...)."""
         path = self.path / name

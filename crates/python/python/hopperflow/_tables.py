@@ -35,6 +35,7 @@ RUN_TABLES: Dict[str, str] = {
     "wall_pressure": "wall_pressure.csv",
     "composition": "composition.csv",
     "avalanches": "avalanches.csv",
+    "residence": "residence.csv",
 }
 
 # Set by hopperflow._testing.numpy_tables(), so that the tests can read the dict form of

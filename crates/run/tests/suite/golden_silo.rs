@@ -141,8 +141,12 @@ const GOLDEN_FILES: &[(&str, &str)] = &[
         "69e235bf887520e8e15c8f4c25882a7693476476bdfbac3c891528dc034a557f",
     ),
     (
+        "residence.csv",
+        "3dcd7db26d10273b0049c8d05ee338ea9c587d35449dabed5fccff95ef233673",
+    ),
+    (
         "summary.json",
-        "aa028ba31a9cea3621d7d28f1df9cd394f12cb5bb63e126dc8072f0b58eeb6bb",
+        "9d48e0d6b530a3e980d2c94f3095b621af0edaf6a0543f52243d161db8777a31",
     ),
     (
         "wall_forces.csv",

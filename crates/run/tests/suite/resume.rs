@@ -43,6 +43,7 @@ fn assert_same_outputs(a: &Path, b: &Path, what: &str) {
         "flow.csv",
         "profiles.csv",
         "field.csv",
+        "residence.csv",
         "case.toml",
     ] {
         let (left, right) = (read(a, name), read(b, name));

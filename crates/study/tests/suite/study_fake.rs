@@ -257,6 +257,7 @@ fn common_summary(
         avalanches: None,
         coarse_graining: None,
         orientation: None,
+        residence: None,
     }
 }
 
