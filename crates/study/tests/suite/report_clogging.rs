@@ -3,40 +3,16 @@
 //! the arrests and pulses, so the report leaves out the steady-flow sections and keeps the
 //! clogging one; a study that also holds a steady case keeps both.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+use crate::fake_study::{Folder, RESULTS_HEADER};
 use report::build_report;
-
-/// A study folder of its own under the system's temporary directory, removed on drop.
-struct Folder(PathBuf);
-
-impl Folder {
-    fn new(name: &str) -> Self {
-        let path =
-            std::env::temp_dir().join(format!("hopperflow-report-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        Self(path)
-    }
-}
-
-impl Drop for Folder {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// Writes a slab study of outlets `widths` [m] of 3 mm grains; the first `unclogged` cases
 /// flow steadily (no avalanche section), the rest break their arches, with mean avalanche
 /// sizes growing as exp(D/d).
 fn write_study(root: &Path, widths: &[f64], unclogged: usize) {
-    let mut csv = String::from(
-        "id,series,replica,labels,outlet_width,hopper_angle_deg,outlet_gap,dimensionless_gap,\
-         thickness,wall_friction,width,particle_diameter,particle_density,particles,seed,\
-         discharge_rate,discharge_rate_error,centre_velocity,centre_area_fraction,\
-         max_area_fraction,bulk_volume_fraction,flux_check_rate,flux_check_ratio,\
-         plateau_found,clogged,status\n",
-    );
+    let mut csv = String::from(RESULTS_HEADER);
     for (i, &width) in widths.iter().enumerate() {
         let id = format!("slot-{i}-r0");
         let gap = (0.05 - width) / 2.0;

@@ -3,33 +3,15 @@
 //! numbers, W against Bo with replicas averaged, the critical-width brackets, the arches.
 
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+use crate::fake_study::{Folder, RESULTS_HEADER};
 use report::{analyse_cohesion, build_report, load_cohesion, CriticalWidth};
 
 /// Table 1's grains: d = 3 mm, ρ_p = 2500 kg/m³, under the default g.
 const D: f64 = 3e-3;
 const DENSITY: f64 = 2500.0;
 const G: f64 = 9.81;
-
-/// A study folder of its own under the system's temporary directory, removed on drop.
-struct Folder(PathBuf);
-
-impl Folder {
-    fn new(name: &str) -> Self {
-        let path =
-            std::env::temp_dir().join(format!("hopperflow-report-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        Self(path)
-    }
-}
-
-impl Drop for Folder {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// One case: identifier, JKR w [J/m²] (None: dry), D [m], W [kg/s] (None: clogged).
 type Fake = (&'static str, Option<f64>, f64, Option<f64>);
@@ -38,13 +20,7 @@ type Fake = (&'static str, Option<f64>, f64, Option<f64>);
 /// writes it (only the keys the report reads, plus one that all cases share) and, when
 /// clogged, a summary.json whose arch stands 20.7 mm high at its apex.
 fn write_study(root: &Path, cases: &[Fake]) {
-    let mut csv = String::from(
-        "id,series,replica,labels,outlet_width,hopper_angle_deg,outlet_gap,dimensionless_gap,\
-         thickness,wall_friction,width,particle_diameter,particle_density,particles,seed,\
-         discharge_rate,discharge_rate_error,centre_velocity,centre_area_fraction,\
-         max_area_fraction,bulk_volume_fraction,flux_check_rate,flux_check_ratio,\
-         plateau_found,clogged,status\n",
-    );
+    let mut csv = String::from(RESULTS_HEADER);
     for (i, &(id, w, width, rate)) in cases.iter().enumerate() {
         let series = if w.is_some() { "jkr" } else { "dry" };
         let replica = &id[id.len() - 1..];
