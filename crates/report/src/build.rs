@@ -207,7 +207,6 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         doc.push(block);
     }
 
-    doc.push(Block::Heading(2, "Figures".into()));
     let mut figure_files = Vec::new();
     // The figures are the paper's (Figs. 2, 5, 8, 11): they need slab cases.
     let mut figures = if analysis.has_slabs && steady_flow {
@@ -216,6 +215,9 @@ pub fn build_report(root: &Path) -> Result<ReportFiles, ReportError> {
         Vec::new()
     };
     figures.extend(cohesion_figures(&cohesion));
+    if !figures.is_empty() {
+        doc.push(Block::Heading(2, "Figures".into()));
+    }
     for figure in figures {
         let png = figures_dir.join(format!("{}.png", figure.name));
         let svg = figures_dir.join(format!("{}.svg", figure.name));

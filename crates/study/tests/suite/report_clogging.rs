@@ -54,6 +54,8 @@ fn a_study_that_only_breaks_arches_reports_clogging_without_the_steady_flow_sect
         assert!(!text.contains(steady), "{steady} in a clogging-only report");
     }
     assert!(text.contains("steady-flow sections"), "{text}");
+    // No figure is drawn for it, so no empty heading announces one.
+    assert!(!text.contains("## Figures"), "{text}");
 
     // One steady case beside them: the steady-flow sections are back, clogging stays.
     let mixed = Folder::new("clogging-mixed");
