@@ -55,8 +55,8 @@ pub struct HeapAngle {
     pub height: f64,
     /// Where the fitted flanks meet the plate, h₀/tan θ, averaged over the sectors whose line
     /// meets it within their grains (θ > 0 and no farther out than their outermost bin and
-    /// two bin widths: the bin's half width and the staircase of a packing's surface) [m]; NaN where none does: a flank flattened to a layer extrapolates
-    /// its toe without bound.
+    /// two bin widths: the bin's half width and the staircase of a packing's surface) [m];
+    /// NaN where none does: a flank flattened to a layer extrapolates its toe without bound.
     pub base_radius: f64,
     /// Sectors whose flank was fitted.
     pub fitted_sectors: usize,
